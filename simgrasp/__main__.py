@@ -1,0 +1,5 @@
+import sys
+
+from simgrasp.cli import main
+
+sys.exit(main())
