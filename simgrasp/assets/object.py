@@ -1,0 +1,35 @@
+"""The object interface every stage uses, whatever the object's source (YCB scan or generated)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import trimesh
+
+from simgrasp.assets.labels import HandleLabel
+
+
+@dataclass(frozen=True)
+class ObjectAsset:
+    """A rigid object ready to be decomposed and simulated.
+
+    Attributes:
+        name: unique name, e.g. ``"033_spatula"`` or ``"gen_hammer_s3"``.
+        mesh: the reference surface in the object's own frame (meters; for YCB, the scan's
+            frame: z up, resting near z = 0).
+        handle: labeled handle region(s), in the same frame.
+        mass: kilograms (YCB: published mass; generated: density x volume).
+        source: ``"ycb"`` or ``"generated"``.
+        mesh_file: the file the visual mesh came from (YCB ``textured.obj``), if any.
+        texture_file: the texture image for ``mesh_file``, if any.
+    """
+
+    name: str
+    mesh: trimesh.Trimesh
+    handle: HandleLabel
+    mass: float
+    source: Literal["ycb", "generated"]
+    mesh_file: Path | None = None
+    texture_file: Path | None = None
