@@ -1,8 +1,9 @@
 """simgrasp: simulation-in-the-loop grasp evaluation around quadric-based handle detection.
 
-Sub-packages, one per stage: ``assets`` (objects and handle labels), ``sim`` (MuJoCo scenes,
-grippers and grasp trials), ``perception`` (clouds and normals), ``quadric`` (quadric maths and
-fitting), ``handles`` (handle detection), ``envs`` (gymnasium), ``evaluation`` (sweeps).
+Sub-packages, one per stage: ``assets`` (objects and handle labels), ``scenes`` (MuJoCo scenes,
+grippers, cameras), ``perception`` (clouds and normals), ``quadric`` (quadric maths and
+fitting), ``handles`` (handle detection), ``grasping`` (grasps and trials), ``envs``
+(gymnasium), ``evaluation`` (sweeps and reports).
 """
 
 __version__ = "0.1.0"

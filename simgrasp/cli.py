@@ -23,7 +23,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "labels": ("simgrasp.handles.labels_cli", "render objects with their labeled handles"),
     "fetch-ycb": ("simgrasp.assets.fetch_cli", "download YCB objects from the official site"),
     "object": ("simgrasp.assets.object_cli", "show or export an object model"),
-    "trial": ("simgrasp.sim.trial_cli", "run one grasp trial in MuJoCo"),
+    "trial": ("simgrasp.grasping.trial_cli", "run one grasp trial in MuJoCo"),
     "evaluate": ("simgrasp.evaluation.evaluate_cli", "sweep objects x detectors x grippers"),
 }
 

@@ -1,0 +1,1 @@
+"""scenes stage: MuJoCo scenes, grippers, cameras and rendering."""
