@@ -1,4 +1,4 @@
-"""Locate data the package ships (``models/`` in the source tree, ``simgrasp/_models`` in a wheel)."""
+"""Locate data the package ships (`models/` in a checkout, `simgrasp/_models` in a wheel)."""
 
 from __future__ import annotations
 

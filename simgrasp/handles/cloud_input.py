@@ -1,0 +1,37 @@
+"""Validation of point clouds handed to a detector: clear errors instead of deep tracebacks."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+def validate_cloud(
+    points: ArrayLike, normals: ArrayLike | None = None
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """Return ``points`` (N, 3) and ``normals`` (N, 3) or None as float64 arrays.
+
+    Raises:
+        ValueError: wrong shape, empty cloud, non-finite values, or normals that do not match
+            the points or are not unit length.
+    """
+    pts = np.asarray(points, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] != 3:
+        raise ValueError(f"points must be an (N, 3) array, got shape {pts.shape}")
+    if len(pts) == 0:
+        raise ValueError("the point cloud is empty")
+    bad = ~np.all(np.isfinite(pts), axis=1)
+    if bad.any():
+        raise ValueError(
+            f"the point cloud has {int(bad.sum())} of {len(pts)} points with NaN or inf "
+            "coordinates; drop them before detection"
+        )
+    if normals is None:
+        return pts, None
+    nrm = np.asarray(normals, dtype=float)
+    if nrm.shape != pts.shape:
+        raise ValueError(f"normals must match points {pts.shape}, got shape {nrm.shape}")
+    lengths = np.linalg.norm(nrm, axis=1)
+    if not np.all(np.isfinite(lengths)) or np.any(np.abs(lengths - 1) > 1e-3):
+        raise ValueError("normals must be finite unit vectors")
+    return pts, nrm

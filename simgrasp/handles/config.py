@@ -1,0 +1,104 @@
+"""Every threshold of the quadric handle detector, in one frozen dataclass (meters, radians)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Literal
+
+
+@dataclass(frozen=True)
+class QuadricDetectorConfig:
+    """Parameters of :func:`simgrasp.handles.quadric_detector.detect_quadric_handles`.
+
+    Lengths are meters. The paper's criteria are (a) the fitted kind is a real ellipsoid,
+    a hyperboloid of one sheet or a real elliptic cylinder, (b) the quadric center (the axis,
+    for the cylinder) is near the neighborhood center, (c) the smaller transverse semi-axis is
+    at most half the gripper's maximum opening. The ``*_test`` switches add the paper's
+    suggested extras.
+    """
+
+    gripper_max_opening: float = 0.085
+    """Maximum jaw opening of the parallel gripper (m); widths above half of it fail (c)."""
+    voxel_size: float = 0.003
+    """Voxel edge for down-sampling the input cloud (m); 0 disables down-sampling."""
+    normal_radius: float = 0.01
+    """Search radius for normal estimation (m)."""
+    neighborhood_half_size: float = 0.016
+    """Half edge of the cube-shaped neighborhood (m), or its radius for spheres."""
+    neighborhood_shape: Literal["cube", "sphere"] = "cube"
+    max_points: int = 64
+    """Neighborhoods with more points are subsampled (seeded) to this many."""
+    min_points: int = 16
+    """Neighborhoods with fewer points are not fitted."""
+    neighborhoods: int | None = None
+    """Number of neighborhood centers; ``None`` scales it with object size (voxel count)."""
+    fit_method: Literal["birdal", "taubin", "algebraic"] = "birdal"
+    kind_rtol: float = 1e-2
+    """Relative tolerance for rank decisions when classifying noisy fits (a smallest
+    eigenvalue below ``kind_rtol`` x the largest counts as zero, i.e. a cylinder)."""
+    center_tolerance: float = 1.0
+    """Criterion (b): the quadric center (cylinder: axis) must lie within this many
+    neighborhood half sizes of the neighborhood center."""
+    eccentricity_test: bool = False
+    min_elongation: float = 1.3
+    """Ellipsoids whose longest/shortest semi-axis ratio is below this are rejected."""
+    width_test: bool = True
+    """Also require the larger transverse semi-axis to fit the gripper (x ``width_slack``)."""
+    width_slack: float = 1.0
+    shell_test: bool = True
+    shell_gap: float = 0.006
+    """The shell starts this far outside the fitted surface (m) ..."""
+    shell_thickness: float = 0.01
+    """... and is this thick (m)."""
+    max_shell_fraction: float = 0.1
+    """Candidates with more than this fraction of nearby points in the shell are rejected."""
+    inside_test: bool = True
+    """Reject quadrics whose center lies outside the object (behind no surface, by normals)."""
+    inside_neighbors: int = 8
+    cluster_distance: float = 0.02
+    """Single-linkage distance (m) joining candidates into one handle hypothesis."""
+    min_support: int = 2
+    """A handle hypothesis needs at least this many candidates."""
+
+    def __post_init__(self) -> None:
+        positive = (
+            "gripper_max_opening",
+            "normal_radius",
+            "neighborhood_half_size",
+            "kind_rtol",
+            "center_tolerance",
+            "shell_thickness",
+            "cluster_distance",
+        )
+        for name in positive:
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and value > 0):
+                raise ValueError(f"detector config: {name} must be positive, got {value!r}")
+        if self.voxel_size < 0:
+            raise ValueError(f"detector config: voxel_size must be >= 0, got {self.voxel_size}")
+        if self.min_points < 9 or self.max_points < self.min_points:
+            raise ValueError(
+                "detector config: need 9 <= min_points <= max_points, got "
+                f"{self.min_points}, {self.max_points}"
+            )
+        if self.neighborhoods is not None and self.neighborhoods < 1:
+            raise ValueError(
+                f"detector config: neighborhoods must be >= 1, got {self.neighborhoods}"
+            )
+        if self.neighborhood_shape not in ("cube", "sphere"):
+            raise ValueError(
+                f"detector config: unknown neighborhood_shape {self.neighborhood_shape!r}"
+            )
+        if self.fit_method not in ("birdal", "taubin", "algebraic"):
+            raise ValueError(f"detector config: unknown fit_method {self.fit_method!r}")
+
+    @classmethod
+    def paper(cls, **overrides: object) -> QuadricDetectorConfig:
+        """The paper's criteria only: no eccentricity, width, shell or inside test."""
+        base = dict(eccentricity_test=False, width_test=False, shell_test=False, inside_test=False)
+        base.update(overrides)
+        return cls(**base)  # type: ignore[arg-type]
+
+    @classmethod
+    def field_names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))

@@ -1,0 +1,113 @@
+"""What a handle detector returns: accepted neighborhoods (candidates) and handle hypotheses.
+
+All positions and directions are in the input cloud's own frame, in its units (meters).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.quadric import Quadric
+
+TIMING_STEPS = ("voxelize", "normals", "sample", "fit", "test", "cluster")
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One neighborhood accepted as handle-like.
+
+    Attributes:
+        center: the neighborhood center, a cloud point (m).
+        quadric: the quadric fitted to the neighborhood (cloud frame).
+        kind: the quadric's kind as a string (``QuadricKind`` value), or the detector's own
+            primitive name (``"cylinder_shell"`` for the ten Pas detector).
+        axis: unit direction along the handle.
+        width: grasp width across the handle (m): twice the smaller transverse semi-axis.
+        handle_point: a point on the handle's axis near ``center`` (m), where grasps aim.
+    """
+
+    center: NDArray[np.float64]
+    quadric: Quadric
+    kind: str
+    axis: NDArray[np.float64]
+    width: float
+    handle_point: NDArray[np.float64]
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "center": self.center.tolist(),
+            "kind": self.kind,
+            "coefficients": self.quadric.coefficients.tolist(),
+            "axis": self.axis.tolist(),
+            "width": self.width,
+        }
+
+
+@dataclass(frozen=True)
+class Handle:
+    """A handle hypothesis: candidates clustered along one graspable part.
+
+    Attributes:
+        center: grasp point on the handle axis (m).
+        axis: unit direction along the handle.
+        width: grasp width across the handle (m, median of its candidates).
+        score: in [0, 1]; support share of all candidates weighted by axis agreement.
+        support: number of candidates in the cluster.
+        extent: half length of the handle along ``axis`` covered by candidates (m).
+    """
+
+    center: NDArray[np.float64]
+    axis: NDArray[np.float64]
+    width: float
+    score: float
+    support: int
+    extent: float
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "center": self.center.tolist(),
+            "axis": self.axis.tolist(),
+            "width": self.width,
+            "score": self.score,
+            "support": self.support,
+        }
+
+
+@dataclass(frozen=True)
+class Detection:
+    """The result of one detector run on one cloud.
+
+    ``neighborhood_centers`` holds every sampled neighborhood center (accepted or not), so
+    accuracy and recall can be computed against labels; ``timings_s`` has the paper's steps.
+    """
+
+    candidates: tuple[Candidate, ...]
+    handles: tuple[Handle, ...]
+    neighborhood_centers: NDArray[np.float64]
+    detector: str
+    timings_s: dict[str, float] = field(default_factory=dict)
+    points: NDArray[np.float64] | None = None
+    """The (down-sampled) cloud the detector worked on, for plots."""
+
+    @property
+    def neighborhoods(self) -> int:
+        return len(self.neighborhood_centers)
+
+    @property
+    def candidate_centers(self) -> NDArray[np.float64]:
+        if not self.candidates:
+            return np.zeros((0, 3))
+        return np.stack([c.center for c in self.candidates])
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "detector": self.detector,
+            "handles": [h.to_json() for h in self.handles],
+            "candidates": [c.to_json() for c in self.candidates],
+            "neighborhoods": self.neighborhoods,
+            "timings_s": {step: float(self.timings_s.get(step, 0.0)) for step in TIMING_STEPS},
+        }
