@@ -1,1 +1,71 @@
-"""handles stage."""
+"""Handle detection: from one object's point cloud to handle hypotheses.
+
+``detect`` runs either the quadric detector (the paper's method, default) or the ten Pas &
+Platt 2013 style detector behind the same interface, so the harness can compare them.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from numpy.typing import ArrayLike
+
+from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.detection import Candidate, Detection, Handle
+from simgrasp.handles.quadric_detector import detect_quadric_handles
+from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.tenpas_detector import detect_tenpas_handles
+
+DETECTORS = ("quadric", "tenpas")
+DetectorName = Literal["quadric", "tenpas"]
+
+
+def default_config(
+    detector: DetectorName, gripper_max_opening: float | None = None
+) -> QuadricDetectorConfig | TenPasConfig:
+    """The default configuration of ``detector``, optionally for another gripper opening (m)."""
+    if detector not in DETECTORS:
+        raise ValueError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+    config_type = QuadricDetectorConfig if detector == "quadric" else TenPasConfig
+    if gripper_max_opening is None:
+        return config_type()
+    return config_type(gripper_max_opening=gripper_max_opening)
+
+
+def detect(
+    points: ArrayLike,
+    normals: ArrayLike | None = None,
+    config: QuadricDetectorConfig | TenPasConfig | None = None,
+    seed: int = 0,
+    *,
+    detector: DetectorName = "quadric",
+    viewpoint: ArrayLike | None = None,
+) -> Detection:
+    """Detect handles in one object's cloud (N x 3, meters) with the chosen detector.
+
+    ``normals`` (N x 3, pointing out of the object) are estimated when omitted: toward
+    ``viewpoint`` for a single camera view, outward for a full object cloud. Results are in
+    the cloud's own frame.
+    """
+    config = config if config is not None else default_config(detector)
+    if detector == "quadric":
+        if not isinstance(config, QuadricDetectorConfig):
+            raise ValueError("the quadric detector needs a QuadricDetectorConfig")
+        return detect_quadric_handles(points, normals, config, seed, viewpoint)
+    if detector == "tenpas":
+        if not isinstance(config, TenPasConfig):
+            raise ValueError("the tenpas detector needs a TenPasConfig")
+        return detect_tenpas_handles(points, normals, config, seed, viewpoint)
+    raise ValueError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+
+
+__all__ = [
+    "DETECTORS",
+    "Candidate",
+    "Detection",
+    "Handle",
+    "QuadricDetectorConfig",
+    "TenPasConfig",
+    "default_config",
+    "detect",
+]

@@ -1,0 +1,27 @@
+"""Detection accuracy and handle recall against labeled handle regions (paper, Table I)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from simgrasp.assets.labels import HandleLabel
+from simgrasp.handles.detection import Detection
+
+
+def detection_accuracy(detection: Detection, label: HandleLabel) -> float:
+    """Share of candidate neighborhood centers inside the labeled handle (NaN: no candidate).
+
+    The paper's accuracy: "fraction of neighborhood centers labeled handle that fall in a real
+    handle region". The detection and label must be in the same (object) frame.
+    """
+    if not detection.candidates:
+        return float("nan")
+    return float(label.contains(detection.candidate_centers).mean())
+
+
+def handle_recall(detection: Detection, label: HandleLabel) -> bool:
+    """Whether some detected handle's center lies on the labeled handle."""
+    if not detection.handles or not label.has_handle:
+        return False
+    centers = np.stack([h.center for h in detection.handles])
+    return bool(label.contains(centers).any())
