@@ -1,0 +1,87 @@
+"""The quadric handle detector on generated clouds with known handles, on real YCB meshes, and
+on degenerate input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from shapes import hammer_like, mug_like
+
+from simgrasp.assets.registry import load_object
+from simgrasp.handles import QuadricDetectorConfig, detect
+from simgrasp.handles.accuracy import detection_accuracy, handle_recall
+from simgrasp.perception import sample_surface
+from simgrasp.seeding import rng_for
+
+
+@pytest.mark.parametrize("make", [mug_like, hammer_like], ids=["mug_like", "hammer_like"])
+def test_generated_handles_are_found_on_the_handle(make) -> None:
+    cloud = make()
+    detection = detect(cloud.points, seed=1)
+    assert detection.candidates, "no candidate at all"
+    assert cloud.handle_share(detection.candidate_centers) >= 0.8
+    best = detection.handles[0]
+    assert cloud.handle_share(best.center[None]) == 1.0
+    assert 0.01 <= best.width <= 0.04
+
+
+def test_hammer_axis_and_width_match_the_cylinder() -> None:
+    cloud = hammer_like()
+    handle = detect(cloud.points, seed=2).handles[0]
+    assert abs(handle.axis[0]) > np.cos(np.radians(10)), handle.axis
+    assert handle.width == pytest.approx(0.03, rel=0.25)
+
+
+def test_too_wide_cylinder_is_not_a_handle() -> None:
+    cloud = hammer_like()
+    narrow = QuadricDetectorConfig(gripper_max_opening=0.02)
+    assert detect(cloud.points, config=narrow, seed=0).handles == ()
+
+
+def test_same_seed_same_detection() -> None:
+    cloud = mug_like()
+    a, b = detect(cloud.points, seed=5), detect(cloud.points, seed=5)
+    assert np.array_equal(a.candidate_centers, b.candidate_centers)
+    assert [h.to_json() for h in a.handles] == [h.to_json() for h in b.handles]
+
+
+def test_result_is_in_the_cloud_frame_and_units() -> None:
+    cloud = hammer_like()
+    shift = np.array([3.0, -2.0, 1.0])
+    moved = detect(cloud.points + shift, seed=3)
+    original = detect(cloud.points, seed=3)
+    assert np.allclose(moved.handles[0].center - shift, original.handles[0].center, atol=2e-3)
+
+
+@pytest.mark.parametrize("object_id", ["033_spatula", "048_hammer", "025_mug"])
+def test_ycb_handle_recall(object_id: str, ycb_dir: str) -> None:
+    asset = load_object(object_id, ycb_dir=ycb_dir)
+    points, _ = sample_surface(asset.mesh, 30000, rng_for(0, "test", object_id))
+    detection = detect(points, seed=0)
+    assert len(detection.candidates) >= 5
+    assert handle_recall(detection, asset.handle)
+    assert detection_accuracy(detection, asset.handle) >= 0.7
+
+
+def test_nan_and_empty_clouds_give_clear_errors() -> None:
+    cloud = hammer_like().points.copy()
+    cloud[5] = np.nan
+    with pytest.raises(ValueError, match="NaN"):
+        detect(cloud)
+    with pytest.raises(ValueError, match="empty"):
+        detect(np.zeros((0, 3)))
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        detect(np.zeros((10, 2)))
+
+
+def test_tiny_planar_and_huge_clouds_do_not_crash() -> None:
+    rng = np.random.default_rng(0)
+    tiny = rng.normal(size=(5, 3)) * 0.01
+    assert detect(tiny).handles == ()
+    plane = np.column_stack([rng.uniform(-0.1, 0.1, (5000, 2)), np.zeros(5000)])
+    assert detect(plane).handles == ()
+    line = np.outer(np.linspace(0, 0.2, 500), [1.0, 0.0, 0.0])
+    assert detect(line).handles == ()
+    huge = hammer_like(density=4e7).points
+    assert len(huge) > 500_000
+    assert detect(huge, seed=0).handles
