@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from shapes import hammer_like, mug_like
 
 from simgrasp.assets.registry import load_object
 from simgrasp.handles import QuadricDetectorConfig, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
 from simgrasp.perception import sample_surface
 from simgrasp.seeding import rng_for
+
+from shapes import hammer_like, mug_like
 
 
 @pytest.mark.parametrize("make", [mug_like, hammer_like], ids=["mug_like", "hammer_like"])
