@@ -15,7 +15,5 @@ def rng_for(seed: int, *keys: str | int) -> np.random.Generator:
     """
     if not isinstance(seed, int | np.integer) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-    words = [int(seed)] + [
-        k if isinstance(k, int) else zlib.crc32(str(k).encode()) for k in keys
-    ]
+    words = [int(seed)] + [k if isinstance(k, int) else zlib.crc32(str(k).encode()) for k in keys]
     return np.random.default_rng(np.random.SeedSequence(words))
