@@ -1,0 +1,92 @@
+"""Paper Table III on the YCB spatula: time per detection step, and the whole detection against
+Open3D normal estimation alone on the same cloud, measured in one run (medians).
+
+    SIMGRASP_YCB_DIR=../shared/ycb python benchmarks/bench_detect.py --runs 7
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+import open3d as o3d  # noqa: E402
+
+from simgrasp.assets.registry import load_object  # noqa: E402
+from simgrasp.handles import QuadricDetectorConfig, TenPasConfig, detect  # noqa: E402
+from simgrasp.handles.detection import TIMING_STEPS  # noqa: E402
+from simgrasp.perception import sample_surface, voxel_downsample  # noqa: E402
+from simgrasp.seeding import rng_for  # noqa: E402
+
+PAPER_TABLE_III_S = {
+    "voxelize": 0.10,
+    "normals": 39.6,
+    "sample": 4.35,
+    "fit": 0.13,
+    "test": 0.010,
+    "cluster": float("nan"),
+}
+
+
+def open3d_normals_seconds(points: np.ndarray, radius: float, max_nn: int) -> float:
+    """Open3D normal estimation alone (hybrid KD-tree search), the baseline of the ratio."""
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+    start = time.perf_counter()
+    cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=radius, max_nn=max_nn))
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--object", default="033_spatula")
+    parser.add_argument("--points", type=int, default=30000)
+    parser.add_argument("--neighborhoods", type=int, default=400)
+    parser.add_argument("--runs", type=int, default=7)
+    args = parser.parse_args()
+    o3d.utility.set_verbosity_level(o3d.utility.VerbosityLevel.Error)
+
+    asset = load_object(args.object)
+    points, _ = sample_surface(asset.mesh, args.points, rng_for(0, "bench", args.object))
+    quadric = QuadricDetectorConfig(neighborhoods=args.neighborhoods)
+    tenpas = TenPasConfig(neighborhoods=args.neighborhoods)
+    voxelized, _ = voxel_downsample(points, quadric.voxel_size)
+
+    steps: dict[str, dict[str, list[float]]] = {"quadric": {}, "tenpas": {}}
+    totals: dict[str, list[float]] = {"quadric": [], "tenpas": [], "open3d_normals": []}
+    for run in range(args.runs):
+        totals["open3d_normals"].append(
+            open3d_normals_seconds(voxelized, quadric.normal_radius, 30)
+        )
+        for name, config in (("quadric", quadric), ("tenpas", tenpas)):
+            start = time.perf_counter()
+            detection = detect(points, config=config, seed=run, detector=name)
+            totals[name].append(time.perf_counter() - start)
+            for step in TIMING_STEPS:
+                steps[name].setdefault(step, []).append(detection.timings_s.get(step, 0.0))
+
+    print(
+        f"{args.object}: {len(points)} points -> {len(voxelized)} after voxelizing, "
+        f"{args.neighborhoods} neighborhoods, median of {args.runs} runs, one core"
+    )
+    print("| step | paper (s) | quadric (ms) | tenpas (ms) |\n|---|---|---|---|")
+    for step in TIMING_STEPS:
+        paper = PAPER_TABLE_III_S[step]
+        q = 1000 * np.median(steps["quadric"][step])
+        t = 1000 * np.median(steps["tenpas"][step])
+        print(f"| {step} | {paper:g} | {q:.1f} | {t:.1f} |")
+    normals = np.median(totals["open3d_normals"])
+    print(
+        f"| whole detection | 44 | {1000 * np.median(totals['quadric']):.1f} | "
+        f"{1000 * np.median(totals['tenpas']):.1f} |"
+    )
+    print(f"Open3D normal estimation alone on the same voxelized cloud: {1000 * normals:.1f} ms")
+    for name in ("quadric", "tenpas"):
+        ratio = np.median(totals[name]) / normals
+        print(f"ratio whole {name} detection / Open3D normals: {ratio:.2f}x (target <= 2x)")
+
+
+if __name__ == "__main__":
+    main()
