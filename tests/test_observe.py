@@ -1,0 +1,103 @@
+"""Segmented, fused object clouds from rendered depth frames."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+from test_render import BOX_HALF_SIZE, BOX_POS, BOX_QUAT, N_VIEWS, build_scene
+
+from simgrasp.scenes.observe import object_cloud
+from simgrasp.scenes.render import DepthFrame, SceneRenderer
+
+pytestmark = pytest.mark.filterwarnings("ignore:no working headless GL:RuntimeWarning")
+
+
+@pytest.fixture(scope="module")
+def scene_frames() -> tuple[mujoco.MjModel, list[DepthFrame]]:
+    model, data = build_scene()
+    with SceneRenderer(model) as renderer:
+        return model, [renderer.depth(data, f"view{k}") for k in range(N_VIEWS)]
+
+
+def _visible_box_surface(spacing: float = 0.004) -> np.ndarray:
+    """World points on the five box faces not resting on the table."""
+    samples = []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            if axis == 2 and sign < 0:
+                continue
+            others = [a for a in range(3) if a != axis]
+            grids = [np.arange(-BOX_HALF_SIZE[a], BOX_HALF_SIZE[a], spacing) for a in others]
+            uu, vv = np.meshgrid(*grids)
+            face = np.zeros((uu.size, 3))
+            face[:, others[0]], face[:, others[1]] = uu.ravel(), vv.ravel()
+            face[:, axis] = sign * BOX_HALF_SIZE[axis]
+            samples.append(face)
+    world_R_box = np.zeros(9)
+    mujoco.mju_quat2Mat(world_R_box, BOX_QUAT)
+    return np.concatenate(samples) @ world_R_box.reshape(3, 3).T + BOX_POS
+
+
+def _coverage(points_world: np.ndarray) -> float:
+    distance, _ = cKDTree(points_world).query(_visible_box_surface())
+    return float(np.mean(distance < 0.003))
+
+
+def test_fusing_views_covers_more_of_the_object(scene_frames) -> None:
+    model, frames = scene_frames
+    object_body = model.body("object").id
+    single = [object_cloud([frame], [object_body]) for frame in frames]
+    fused = object_cloud(frames, [object_body])
+    assert fused.view_counts == tuple(len(c) for c in single)
+    assert max(_coverage(c.points_world) for c in single) < 0.7
+    assert _coverage(fused.points_world) > 0.95
+    # Each point remembers the camera it was seen from.
+    for k, frame in enumerate(frames):
+        rows = slice(sum(fused.view_counts[:k]), sum(fused.view_counts[: k + 1]))
+        np.testing.assert_array_equal(
+            fused.viewpoints_world[rows],
+            np.broadcast_to(frame.world_T_cam[:3, 3], (fused.view_counts[k], 3)),
+        )
+    assert fused.camera_names == tuple(f"view{k}" for k in range(N_VIEWS))
+
+
+def test_voxel_downsampling_keeps_viewpoints_consistent(scene_frames) -> None:
+    model, frames = scene_frames
+    object_body = model.body("object").id
+    fused = object_cloud(frames, [object_body])
+    down = object_cloud(frames, [object_body], voxel_size=0.005)
+    assert 0 < len(down) < len(fused) / 4
+    assert sum(down.view_counts) == len(down) and all(c > 0 for c in down.view_counts)
+    assert _coverage(down.points_world) > 0.9
+    # A point's viewpoint sees it: the point lies in front of that camera's image plane.
+    to_point = down.points_world - down.viewpoints_world
+    camera_axes = {tuple(f.world_T_cam[:3, 3]): f.world_T_cam[:3, 2] for f in frames}
+    axis = np.array([camera_axes[tuple(v)] for v in down.viewpoints_world])
+    assert np.all(np.einsum("ij,ij->i", to_point, axis) > 0.3)
+
+
+def test_segmentation_selects_bodies(scene_frames) -> None:
+    model, frames = scene_frames
+    gripper = model.body("gripper").id
+    gripper_cloud = object_cloud(frames, [gripper])
+    both = object_cloud(frames, [gripper, model.body("object").id])
+    assert len(gripper_cloud) > 0
+    assert len(both) == len(gripper_cloud) + len(object_cloud(frames, [model.body("object").id]))
+    palm_center = model.body("gripper").pos
+    assert np.all(np.abs(gripper_cloud.points_world - palm_center) < [0.011, 0.041, 0.021])
+
+
+def test_object_cloud_errors(scene_frames) -> None:
+    model, frames = scene_frames
+    with pytest.raises(ValueError, match="at least one depth frame"):
+        object_cloud([], [1])
+    with pytest.raises(ValueError, match="object_body_ids is empty"):
+        object_cloud(frames, [])
+    with pytest.raises(ValueError, match="needs an rng"):
+        object_cloud(frames, [1], noise=object())
+    with pytest.raises(ValueError, match="voxel_size"):
+        object_cloud(frames, [1], voxel_size=0.0)
+    absent = object_cloud(frames, [model.nbody + 5])
+    assert len(absent) == 0 and absent.view_counts == (0,) * N_VIEWS
