@@ -1,0 +1,123 @@
+"""A parallel-jaw grasp: where the TCP goes, how wide the jaws open, and who proposed it.
+
+Convention (README): ``world_T_tcp`` (4x4) puts the TCP midway between the finger pads, +z the
+approach direction (palm toward object), +y the direction in which the jaws open and close.
+Flattened poses are ``[x, y, z, qw, qx, qy, qz]`` (meters, unit quaternion).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+
+def pose7_from_matrix(transform: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``[x, y, z, qw, qx, qy, qz]`` of a 4x4 rigid transform (qw >= 0)."""
+    quat = Rotation.from_matrix(transform[:3, :3]).as_quat(scalar_first=True)
+    return np.concatenate([transform[:3, 3], quat if quat[0] >= 0 else -quat])
+
+
+def matrix_from_pose7(pose7: ArrayLike, what: str = "pose") -> NDArray[np.float64]:
+    """4x4 rigid transform of ``[x, y, z, qw, qx, qy, qz]``; the quaternion is normalized."""
+    pose = np.asarray(pose7, dtype=float)
+    if pose.shape != (7,) or not np.all(np.isfinite(pose)):
+        raise ValueError(f"{what} must be 7 finite numbers [x y z qw qx qy qz], got {pose7!r}")
+    norm = np.linalg.norm(pose[3:])
+    if norm < 1e-9:
+        raise ValueError(f"{what} has a zero quaternion: {pose.tolist()}")
+    transform = np.eye(4)
+    transform[:3, :3] = Rotation.from_quat(pose[3:] / norm, scalar_first=True).as_matrix()
+    transform[:3, 3] = pose[:3]
+    return transform
+
+
+def tcp_pose(position: ArrayLike, closing: ArrayLike, approach: ArrayLike) -> NDArray[np.float64]:
+    """``world_T_tcp`` (4x4) at ``position`` with +z along ``approach`` and +y along the part
+    of ``closing`` (the jaw direction) orthogonal to it; +x completes a right-handed frame.
+
+    Frame-agnostic: give all three in one frame to get the TCP pose in that frame.
+    """
+    z = np.asarray(approach, dtype=float)
+    y = np.asarray(closing, dtype=float)
+    if np.linalg.norm(z) < 1e-9:
+        raise ValueError(f"approach direction must be non-zero, got {approach!r}")
+    z = z / np.linalg.norm(z)
+    y = y - (y @ z) * z
+    if np.linalg.norm(y) < 1e-9:
+        raise ValueError("closing direction must not be parallel to the approach direction")
+    y = y / np.linalg.norm(y)
+    pose = np.eye(4)
+    pose[:3, :3] = np.column_stack([np.cross(y, z), y, z])
+    pose[:3, 3] = np.asarray(position, dtype=float)
+    return pose
+
+
+def _check_rigid(transform: NDArray[np.float64], what: str) -> NDArray[np.float64]:
+    arr = np.asarray(transform, dtype=float)
+    if arr.shape != (4, 4) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{what} must be a finite 4x4 matrix, got shape {arr.shape}")
+    rotation = arr[:3, :3]
+    if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-6) or np.linalg.det(rotation) < 0:
+        raise ValueError(f"{what} has no proper rotation block (not orthonormal, det != +1)")
+    if not np.allclose(arr[3], [0.0, 0.0, 0.0, 1.0]):
+        raise ValueError(f"{what} must have last row [0 0 0 1], got {arr[3].tolist()}")
+    return arr
+
+
+@dataclass(frozen=True)
+class Grasp:
+    """One parallel-jaw grasp in the world frame.
+
+    Attributes:
+        world_T_tcp: TCP pose (4x4, world frame, meters).
+        width: jaw opening before closing (m).
+        score: the proposer's ranking score (higher is better; units are the proposer's).
+        source: name of the detector/planner that proposed it (``"manual"`` for hand-placed).
+    """
+
+    world_T_tcp: NDArray[np.float64]
+    width: float
+    score: float = 0.0
+    source: str = "manual"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "world_T_tcp", _check_rigid(self.world_T_tcp, "world_T_tcp"))
+        if not (np.isfinite(self.width) and self.width > 0):
+            raise ValueError(f"grasp width must be a positive number of meters, got {self.width}")
+
+    @property
+    def approach_world(self) -> NDArray[np.float64]:
+        """Unit approach direction (TCP +z) in the world frame."""
+        return self.world_T_tcp[:3, 2].copy()
+
+    def to_pose7(self) -> NDArray[np.float64]:
+        """The TCP pose as ``[x, y, z, qw, qx, qy, qz]`` (world frame)."""
+        return pose7_from_matrix(self.world_T_tcp)
+
+    @staticmethod
+    def from_pose7(
+        pose7: ArrayLike, width: float, score: float = 0.0, source: str = "manual"
+    ) -> Grasp:
+        """A grasp from a world-frame ``[x, y, z, qw, qx, qy, qz]`` TCP pose."""
+        return Grasp(matrix_from_pose7(pose7, "grasp pose"), float(width), score, source)
+
+    def object_T_tcp(self, world_T_object: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The TCP pose in the object frame, given the object's pose ``world_T_object``."""
+        world_T_object = _check_rigid(world_T_object, "world_T_object")
+        return np.linalg.inv(world_T_object) @ self.world_T_tcp
+
+    @staticmethod
+    def from_object_frame(
+        object_T_tcp: NDArray[np.float64],
+        world_T_object: NDArray[np.float64],
+        width: float,
+        score: float = 0.0,
+        source: str = "manual",
+    ) -> Grasp:
+        """A world-frame grasp from a TCP pose given in the object frame."""
+        object_T_tcp = _check_rigid(object_T_tcp, "object_T_tcp")
+        world_T_object = _check_rigid(world_T_object, "world_T_object")
+        return Grasp(world_T_object @ object_T_tcp, width, score, source)

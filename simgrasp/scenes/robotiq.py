@@ -1,0 +1,103 @@
+"""The Robotiq 2F-85 (MuJoCo Menagerie model) behind the :class:`~simgrasp.scenes.gripper.Gripper`
+interface.
+
+The model is read from ``$MENAGERIE_ROOT/robotiq_2f85/2f85.xml`` and never shipped with
+simgrasp. A ``tcp`` site is added to its ``base`` body at the center of the finger pads (base
+frame: +z toward the fingertips, +y the jaw direction, so the TCP convention holds as is).
+Its actuator takes 0 (open, 0.085 m) .. 255 (closed) and drives a four-bar linkage, so the
+control for a given opening comes from a calibration of the bare gripper (cached per process).
+"""
+
+from __future__ import annotations
+
+import os
+from functools import cache
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.scenes.gripper import Gripper
+
+TCP_HEIGHT = 0.14
+"""TCP above the ``base`` body origin (m): the middle of the two pad boxes at mid stroke (the
+pads ride on an arc, so their center moves from 0.131 m fully open to 0.144 m closed)."""
+
+FINGER_REACH = 0.023
+"""Pad tips past the TCP (m): 0.0095 fully open, 0.023 closed (the pads swing forward)."""
+
+CTRL_CLOSED = 255.0
+CALIBRATION_CTRLS = np.linspace(0.0, 255.0, 18)
+CALIBRATION_STEPS = 600
+"""Steps (2 ms) the bare gripper settles at each calibration control value."""
+
+
+def menagerie_mjcf() -> Path:
+    """Path of the 2F-85 MJCF under ``$MENAGERIE_ROOT``, failing clearly if it is unavailable."""
+    root = os.environ.get("MENAGERIE_ROOT")
+    if not root:
+        raise FileNotFoundError(
+            "the Robotiq 2F-85 gripper needs MENAGERIE_ROOT, the directory of a MuJoCo "
+            "Menagerie checkout (holding robotiq_2f85/2f85.xml); it is not set"
+        )
+    path = Path(root) / "robotiq_2f85" / "2f85.xml"
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"the Robotiq 2F-85 model {path} does not exist; MENAGERIE_ROOT={root!r} must be a "
+            "MuJoCo Menagerie checkout"
+        )
+    return path
+
+
+def _load_spec() -> mujoco.MjSpec:
+    spec = mujoco.MjSpec.from_file(str(menagerie_mjcf()))
+    spec.body("base").add_site(name="tcp", pos=[0.0, 0.0, TCP_HEIGHT], size=[0.004])
+    return spec
+
+
+@cache
+def _calibration() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(pad gaps ascending, matching controls) of the bare, fixed gripper at rest."""
+    model = _load_spec().compile()
+    model.opt.timestep = 0.002
+    data = mujoco.MjData(model)
+    left = model.geom("left_pad1").id
+    right = model.geom("right_pad1").id
+    site = model.site("tcp").id
+    pad_depth = model.geom_size[left, 1] + model.geom_size[right, 1]
+    gaps = []
+    for ctrl in CALIBRATION_CTRLS:
+        data.ctrl[0] = ctrl
+        mujoco.mj_step(model, data, CALIBRATION_STEPS)
+        y_world = data.site_xmat[site].reshape(3, 3)[:, 1]
+        gaps.append((data.geom_xpos[right] - data.geom_xpos[left]) @ y_world - pad_depth)
+    gaps_arr = np.asarray(gaps)
+    order = np.argsort(gaps_arr)
+    return gaps_arr[order], CALIBRATION_CTRLS[order]
+
+
+def _ctrl_for_opening(opening: float) -> float:
+    gaps, ctrls = _calibration()
+    return float(np.interp(opening, gaps, ctrls))
+
+
+@cache
+def robotiq_2f85() -> Gripper:
+    """The Menagerie Robotiq 2F-85: 0.085 m stroke; its actuator force limit (5 on the driver
+    tendon) squeezes a 3 cm handle with about 45 N per jaw (the real one: 20-235 N)."""
+    menagerie_mjcf()
+    return Gripper(
+        name="robotiq_2f85",
+        max_opening=0.085,
+        load_spec=_load_spec,
+        root_body="base_mount",
+        tcp_site="tcp",
+        fingers=(("left_driver", "left_spring_link"), ("right_driver", "right_spring_link")),
+        pads=(("left_pad1", "left_pad2"), ("right_pad1", "right_pad2")),
+        actuator="fingers_actuator",
+        ctrl_for_opening=_ctrl_for_opening,
+        ctrl_closed=CTRL_CLOSED,
+        grip_force=45.0,
+        finger_reach=FINGER_REACH,
+    )
