@@ -1,0 +1,93 @@
+"""What a grasp trial measures: finger-object contacts, the handle share of them, and slip.
+
+All functions read the current ``mujoco.MjData`` contacts. Contact points are world-frame
+positions (``points_world``, meters) unless named ``points_object`` (the object's mesh frame,
+the frame its :class:`~simgrasp.assets.labels.HandleLabel` lives in).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.assets.labels import HandleLabel
+
+ON_HANDLE_THRESHOLD = 0.5
+"""A grasp is ``on_handle`` when at least this share of its finger-object contact points (at
+the end of the hold) lies inside the labeled handle region."""
+
+
+@dataclass(frozen=True)
+class FingerContacts:
+    """Finger-object contacts at one instant.
+
+    Attributes:
+        points_world: (N, 3) contact points between any finger geom and the object (m).
+        left: the left finger touches the object.
+        right: the right finger touches the object.
+    """
+
+    points_world: NDArray[np.float64]
+    left: bool
+    right: bool
+
+    @property
+    def both(self) -> bool:
+        return self.left and self.right
+
+
+def finger_contacts(
+    data: mujoco.MjData,
+    left_geoms: NDArray[np.int64],
+    right_geoms: NDArray[np.int64],
+    object_geoms: NDArray[np.int64],
+) -> FingerContacts:
+    """Contacts between the fingers' geoms and the object's geoms (ids as int arrays)."""
+    contacts = data.contact
+    geom1, geom2 = contacts.geom1, contacts.geom2
+    on_object1 = np.isin(geom1, object_geoms)
+    on_object2 = np.isin(geom2, object_geoms)
+    other = np.where(on_object1, geom2, geom1)
+    involves_object = on_object1 | on_object2
+    left = involves_object & np.isin(other, left_geoms)
+    right = involves_object & np.isin(other, right_geoms)
+    points_world = np.asarray(contacts.pos)[left | right].reshape(-1, 3)
+    return FingerContacts(points_world.copy(), bool(left.any()), bool(right.any()))
+
+
+def geoms_touching(data: mujoco.MjData, geoms: NDArray[np.int64]) -> bool:
+    """Whether any of ``geoms`` is in contact (penetration or within margin) with anything."""
+    contacts = data.contact
+    return bool(np.any(np.isin(contacts.geom1, geoms) | np.isin(contacts.geom2, geoms)))
+
+
+def points_in_object_frame(
+    points_world: NDArray[np.float64], world_T_object: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Map (N, 3) world points into the object frame given ``world_T_object`` (4x4)."""
+    rotation, translation = world_T_object[:3, :3], world_T_object[:3, 3]
+    return (points_world - translation) @ rotation
+
+
+def handle_fraction(points_object: NDArray[np.float64], handle: HandleLabel) -> float:
+    """Share of contact points (object frame) inside the handle label; 0 without points."""
+    if len(points_object) == 0 or not handle.has_handle:
+        return 0.0
+    return float(np.mean(handle.contains(points_object)))
+
+
+def relative_pose(
+    world_T_a: NDArray[np.float64], world_T_b: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """``a_T_b`` from two world poses."""
+    return np.linalg.inv(world_T_a) @ world_T_b
+
+
+def slip_distance(
+    tcp_T_object_before: NDArray[np.float64], tcp_T_object_after: NDArray[np.float64]
+) -> float:
+    """How far the object's origin moved in the TCP frame between two instants (m)."""
+    return float(np.linalg.norm(tcp_T_object_after[:3, 3] - tcp_T_object_before[:3, 3]))

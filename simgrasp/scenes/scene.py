@@ -1,0 +1,207 @@
+"""Grasp scenes: a table, one object resting on it, lights, depth cameras and a floating gripper.
+
+World frame: z up, the table top is the plane ``z = config.table_top_z`` (default 0), centered
+on the world origin; the object rests near the origin at a seeded stable pose and yaw. The
+gripper is parked ``config.park_height`` above the table, jaws down, out of the cameras' views.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
+from simgrasp.scenes.gripper import BoundGripper, Gripper
+from simgrasp.seeding import rng_for
+
+if TYPE_CHECKING:
+    from simgrasp.assets.model import ObjectModel
+
+OBJECT_NAME = "object"
+TABLE_NAME = "table"
+GRIPPER_PREFIX = "gripper/"
+
+
+@dataclass(frozen=True)
+class SceneConfig:
+    """Scene layout (meters, seconds).
+
+    Attributes:
+        table_top_z: height of the table's top face (world z).
+        table_half_size: half extents of the table box (x, y, thickness/2).
+        table_friction: sliding friction of the table top.
+        park_height: TCP height of the parked gripper above the table top.
+        cameras: explicit cameras; empty means ``num_views`` default tabletop viewpoints
+            (640x480, 58 deg vertical FoV) looking at the object.
+        num_views: number of default viewpoints when ``cameras`` is empty.
+        random_yaw: rotate the object's rest pose by a seeded random yaw about world z.
+    """
+
+    table_top_z: float = 0.0
+    table_half_size: tuple[float, float, float] = (0.5, 0.5, 0.025)
+    table_friction: float = 0.6
+    park_height: float = 1.2
+    cameras: tuple[CameraSpec, ...] = ()
+    num_views: int = 1
+    random_yaw: bool = True
+
+    def __post_init__(self) -> None:
+        if not all(h > 0 for h in self.table_half_size):
+            raise ValueError(f"table_half_size must be positive, got {self.table_half_size}")
+        if not self.park_height > 0.3:
+            raise ValueError(f"park_height must exceed 0.3 m, got {self.park_height}")
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A compiled grasp scene and the ids needed to control and score it.
+
+    ``world_T_object`` is the object's initial pose (4x4, world frame); ``spec`` is kept so the
+    scene can be exported with :meth:`export_xml`.
+    """
+
+    spec: mujoco.MjSpec = field(repr=False)
+    model: mujoco.MjModel = field(repr=False)
+    data: mujoco.MjData = field(repr=False)
+    object_model: ObjectModel = field(repr=False)
+    gripper: BoundGripper
+    object_body: int
+    object_qpos: int
+    """Address of the object's free joint in ``qpos`` (x y z qw qx qy qz)."""
+    object_dof: int
+    table_geom: int
+    world_T_object: NDArray[np.float64] = field(repr=False)
+    parked_world_T_tcp: NDArray[np.float64] = field(repr=False)
+    cameras: tuple[str, ...]
+    config: SceneConfig
+    seed: int
+
+    @property
+    def object_name(self) -> str:
+        return self.object_model.asset.name
+
+    def object_pose(self) -> NDArray[np.float64]:
+        """Current ``world_T_object`` (4x4) from ``data``."""
+        transform = np.eye(4)
+        transform[:3, :3] = self.data.xmat[self.object_body].reshape(3, 3)
+        transform[:3, 3] = self.data.xpos[self.object_body]
+        return transform
+
+    def reset(self) -> None:
+        """Back to the initial state (object at rest pose, gripper parked), kinematics updated."""
+        mujoco.mj_resetData(self.model, self.data)
+        mujoco.mj_forward(self.model, self.data)
+
+    def export_xml(self, path: Path) -> Path:
+        """Write the scene as MJCF to ``path`` (meshes inline as in the spec); returns it."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(self.spec.to_xml())
+        return path
+
+
+def parked_tcp(config: SceneConfig) -> NDArray[np.float64]:
+    """Parking pose of the TCP: above the table center, approach (+z) pointing down."""
+    world_T_tcp = np.eye(4)
+    world_T_tcp[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    world_T_tcp[2, 3] = config.table_top_z + config.park_height
+    return world_T_tcp
+
+
+def build_scene(
+    object_model: ObjectModel, gripper: Gripper, config: SceneConfig | None = None, seed: int = 0
+) -> Scene:
+    """Build and compile a scene with ``object_model`` resting on the table.
+
+    The rest pose comes from ``sample_rest_pose`` (seeded by ``seed``), then a seeded yaw about
+    world z; the object's footprint is centered on the table origin.
+    """
+    from simgrasp.assets.stable import sample_rest_pose
+
+    config = config or SceneConfig()
+    spec = mujoco.MjSpec()
+    spec.modelname = f"scene_{object_model.asset.name}"
+    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
+
+    hx, hy, hz = config.table_half_size
+    spec.worldbody.add_geom(
+        name=TABLE_NAME,
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[hx, hy, hz],
+        pos=[0.0, 0.0, config.table_top_z - hz],
+        friction=[config.table_friction, 0.005, 0.0001],
+        rgba=[0.55, 0.45, 0.35, 1.0],
+    )
+    spec.worldbody.add_light(
+        name="key", pos=[0.4, -0.4, 1.5], dir=[-0.3, 0.3, -1.0], diffuse=[0.7, 0.7, 0.7]
+    )
+    spec.worldbody.add_light(
+        name="fill", pos=[-0.5, 0.5, 1.2], dir=[0.4, -0.4, -1.0], diffuse=[0.3, 0.3, 0.3]
+    )
+
+    world_T_object = _rest_pose(object_model, config, seed, sample_rest_pose)
+    object_model.add_to(spec, world_T_object, name=OBJECT_NAME)
+
+    cameras = config.cameras or tuple(default_viewpoints(world_T_object[:3, 3], n=config.num_views))
+    for camera in cameras:
+        add_camera(spec, camera)
+
+    parked = parked_tcp(config)
+    handles = gripper.add_to(spec, parked, prefix=GRIPPER_PREFIX)
+    try:
+        model = spec.compile()
+    except ValueError as exc:
+        raise ValueError(
+            f"cannot compile the scene for {object_model.asset.name!r}: {exc}"
+        ) from exc
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+
+    object_body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, OBJECT_NAME)
+    joint = int(model.body_jntadr[object_body])
+    if object_body < 0 or joint < 0 or model.jnt_type[joint] != mujoco.mjtJoint.mjJNT_FREE:
+        raise ValueError(f"object {object_model.asset.name!r} was not added as a free body")
+    return Scene(
+        spec=spec,
+        model=model,
+        data=data,
+        object_model=object_model,
+        gripper=handles.bind(model),
+        object_body=object_body,
+        object_qpos=int(model.jnt_qposadr[joint]),
+        object_dof=int(model.jnt_dofadr[joint]),
+        table_geom=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, TABLE_NAME),
+        world_T_object=world_T_object,
+        parked_world_T_tcp=parked,
+        cameras=tuple(c.name for c in cameras),
+        config=config,
+        seed=seed,
+    )
+
+
+def _rest_pose(
+    object_model: ObjectModel,
+    config: SceneConfig,
+    seed: int,
+    sampler: Callable[[ObjectModel, np.random.Generator], NDArray[np.float64]],
+) -> NDArray[np.float64]:
+    """Seeded stable pose on the table top, turned by a seeded yaw about its own center."""
+    world_T_object = np.asarray(sampler(object_model, rng_for(seed, "scene", "rest_pose")))
+    world_T_object = world_T_object.copy()
+    if config.random_yaw:
+        yaw = rng_for(seed, "scene", "yaw").uniform(-np.pi, np.pi)
+        world_R_yaw = Rotation.from_euler("z", yaw).as_matrix()
+        world_T_object[:3, :3] = world_R_yaw @ world_T_object[:3, :3]
+    # Center the object's footprint (the xy bounds of its rotated mesh) on the table origin.
+    vertices_rotated = object_model.asset.mesh.vertices @ world_T_object[:3, :3].T
+    footprint_center = (vertices_rotated.min(axis=0) + vertices_rotated.max(axis=0)) / 2
+    world_T_object[:2, 3] = -footprint_center[:2]
+    world_T_object[2, 3] += config.table_top_z
+    return world_T_object
