@@ -1,0 +1,95 @@
+"""Milliseconds per 640x480 depth + segmentation frame for each render backend (medians).
+
+The GL platform is fixed per process, so each backend runs in its own process. The scene is a
+table, a box, a 20k-triangle mesh object (ray casting cost grows with triangles) and a
+distractor, seen by one camera.
+
+    python benchmarks/bench_render.py --runs 15
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+BACKENDS = ("egl", "osmesa", "raycast")
+
+
+def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float]:
+    # Imports here: the GL platform must be set (by the parent) before mujoco is imported.
+    import mujoco
+    import numpy as np
+    import trimesh
+
+    from simgrasp.scenes.camera import add_camera, default_viewpoints
+    from simgrasp.scenes.render import SceneRenderer
+
+    sphere = trimesh.creation.icosphere(subdivisions=mesh_subdivisions, radius=0.05)
+    spec = mujoco.MjSpec()
+    spec.add_mesh(name="blob", uservert=sphere.vertices.ravel(), userface=sphere.faces.ravel())
+    box = mujoco.mjtGeom.mjGEOM_BOX
+    spec.worldbody.add_geom(type=box, size=[0.5, 0.5, 0.02], pos=[0, 0, -0.02])
+    spec.worldbody.add_body(pos=[0, 0, 0.05]).add_geom(type=box, size=[0.04, 0.03, 0.05])
+    blob = spec.worldbody.add_body(pos=[0.1, 0.08, 0.05])
+    blob.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname="blob")
+    spec.worldbody.add_body(pos=[-0.03, -0.04, 0.16]).add_geom(type=box, size=[0.01, 0.04, 0.02])
+    add_camera(spec, default_viewpoints((0.0, 0.0, 0.05), n=1)[0])
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    with SceneRenderer(model, backend=backend) as renderer:
+        renderer.depth(data, "view0")  # warm-up: contexts, buffers, ray directions
+        times = []
+        for _ in range(runs):
+            start = time.perf_counter()
+            frame = renderer.depth(data, "view0")
+            times.append(time.perf_counter() - start)
+    return {
+        "ms_per_frame": 1000.0 * float(np.median(times)),
+        "hit_fraction": float(np.mean(frame.depth > 0)),
+        "triangles": int(len(sphere.faces)),
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=15)
+    parser.add_argument("--mesh-subdivisions", type=int, default=5)
+    parser.add_argument("--child", choices=BACKENDS, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        print(json.dumps(_measure(args.child, args.runs, args.mesh_subdivisions)))
+        return
+    results = {}
+    for backend in BACKENDS:
+        env = dict(os.environ, SIMGRASP_RENDER_BACKEND=backend)
+        env.pop("PYOPENGL_PLATFORM", None)
+        if backend == "raycast":
+            env.pop("MUJOCO_GL", None)
+        else:
+            env["MUJOCO_GL"] = backend
+        command = [sys.executable, __file__, "--child", backend, "--runs", str(args.runs)]
+        command += ["--mesh-subdivisions", str(args.mesh_subdivisions)]
+        out = subprocess.run(command, env=env, capture_output=True, text=True, check=False)
+        if out.returncode != 0:
+            print(f"{backend:8s} failed: {out.stderr.strip().splitlines()[-1]}")
+            continue
+        results[backend] = json.loads(out.stdout.strip().splitlines()[-1])
+        r = results[backend]
+        print(
+            f"{backend:8s} {r['ms_per_frame']:8.1f} ms/frame (640x480 depth+segmentation, "
+            f"median of {args.runs}; {r['hit_fraction']:.0%} pixels hit, "
+            f"mesh {r['triangles']} triangles)"
+        )
+    if "egl" in results:
+        for backend, r in results.items():
+            ratio = r["ms_per_frame"] / results["egl"]["ms_per_frame"]
+            print(f"{backend:8s} {ratio:6.2f} x egl")
+
+
+if __name__ == "__main__":
+    main()
