@@ -69,6 +69,7 @@ class ArchiveServer:
     requests: list[tuple[str, str | None]] = field(default_factory=list)
     cut_after: int | None = None  # send only this many body bytes once, then hang up
     etag_override: str | None = None
+    ignore_range: bool = False  # answer every request with the whole file (200)
     url: str = ""
 
 
@@ -80,6 +81,8 @@ def _handler(state: ArchiveServer) -> type[BaseHTTPRequestHandler]:
         def do_GET(self) -> None:  # noqa: N802 (http.server API)
             range_header = self.headers.get("Range")
             state.requests.append((self.path, range_header))
+            if state.ignore_range:
+                range_header = None
             data = state.files.get(self.path)
             if data is None:
                 self.send_error(404, "Not Found")
@@ -180,6 +183,17 @@ def test_part_longer_than_archive_restarts(server: ArchiveServer, tmp_path: Path
     part.write_bytes(stale)
     assert _fetch(server, tmp_path).status == "downloaded"
     assert server.requests == [(GOOGLE_MUG, f"bytes={len(stale)}-"), (GOOGLE_MUG, None)]
+
+
+def test_server_ignoring_range_restarts_from_scratch(server: ArchiveServer, tmp_path: Path) -> None:
+    data = server.files[GOOGLE_MUG]
+    server.ignore_range = True
+    part = tmp_path / ".downloads" / "025_mug_google_16k.tgz.part"
+    part.parent.mkdir(parents=True)
+    part.write_bytes(data[:100])
+    assert _fetch(server, tmp_path).status == "downloaded"
+    assert server.requests == [(GOOGLE_MUG, "bytes=100-")]
+    assert (tmp_path / "025_mug" / "google_16k" / "textured.obj").read_text() == _obj_text()
 
 
 def _flip_middle_byte(data: bytes) -> bytes:

@@ -107,7 +107,7 @@ def _open(url: str, offset: int, timeout: float) -> http.client.HTTPResponse:
     try:
         return urllib.request.urlopen(request, timeout=timeout)
     except urllib.error.HTTPError:
-        raise
+        raise  # the server answered; the caller reports the status
     except urllib.error.URLError as exc:
         raise ServerUnreachable(_describe_url_error(exc, url, timeout)) from None
     except TimeoutError:
@@ -123,12 +123,13 @@ def _expected_md5(response: http.client.HTTPResponse) -> str | None:
     return etag.lower() if re.fullmatch(r"[0-9a-fA-F]{32}", etag) else None
 
 
-def _total_size(response: http.client.HTTPResponse, offset: int) -> int | None:
+def _total_size(response: http.client.HTTPResponse, offset: int, label: str) -> int | None:
+    """The full archive size in bytes, from Content-Range (resumed) or Content-Length."""
     if response.status == 206:
         match = re.fullmatch(r"bytes (\d+)-\d+/(\d+)", response.headers.get("Content-Range", ""))
         if match is None or int(match.group(1)) != offset:
             raise FetchError(
-                f"server answered a resume request for {response.url} with an unexpected "
+                f"{label}: server answered a resume request for {response.url} with an unexpected "
                 f"range {response.headers.get('Content-Range')!r}"
             )
         return int(match.group(2))
@@ -163,7 +164,7 @@ def download_resumable(
     with response:
         if response.status != 206:
             offset = 0  # the server ignored the Range header: restart from scratch
-        total = _total_size(response, offset)
+        total = _total_size(response, offset, label)
         expected_md5 = _expected_md5(response)
         received = offset
         with (
@@ -178,16 +179,19 @@ def download_resumable(
                 disable=not progress,
             ) as bar,
         ):
-            try:
-                while chunk := response.read(CHUNK_BYTES):
-                    out.write(chunk)
-                    received += len(chunk)
-                    bar.update(len(chunk))
-            except (http.client.IncompleteRead, OSError) as exc:
-                raise FetchError(
-                    f"{label}: download interrupted after {received} of {total or '?'} bytes "
-                    f"({type(exc).__name__}); run the command again to resume"
-                ) from None
+            while True:
+                try:
+                    chunk = response.read(CHUNK_BYTES)
+                except (http.client.IncompleteRead, OSError) as exc:
+                    raise FetchError(
+                        f"{label}: download interrupted after {received} of {total or '?'} "
+                        f"bytes ({type(exc).__name__}); run the command again to resume"
+                    ) from None
+                if not chunk:
+                    break
+                out.write(chunk)
+                received += len(chunk)
+                bar.update(len(chunk))
     if total is not None and received != total:
         raise FetchError(
             f"{label}: download interrupted after {received} of {total} bytes ({url}); run "
