@@ -5,11 +5,15 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+import trimesh
 from scipy.spatial import cKDTree
 from test_render import BOX_HALF_SIZE, BOX_POS, BOX_QUAT, N_VIEWS, build_scene
 
+from simgrasp.assets.ycb import ycb_mesh_path
+from simgrasp.scenes.camera import add_camera, default_viewpoints
 from simgrasp.scenes.observe import object_cloud
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
+from simgrasp.seeding import rng_for
 
 pytestmark = pytest.mark.filterwarnings("ignore:no working headless GL:RuntimeWarning")
 
@@ -101,3 +105,41 @@ def test_object_cloud_errors(scene_frames) -> None:
         object_cloud(frames, [1], voxel_size=0.0)
     absent = object_cloud(frames, [model.nbody + 5])
     assert len(absent) == 0 and absent.view_counts == (0,) * N_VIEWS
+
+
+def _world_mesh(model: mujoco.MjModel, data: mujoco.MjData, geom: str) -> trimesh.Trimesh:
+    """The compiled mesh of ``geom`` at its current world pose (MuJoCo re-centers meshes)."""
+    geom_id = model.geom(geom).id
+    mesh_id = model.geom_dataid[geom_id]
+    first_vert, n_vert = model.mesh_vertadr[mesh_id], model.mesh_vertnum[mesh_id]
+    first_face, n_face = model.mesh_faceadr[mesh_id], model.mesh_facenum[mesh_id]
+    vertices_geom = model.mesh_vert[first_vert : first_vert + n_vert]
+    world_R_geom = data.geom_xmat[geom_id].reshape(3, 3)
+    vertices_world = vertices_geom @ world_R_geom.T + data.geom_xpos[geom_id]
+    return trimesh.Trimesh(vertices_world, model.mesh_face[first_face : first_face + n_face])
+
+
+def test_ycb_mug_cloud_lies_on_the_mesh(ycb_dir: str) -> None:
+    mesh_path, _ = ycb_mesh_path(ycb_dir, "025_mug")
+    mug = trimesh.load(mesh_path, force="mesh")
+    spec = mujoco.MjSpec()
+    spec.add_mesh(name="mug", uservert=mug.vertices.ravel(), userface=mug.faces.ravel())
+    spec.worldbody.add_geom(
+        type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5, 0.5, 0.02], pos=[0, 0, -0.02]
+    )
+    body = spec.worldbody.add_body(name="mug", pos=[0.01, 0.02, 0.0], quat=[0.9, 0.0, 0.0, 0.436])
+    body.add_geom(name="mug", type=mujoco.mjtGeom.mjGEOM_MESH, meshname="mug")
+    for view in default_viewpoints((0.0, 0.0, 0.04), distance=0.5, n=2):
+        add_camera(spec, view)
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    with SceneRenderer(model) as renderer:
+        frames = [renderer.depth(data, name) for name in ("view0", "view1")]
+    cloud = object_cloud(frames, [model.body("mug").id])
+    assert len(cloud) > 5000 and all(count > 1000 for count in cloud.view_counts)
+    sample = rng_for(0, "test_observe", "mug").choice(len(cloud), 1500, replace=False)
+    _, distance, _ = trimesh.proximity.closest_point(
+        _world_mesh(model, data, "mug"), cloud.points_world[sample]
+    )
+    assert np.median(distance) < 2e-4 and np.percentile(distance, 99) < 1e-3
