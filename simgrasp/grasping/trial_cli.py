@@ -1,0 +1,176 @@
+"""``simgrasp trial``: run one grasp trial on an object in MuJoCo and report the outcome."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+RENDER_SIZE = (640, 480)
+FRAME_SECONDS = 1.0
+"""How long each key frame is shown in an mp4."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("object", help="YCB id (025_mug or mug) or generated tool (gen_hammer)")
+    parser.add_argument("--gripper", choices=("builtin", "robotiq_2f85"), default="builtin")
+    parser.add_argument(
+        "--grasp",
+        nargs=7,
+        type=float,
+        metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ"),
+        help="TCP pose (TCP between the pads, +z approach, +y jaw direction); required for now",
+    )
+    parser.add_argument(
+        "--grasp-frame",
+        choices=("world", "object"),
+        default="world",
+        help="frame of --grasp: world, or the object's mesh frame (placed at its scene pose)",
+    )
+    parser.add_argument(
+        "--width", type=float, default=None, help="jaw opening before closing (m; default max)"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed for the object and the scene")
+    parser.add_argument("--ycb-dir", default=None, help="YCB root (default $SIMGRASP_YCB_DIR)")
+    parser.add_argument("--json", action="store_true", help="print the trial record as JSON")
+    parser.add_argument(
+        "--render",
+        type=Path,
+        default=None,
+        help="write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.grasp is None:
+        raise ValueError(
+            "--grasp x y z qw qx qy qz is required: running the full chain (render, detect, "
+            "plan) without it is not wired into `simgrasp trial` yet"
+        )
+    if args.render is not None:
+        _check_render_target(args.render)
+        import simgrasp.scenes.render  # noqa: F401  (chooses the GL platform before mujoco)
+
+    from simgrasp.assets.model import build_object_model
+    from simgrasp.assets.registry import load_object
+    from simgrasp.grasping.grasp import Grasp, matrix_from_pose7
+    from simgrasp.grasping.trial import run_trial
+    from simgrasp.scenes.gripper import make_gripper
+    from simgrasp.scenes.scene import build_scene
+
+    gripper = make_gripper(args.gripper)
+    object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
+    scene = build_scene(object_model, gripper, seed=args.seed)
+    width = gripper.max_opening if args.width is None else args.width
+    if not 0 < width <= gripper.max_opening:
+        raise ValueError(
+            f"--width must be in (0, {gripper.max_opening}] m for gripper {gripper.name!r}, "
+            f"got {width}"
+        )
+    pose = matrix_from_pose7(args.grasp, "--grasp")
+    if args.grasp_frame == "object":
+        grasp = Grasp.from_object_frame(pose, scene.world_T_object, width, source="cli")
+    else:
+        grasp = Grasp(pose, width, source="cli")
+
+    frames: list[np.ndarray] = []
+    renderer, on_phase = None, None
+    if args.render is not None:
+        renderer, on_phase = _frame_recorder(scene, frames)
+    try:
+        result = run_trial(scene, grasp, on_phase=on_phase)
+    finally:
+        if renderer is not None:
+            renderer.close()
+    record = result.to_json()
+    if args.render is not None:
+        _write_frames(frames, args.render)
+        record["render"] = str(args.render)
+    if args.json:
+        print(json.dumps(record))
+    else:
+        _print_summary(record)
+    return 0
+
+
+def _check_render_target(path: Path) -> None:
+    suffix = path.suffix.lower()
+    if suffix not in (".png", ".mp4"):
+        raise ValueError(f"--render must end in .png or .mp4, got {path}")
+    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+        raise ValueError(
+            f"--render {path}: writing mp4 needs the ffmpeg encoder, which is not installed; "
+            "use a .png path for a grid of the key frames"
+        )
+
+
+def _frame_recorder(scene: Any, frames: list[np.ndarray]) -> tuple[Any, Any]:
+    """A renderer and a phase callback appending one RGB picture per key moment."""
+    import mujoco
+
+    from simgrasp.scenes.render import SceneRenderer
+
+    renderer = SceneRenderer(scene.model)
+    camera = mujoco.MjvCamera()
+    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+    camera.distance = 0.9
+    camera.azimuth = 135.0
+    camera.elevation = -25.0
+    camera.lookat[:] = scene.world_T_object[:3, 3] + np.array([0.0, 0.0, 0.12])
+
+    def on_phase(_phase: str, phase_scene: Any) -> None:
+        frames.append(renderer.rgb(phase_scene.data, camera, *RENDER_SIZE))
+
+    return renderer, on_phase
+
+
+def _write_frames(frames: list[np.ndarray], path: Path) -> None:
+    if not frames:
+        raise ValueError(f"no frames were rendered for {path}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.suffix.lower() == ".mp4":
+        _write_mp4(frames, path)
+        return
+    from PIL import Image
+
+    height, width = frames[0].shape[:2]
+    columns = 2 if len(frames) > 1 else 1
+    rows = (len(frames) + columns - 1) // columns
+    grid = np.full((rows * height, columns * width, 3), 255, dtype=np.uint8)
+    for k, frame in enumerate(frames):
+        r, c = divmod(k, columns)
+        grid[r * height : (r + 1) * height, c * width : (c + 1) * width] = frame
+    Image.fromarray(grid).save(path)
+
+
+def _write_mp4(frames: list[np.ndarray], path: Path) -> None:
+    height, width = frames[0].shape[:2]
+    command = [
+        "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
+        "-s", f"{width}x{height}", "-r", str(1.0 / FRAME_SECONDS), "-i", "-",
+        "-pix_fmt", "yuv420p", "-vf", "fps=25", str(path),
+    ]  # fmt: skip
+    stream = b"".join(np.ascontiguousarray(f).tobytes() for f in frames)
+    done = subprocess.run(command, input=stream, capture_output=True, check=False)
+    if done.returncode != 0:
+        raise ValueError(f"ffmpeg could not write {path}: {done.stderr.decode().strip()}")
+
+
+def _print_summary(record: dict[str, Any]) -> None:
+    outcome = {True: "success", False: f"failed ({record['failure']})", None: "sim unstable"}
+    lines = [
+        f"object       {record['object']}  (gripper {record['gripper']}, seed {record['seed']})",
+        f"outcome      {outcome[record['success']]}",
+        f"on handle    {record['on_handle']}  (share of contacts {record['handle_fraction']:.2f})",
+        f"lift height  {record['lift_height']:.3f} m",
+        f"sim time     {record['sim_time']:.2f} s in {record['timings_s']['total']:.2f} s wall",
+    ]
+    if "render" in record:
+        lines.append(f"frames       {record['render']}")
+    sys.stdout.write("\n".join(lines) + "\n")
