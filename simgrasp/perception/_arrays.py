@@ -1,0 +1,51 @@
+"""Input checks shared by the perception functions: clear errors instead of numpy tracebacks."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
+    """Return ``points`` as a finite, non-empty (N, 3) float64 array or raise ``ValueError``."""
+    array = np.asarray(points, dtype=np.float64)
+    if array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f"{name} must be an (N, 3) array, got shape {array.shape}")
+    if len(array) == 0:
+        raise ValueError(f"{name} is empty")
+    bad = ~np.isfinite(array).all(axis=1)
+    if bad.any():
+        raise ValueError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
+    return array
+
+
+def as_normals(
+    normals: ArrayLike, points: NDArray[np.float64], name: str = "normals"
+) -> NDArray[np.float64]:
+    """Return ``normals`` as a finite (N, 3) float64 array matching ``points``."""
+    array = np.asarray(normals, dtype=np.float64)
+    if array.shape != points.shape:
+        raise ValueError(f"{name} must match the points' shape {points.shape}, got {array.shape}")
+    bad = ~np.isfinite(array).all(axis=1)
+    if bad.any():
+        raise ValueError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
+    return array
+
+
+def positive(value: float, name: str) -> float:
+    """Return ``value`` as a float if it is a finite positive number, else raise ``ValueError``."""
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+        raise ValueError(f"{name} must be a positive number, got {value!r}")
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a finite positive number, got {value!r}")
+    return float(value)
+
+
+def to_open3d(points: NDArray[np.float64], normals: NDArray[np.float64] | None = None):  # noqa: ANN201
+    """Wrap arrays in an ``open3d.geometry.PointCloud`` (Open3D imported lazily: it is heavy)."""
+    import open3d as o3d
+
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+    if normals is not None:
+        cloud.normals = o3d.utility.Vector3dVector(normals)
+    return cloud

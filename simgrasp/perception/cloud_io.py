@@ -1,0 +1,126 @@
+"""Read and write point clouds: ``.ply`` and ``.pcd`` (Open3D), ``.xyz`` (text), ``.npy``.
+
+``.xyz`` is whitespace-separated text, one point per line: ``x y z`` or ``x y z nx ny nz``
+(``#`` starts a comment). ``.npy`` holds an (N, 3) or (N, 6) float array, same columns.
+
+Policy for bad data: reading refuses (``ValueError`` naming the file) an unknown extension, a
+missing or unreadable file, a wrong column count, an empty cloud, and any non-finite value,
+reporting how many points have NaN or inf: silently dropping points would change what a
+detector sees. Normals are rescaled to unit length; zero-length normals are refused.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from simgrasp.perception._arrays import to_open3d
+
+FORMATS = (".ply", ".pcd", ".xyz", ".npy")
+
+Cloud = tuple[NDArray[np.float64], NDArray[np.float64] | None]
+
+
+def _format(path: Path) -> str:
+    suffix = path.suffix.lower()
+    if suffix not in FORMATS:
+        raise ValueError(
+            f"{path}: unknown point-cloud extension {suffix!r}; use one of {', '.join(FORMATS)}"
+        )
+    return suffix
+
+
+def read_cloud(path: str | Path) -> Cloud:
+    """Read a cloud file; returns (N, 3) points and (N, 3) unit normals or None (meters)."""
+    path = Path(path)
+    suffix = _format(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: no such point-cloud file")
+    if suffix in (".ply", ".pcd"):
+        points, normals = _read_open3d(path)
+    else:
+        points, normals = _split_columns(path, _read_table(path, suffix))
+    return _checked(path, points, normals)
+
+
+def write_cloud(path: str | Path, points: ArrayLike, normals: ArrayLike | None = None) -> None:
+    """Write (N, 3) points (and optional (N, 3) normals) to ``path``; format by extension.
+
+    ``.ply`` and ``.pcd`` are written in binary by Open3D, ``.xyz`` as text with full float64
+    precision, ``.npy`` as an (N, 3) or (N, 6) float64 array.
+    """
+    path = Path(path)
+    suffix = _format(path)
+    pts, nrm = _checked(path, np.asarray(points, dtype=np.float64), normals)
+    if suffix in (".ply", ".pcd"):
+        import open3d as o3d
+
+        if not o3d.io.write_point_cloud(str(path), to_open3d(pts, nrm)):
+            raise ValueError(f"{path}: Open3D could not write the point cloud")
+        return
+    table = pts if nrm is None else np.hstack([pts, nrm])
+    if suffix == ".npy":
+        np.save(path, table)
+    else:
+        np.savetxt(path, table, fmt="%.17g")
+
+
+def _read_open3d(path: Path) -> Cloud:
+    import open3d as o3d
+
+    cloud = o3d.io.read_point_cloud(str(path), format="auto")
+    points = np.asarray(cloud.points, dtype=np.float64)
+    if len(points) == 0:
+        raise ValueError(f"{path}: no points could be read (empty or not a valid {path.suffix})")
+    normals = np.asarray(cloud.normals, dtype=np.float64) if cloud.has_normals() else None
+    return points, normals
+
+
+def _read_table(path: Path, suffix: str) -> NDArray[np.float64]:
+    try:
+        if suffix == ".npy":
+            table = np.load(path, allow_pickle=False)
+        else:
+            table = np.loadtxt(path, dtype=np.float64, comments="#", ndmin=2)
+    except (ValueError, OSError, EOFError) as exc:
+        raise ValueError(f"{path}: not a readable {suffix} point cloud ({exc})") from exc
+    if table.dtype.kind not in "fiu":
+        raise ValueError(f"{path}: expected a numeric array, got dtype {table.dtype}")
+    return np.asarray(table, dtype=np.float64)
+
+
+def _split_columns(path: Path, table: NDArray[np.float64]) -> Cloud:
+    if table.size == 0:
+        raise ValueError(f"{path}: the point cloud is empty")
+    if table.ndim != 2 or table.shape[1] not in (3, 6):
+        raise ValueError(
+            f"{path}: expected N x 3 (points) or N x 6 (points, normals), got shape {table.shape}"
+        )
+    return table[:, :3], (table[:, 3:] if table.shape[1] == 6 else None)
+
+
+def _checked(path: Path, points: NDArray[np.float64], normals: ArrayLike | None) -> Cloud:
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise ValueError(f"{path}: points must be N x 3, got shape {points.shape}")
+    if len(points) == 0:
+        raise ValueError(f"{path}: the point cloud is empty")
+    bad = ~np.isfinite(points).all(axis=1)
+    if bad.any():
+        raise ValueError(
+            f"{path}: {int(bad.sum())} of {len(points)} points have NaN or inf coordinates; "
+            "remove them first"
+        )
+    if normals is None:
+        return points, None
+    nrm = np.asarray(normals, dtype=np.float64)
+    if nrm.shape != points.shape:
+        raise ValueError(f"{path}: normals shape {nrm.shape} does not match points {points.shape}")
+    length = np.linalg.norm(nrm, axis=1)
+    bad = ~np.isfinite(length) | (length < 1e-12)
+    if bad.any():
+        raise ValueError(
+            f"{path}: {int(bad.sum())} of {len(points)} normals are NaN, inf or zero length"
+        )
+    return points, nrm / length[:, None]

@@ -1,0 +1,182 @@
+"""Surface normal estimation (Open3D PCA) with viewpoint or outward orientation.
+
+``orient="outward"`` is meant for a full-object cloud (all sides sampled). Outward means away
+from the object's material, per point, not away from the centroid: the inside of a mug's
+wall, a handle's inner side and the underside of a plate all point away from the surface
+they belong to. The sign is decided by visibility: the cloud is seen from
+``_VIEW_COUNT`` orthographic directions spread over the sphere; a point in the front layer of
+a view is visible, and a visible surface faces its viewer, so each view votes for the sign
+that turns the normal toward it. Points no view sees (deep concavities) take the sign that
+agrees with their already-oriented neighbours, spread over a k-nearest-neighbour graph.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
+
+from simgrasp.perception._arrays import as_points, positive, to_open3d
+
+Orientation = Literal["outward", "viewpoint", "none"]
+
+RADIUS_PER_SPACING = 5.0
+"""Default search radius = this x the median nearest-neighbour distance of the cloud. For a
+randomly sampled surface that holds about 20 points; ``max_nn`` caps denser neighbourhoods."""
+
+_VIEW_COUNT = 32
+_PIXEL_PER_SPACING = 5.0
+_DEPTH_TOLERANCE_PER_SPACING = 1.5
+_MIN_VIEW_COSINE = 0.2
+_PROPAGATION_NEIGHBORS = 8
+_MAX_PIXELS_PER_SIDE = 4000
+
+
+def point_spacing(points: NDArray[np.float64], sample: int = 4000) -> float:
+    """Median distance (m) from a point to its nearest other point (on at most ``sample``
+    evenly strided points, for speed). Zero only if the points coincide."""
+    stride = max(1, len(points) // sample)
+    tree = cKDTree(points)
+    distances, _ = tree.query(points[::stride], k=2)
+    return float(np.median(distances[:, 1]))
+
+
+def estimate_normals(
+    points: ArrayLike,
+    radius: float | None = None,
+    max_nn: int = 30,
+    orient: Orientation = "outward",
+    viewpoint: ArrayLike | None = None,
+) -> NDArray[np.float64]:
+    """Unit surface normals of a point cloud (Open3D ``estimate_normals``, hybrid KD search).
+
+    Args:
+        points: (N, 3) cloud, meters, any frame (the frame of ``viewpoint`` too).
+        radius: neighbourhood radius (m) of the PCA plane fit; default
+            ``RADIUS_PER_SPACING`` x the median nearest-neighbour spacing.
+        max_nn: at most this many nearest neighbours within ``radius`` are used.
+        orient: ``"outward"`` (full-object cloud: away from the material, see the module
+            docstring), ``"viewpoint"`` (single-view cloud: toward ``viewpoint``) or
+            ``"none"`` (Open3D's arbitrary signs).
+        viewpoint: (3,) camera position in the cloud's frame; required for ``"viewpoint"``.
+
+    Returns:
+        (N, 3) unit normals in the cloud's frame.
+    """
+    pts = as_points(points)
+    if len(pts) < 3:
+        raise ValueError(f"normal estimation needs at least 3 points, got {len(pts)}")
+    if isinstance(max_nn, bool) or not isinstance(max_nn, int | np.integer) or max_nn < 3:
+        raise ValueError(f"max_nn must be an integer >= 3, got {max_nn!r}")
+    if orient not in ("outward", "viewpoint", "none"):
+        raise ValueError(f"orient must be 'outward', 'viewpoint' or 'none', got {orient!r}")
+    if orient == "viewpoint":
+        if viewpoint is None:
+            raise ValueError("orient='viewpoint' needs viewpoint, the camera position (3,)")
+        eye = np.asarray(viewpoint, dtype=np.float64)
+        if eye.shape != (3,) or not np.isfinite(eye).all():
+            raise ValueError(f"viewpoint must be a finite (3,) position, got {viewpoint!r}")
+    elif viewpoint is not None:
+        raise ValueError(f"viewpoint is only used with orient='viewpoint', not {orient!r}")
+
+    spacing = point_spacing(pts)
+    if radius is None:
+        if spacing <= 0:
+            raise ValueError("cannot derive a normal radius: the points coincide; pass radius")
+        radius = RADIUS_PER_SPACING * spacing
+    radius = positive(radius, "radius")
+
+    import open3d as o3d
+
+    cloud = to_open3d(pts)
+    cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=radius, max_nn=max_nn))
+    normals = np.asarray(cloud.normals, dtype=np.float64)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-12)[:, None]
+    if orient == "viewpoint":
+        flip = np.einsum("ij,ij->i", normals, eye - pts) < 0
+    elif orient == "outward":
+        flip = _outward_flips(pts, normals, max(spacing, 1e-9))
+    else:
+        flip = np.zeros(len(pts), dtype=bool)
+    normals[flip] *= -1
+    return normals
+
+
+def _view_directions(count: int) -> NDArray[np.float64]:
+    """``count`` unit vectors evenly spread over the sphere (Fibonacci lattice)."""
+    i = np.arange(count) + 0.5
+    z = 1 - 2 * i / count
+    phi = np.pi * (1 + 5**0.5) * i
+    r = np.sqrt(1 - z**2)
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
+
+
+def _front_layer(
+    points: NDArray[np.float64],
+    normals: NDArray[np.float64],
+    toward_viewer: NDArray[np.float64],
+    spacing: float,
+) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
+    """Visibility for an orthographic viewer placed far along ``toward_viewer``.
+
+    The points are binned into square pixels of ``_PIXEL_PER_SPACING`` point spacings (large
+    enough that a sampled surface leaves no holes for hidden points to show through); a point
+    is visible if its depth is within ``_DEPTH_TOLERANCE_PER_SPACING`` spacings of the nearest
+    point of its pixel. Returns (visible, cosine of the normal with the view direction).
+    """
+    helper = np.array([1.0, 0, 0]) if abs(toward_viewer[0]) < 0.9 else np.array([0, 1.0, 0])
+    u = np.cross(toward_viewer, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(toward_viewer, u)
+    uv = np.column_stack([points @ u, points @ v])
+    extent = float(np.ptp(uv, axis=0).max())
+    pixel = max(_PIXEL_PER_SPACING * spacing, extent / _MAX_PIXELS_PER_SIDE)
+    ij = np.floor((uv - uv.min(axis=0)) / pixel).astype(np.int64)
+    shape = tuple(ij.max(axis=0) + 1)
+    depth = -(points @ toward_viewer)
+    front = np.full(shape, np.inf)
+    np.minimum.at(front, (ij[:, 0], ij[:, 1]), depth)
+    visible = depth <= front[ij[:, 0], ij[:, 1]] + _DEPTH_TOLERANCE_PER_SPACING * spacing
+    return visible, normals @ toward_viewer
+
+
+def _outward_flips(
+    points: NDArray[np.float64], normals: NDArray[np.float64], spacing: float
+) -> NDArray[np.bool_]:
+    """Which normals to negate so that they point away from the material (see module doc)."""
+    vote = np.zeros(len(points))
+    for toward_viewer in _view_directions(_VIEW_COUNT):
+        visible, cosine = _front_layer(points, normals, toward_viewer, spacing)
+        visible &= np.abs(cosine) >= _MIN_VIEW_COSINE
+        vote[visible] += cosine[visible]
+    sign = np.sign(vote)
+    sign = _propagate_signs(points, normals, sign)
+    return sign < 0
+
+
+def _propagate_signs(
+    points: NDArray[np.float64], normals: NDArray[np.float64], sign: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Give every unsigned point (sign 0) the sign that best agrees with its signed
+    neighbours' oriented normals, growing outward from the signed points; points in parts no
+    view reached fall back to facing away from the centroid."""
+    k = min(_PROPAGATION_NEIGHBORS + 1, len(points))
+    _, neighbors = cKDTree(points).query(points, k=k)
+    sign = sign.copy()
+    while True:
+        unsigned = np.flatnonzero(sign == 0)
+        if len(unsigned) == 0:
+            return sign
+        near = neighbors[unsigned]
+        agreement = np.einsum("ij,ikj->ik", normals[unsigned], normals[near]) * sign[near]
+        score = agreement.sum(axis=1)
+        decided = score != 0
+        if not decided.any():
+            break
+        sign[unsigned[decided]] = np.sign(score[decided])
+    rest = sign == 0
+    outward = points[rest] - points.mean(axis=0)
+    sign[rest] = np.where(np.einsum("ij,ij->i", normals[rest], outward) >= 0, 1.0, -1.0)
+    return sign
