@@ -10,6 +10,7 @@ from scipy.spatial import cKDTree
 from test_render import BOX_HALF_SIZE, BOX_POS, BOX_QUAT, N_VIEWS, build_scene
 
 from simgrasp.assets.ycb import ycb_mesh_path
+from simgrasp.perception.noise import DepthNoiseConfig
 from simgrasp.scenes.camera import add_camera, default_viewpoints
 from simgrasp.scenes.observe import object_cloud
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
@@ -93,6 +94,24 @@ def test_segmentation_selects_bodies(scene_frames) -> None:
     assert np.all(np.abs(gripper_cloud.points_world - palm_center) < [0.011, 0.041, 0.021])
 
 
+def test_depth_noise_is_seeded_and_applied_in_the_camera_frame(scene_frames) -> None:
+    from test_render import box_surface_distance
+
+    model, frames = scene_frames
+    object_body = model.body("object").id
+    config = DepthNoiseConfig(dropout=0.2)
+    clean = object_cloud(frames, [object_body])
+    noisy = object_cloud(frames, [object_body], noise=config, rng=rng_for(1, "noise"))
+    again = object_cloud(frames, [object_body], noise=config, rng=rng_for(1, "noise"))
+    np.testing.assert_array_equal(noisy.points_world, again.points_world)
+    for clean_count, noisy_count in zip(clean.view_counts, noisy.view_counts, strict=True):
+        assert noisy_count == round(0.8 * clean_count)
+    distance = box_surface_distance(noisy.points_world)
+    # ~0.6 m away the axial sigma is ~1.3 mm: clearly off the surface, but not far off.
+    assert 3e-4 < np.median(distance) < 3e-3
+    assert np.median(box_surface_distance(clean.points_world)) < 1e-4
+
+
 def test_object_cloud_errors(scene_frames) -> None:
     model, frames = scene_frames
     with pytest.raises(ValueError, match="at least one depth frame"):
@@ -100,7 +119,7 @@ def test_object_cloud_errors(scene_frames) -> None:
     with pytest.raises(ValueError, match="object_body_ids is empty"):
         object_cloud(frames, [])
     with pytest.raises(ValueError, match="needs an rng"):
-        object_cloud(frames, [1], noise=object())
+        object_cloud(frames, [1], noise=DepthNoiseConfig())
     with pytest.raises(ValueError, match="voxel_size"):
         object_cloud(frames, [1], voxel_size=0.0)
     absent = object_cloud(frames, [model.nbody + 5])

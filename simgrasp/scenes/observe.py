@@ -9,6 +9,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from simgrasp.perception.camera import depth_to_points_cam, transform_points
+from simgrasp.perception.noise import DepthNoiseConfig, depth_camera_noise
 from simgrasp.perception.voxel import voxel_downsample
 from simgrasp.scenes.render import DepthFrame
 
@@ -39,7 +40,7 @@ def object_cloud(
     frames: Sequence[DepthFrame],
     object_body_ids: Iterable[int],
     *,
-    noise: object | None = None,
+    noise: DepthNoiseConfig | None = None,
     rng: np.random.Generator | None = None,
     voxel_size: float | None = None,
 ) -> ObjectCloud:
@@ -47,8 +48,9 @@ def object_cloud(
 
     Per frame: keep pixels whose body id is in ``object_body_ids`` (the table, grippers and
     every other body are dropped), back-project them to the OpenCV camera frame, optionally
-    apply the depth-camera noise model ``noise`` (a config for
-    :func:`simgrasp.perception.noise.depth_camera_noise`, drawing from ``rng``), and map them
+    apply the depth-camera noise model ``noise`` (:func:`simgrasp.perception.noise.
+    depth_camera_noise`, drawing from ``rng``; the frames' noise is drawn in frame order), and
+    map them
     to the world frame. The views are concatenated and, with ``voxel_size`` (meters), voxel
     down-sampled; each down-sampled point keeps the viewpoint of its nearest input point.
     """
@@ -84,13 +86,11 @@ def object_cloud(
 def _view_points_world(
     frame: DepthFrame,
     body_ids: np.ndarray,
-    noise: object | None,
+    noise: DepthNoiseConfig | None,
     rng: np.random.Generator | None,
 ) -> np.ndarray:
     mask = np.isin(frame.body_ids, body_ids)
     points_cam, _ = depth_to_points_cam(frame.depth, frame.intrinsics, mask)
     if noise is not None and len(points_cam) > 0:
-        from simgrasp.perception.noise import depth_camera_noise
-
         points_cam, _ = depth_camera_noise(points_cam, rng, noise)
     return transform_points(frame.world_T_cam, points_cam)
