@@ -55,6 +55,9 @@ class TenPasConfig:
     """... and their axis points are at most this far apart along the axis (m)."""
     min_shells: int = 3
     """A handle needs at least this many aligned shells (ten Pas & Platt used about 3)."""
+    kind_rtol: float = 1e-2
+    """Relative tolerance with which the candidates' Taubin quadrics classify their kind
+    (reporting and plots only; the tests above do not use the kind)."""
 
     def __post_init__(self) -> None:
         positive = (
@@ -69,6 +72,7 @@ class TenPasConfig:
             "align_distance",
             "align_radius_ratio",
             "align_gap",
+            "kind_rtol",
         )
         for name in positive:
             value = getattr(self, name)
@@ -94,6 +98,8 @@ class TenPasConfig:
             raise ValueError(
                 f"tenpas config: align_angle must be below pi/2 rad, got {self.align_angle!r}"
             )
+        if self.kind_rtol >= 1:
+            raise ValueError(f"tenpas config: kind_rtol must be below 1, got {self.kind_rtol!r}")
         if self.align_radius_ratio >= 1:
             raise ValueError(
                 "tenpas config: align_radius_ratio must be below 1, got "
