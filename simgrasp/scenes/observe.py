@@ -49,9 +49,9 @@ def object_cloud(
     Per frame: keep pixels whose body id is in ``object_body_ids`` (the table, grippers and
     every other body are dropped), back-project them to the OpenCV camera frame, optionally
     apply the depth-camera noise model ``noise`` (``perception.noise.depth_camera_noise``,
-    drawing from ``rng`` frame by frame, in order), and map them
-    to the world frame. The views are concatenated and, with ``voxel_size`` (meters), voxel
-    down-sampled; each down-sampled point keeps the viewpoint of its nearest input point.
+    drawing from ``rng`` frame by frame, in order), and map them to the world frame. The views
+    are concatenated and, with ``voxel_size`` (meters), voxel down-sampled; each down-sampled
+    point keeps the viewpoint of its nearest input point.
     """
     frames = list(frames)
     if not frames:
