@@ -46,6 +46,8 @@ CONDITION_LIMIT = 1e12
 """Largest accepted 1-norm condition number of the (equilibrated) fitting system, and the
 smallest accepted ratio max/min of the eigen gap for the eigenvector methods."""
 
+MAGNITUDE_WEIGHT = 1.0
+
 FAILURES = ("non_finite", "too_few_points", "collinear", "coplanar", "ill_conditioned")
 
 
@@ -95,6 +97,7 @@ def fit_quadrics(
     mask: ArrayLike | None = None,
     *,
     gradient_weight: float = 1.0,
+    magnitude_weight: float = MAGNITUDE_WEIGHT,
 ) -> QuadricFit:
     """Fit one quadric per neighborhood.
 
@@ -123,7 +126,7 @@ def fit_quadrics(
         raise ValueError(f"fit_quadrics: gradient_weight must be > 0, got {gradient_weight!r}")
     pts, nrm, valid_point = _dense_inputs(points, normals if method == "birdal" else None, mask)
     with np.errstate(all="ignore"):
-        return _fit(pts, nrm, valid_point, method, gradient_weight)
+        return _fit(pts, nrm, valid_point, method, gradient_weight, magnitude_weight)
 
 
 def _dense_inputs(
@@ -191,7 +194,12 @@ def _pad(arrays: Sequence[ArrayLike], name: str) -> tuple[np.ndarray, np.ndarray
 
 
 def _fit(
-    pts: np.ndarray, nrm: np.ndarray | None, valid: np.ndarray, method: str, weight: float
+    pts: np.ndarray,
+    nrm: np.ndarray | None,
+    valid: np.ndarray,
+    method: str,
+    weight: float,
+    magnitude_weight: float,
 ) -> QuadricFit:
     batch = len(pts)
     failure = np.full(batch, None, dtype=object)
@@ -221,7 +229,7 @@ def _fit(
             n = np.where(w[:, :, None] > 0, nrm[idx], 0.0)
             length = np.linalg.norm(n, axis=2)
             n = np.where(length[:, :, None] > 0, n / np.where(length > 0, length, 1)[:, :, None], 0)
-            fitted, ok = _birdal(std_pts, n, w, w * (length > 0), weight)
+            fitted, ok = _birdal(std_pts, n, w, w * (length > 0), weight, magnitude_weight)
         elif method == "taubin":
             fitted, ok = _taubin(std_pts, w)
         else:
@@ -321,12 +329,24 @@ def _moments(
 
 
 def _birdal(
-    p: np.ndarray, n: np.ndarray, w: np.ndarray, w_grad: np.ndarray, weight: float
+    p: np.ndarray,
+    n: np.ndarray,
+    w: np.ndarray,
+    w_grad: np.ndarray,
+    weight: float,
+    magnitude_weight: float,
 ) -> tuple[np.ndarray, np.ndarray]:
+    """Normal equations of Σ (v·c)² + w Σ |P_t G c|² + w m Σ (nᵀG c - 1)² (P_t = I - n nᵀ).
+
+    With r_p = Gᵀn: Σ |P_t G c|² = cᵀ(N - Σ r rᵀ)c and Σ (nᵀGc - 1)² = cᵀ(Σ r rᵀ)c - 2 cᵀΣ r + K.
+    """
     M, N, ph = _moments(p, w, w_grad)
-    C = np.matmul(np.swapaxes(ph * w_grad[:, :, None], 1, 2), n)
-    rhs = weight * (C.reshape(-1, 12) @ _TO_RHS)
-    return _solve_spd(M + weight * N, rhs)
+    outer = (ph[:, :, :, None] * n[:, :, None, :]).reshape(*n.shape[:2], 12)
+    r = (outer @ _TO_RHS) * np.sqrt(w_grad)[:, :, None]
+    R = np.matmul(np.swapaxes(r, 1, 2), r)
+    A = M + weight * N + weight * (magnitude_weight - 1) * R
+    rhs = weight * magnitude_weight * r.sum(axis=1)
+    return _solve_spd(A, rhs)
 
 
 def _solve_spd(A: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
