@@ -8,6 +8,7 @@ voxelised at 3 mm (about 5000 voxels) gets about 500 neighbourhoods.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Literal
@@ -20,6 +21,8 @@ from simgrasp.perception._arrays import as_normals, as_points, positive
 from simgrasp.perception.voxel import voxel_count
 
 NeighborhoodShape = Literal["cube", "sphere"]
+
+_KEYS_PER_CHUNK = 4_000_000
 
 
 @dataclass(frozen=True)
@@ -109,26 +112,41 @@ def gather_neighborhoods(
         raise ValueError(f"min_points ({min_points}) exceeds max_points ({max_points})")
 
     norm = np.inf if shape == "cube" else 2.0
-    found = cKDTree(pts).query_ball_point(centers, radius, p=norm, return_sorted=False)
+    found = cKDTree(pts).query_ball_point(centers, radius, p=norm, return_sorted=False, workers=-1)
     sizes = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
     keep = np.flatnonzero(sizes >= min_points)
-    flat = np.concatenate([np.asarray(found[i], dtype=np.int64) for i in keep] or [[]])
-    flat = flat.astype(np.int64)
-    group = np.repeat(np.arange(len(keep)), sizes[keep])
-    if (sizes[keep] > max_points).any():
-        if rng is None:
-            raise ValueError("gather_neighborhoods needs rng to subsample large neighbourhoods")
-        order = np.lexsort((rng.random(len(flat)), group))
-        flat, group = flat[order], group[order]
-    starts = np.cumsum(sizes[keep]) - sizes[keep]
-    rank = np.arange(len(flat)) - np.repeat(starts, sizes[keep])
-    chosen = rank < max_points
-    counts = np.minimum(sizes[keep], max_points)
-    hood_points = np.zeros((len(keep), max_points, 3))
-    hood_normals = np.zeros((len(keep), max_points, 3))
-    mask = np.zeros((len(keep), max_points), dtype=bool)
-    slot = (group[chosen], rank[chosen])
-    hood_points[slot] = pts[flat[chosen]]
-    hood_normals[slot] = nrm[flat[chosen]]
-    mask[slot] = True
+    sizes = sizes[keep]
+    flat = np.fromiter(
+        itertools.chain.from_iterable(found[i] for i in keep), dtype=np.int64, count=sizes.sum()
+    )
+    if (sizes > max_points).any() and rng is None:
+        raise ValueError("gather_neighborhoods needs rng to subsample large neighbourhoods")
+    offsets = _chosen_offsets(sizes, max_points, rng)
+    mask = offsets < sizes[:, None]
+    rows = (np.cumsum(sizes) - sizes)[:, None] + np.where(mask, offsets, 0)
+    index = flat[np.where(mask, rows, 0)] if len(flat) else np.zeros(mask.shape, np.int64)
+    hood_points = np.where(mask[..., None], pts[index], 0.0)
+    hood_normals = np.where(mask[..., None], nrm[index], 0.0)
+    counts = np.minimum(sizes, max_points)
     return Neighborhoods(hood_points, hood_normals, mask, counts, centers[keep], keep)
+
+
+def _chosen_offsets(
+    sizes: NDArray[np.int64], max_points: int, rng: np.random.Generator | None
+) -> NDArray[np.int64]:
+    """(B, max_points) positions within each neighbourhood's point list: all of them (then
+    padding positions >= size) when it fits, else a uniform random subset without repetition
+    (the smallest ``max_points`` of one random key per point)."""
+    offsets = np.broadcast_to(np.arange(max_points), (len(sizes), max_points)).copy()
+    big = np.flatnonzero(sizes > max_points)
+    if len(big) == 0:
+        return offsets
+    assert rng is not None
+    longest = int(sizes[big].max())
+    rows_per_chunk = max(1, _KEYS_PER_CHUNK // longest)
+    for first in range(0, len(big), rows_per_chunk):
+        chunk = big[first : first + rows_per_chunk]
+        keys = rng.random((len(chunk), longest))
+        keys[np.arange(longest) >= sizes[chunk, None]] = np.inf
+        offsets[chunk] = np.argpartition(keys, max_points - 1, axis=1)[:, :max_points]
+    return offsets

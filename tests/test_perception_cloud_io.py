@@ -1,0 +1,83 @@
+"""Cloud files: round trips for every format, clear errors naming the file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from simgrasp.perception import read_cloud, write_cloud
+from simgrasp.seeding import rng_for
+
+FORMATS = [".ply", ".pcd", ".xyz", ".npy"]
+
+
+def _cloud() -> tuple[np.ndarray, np.ndarray]:
+    rng = rng_for(0, "cloud_io")
+    points = rng.uniform(-0.2, 0.2, size=(500, 3))
+    normals = rng.normal(size=(500, 3))
+    return points, normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+@pytest.mark.parametrize("with_normals", [True, False])
+def test_round_trip(tmp_path: Path, suffix: str, with_normals: bool) -> None:
+    points, normals = _cloud()
+    path = tmp_path / f"cloud{suffix}"
+    write_cloud(path, points, normals if with_normals else None)
+    read_points, read_normals = read_cloud(path)
+    atol = 1e-7 if suffix in (".ply", ".pcd") else 1e-15  # Open3D stores float32
+    np.testing.assert_allclose(read_points, points, rtol=0, atol=atol)
+    if with_normals:
+        np.testing.assert_allclose(read_normals, normals, rtol=0, atol=atol)
+    else:
+        assert read_normals is None
+
+
+def test_text_with_comments_and_unnormalised_normals(tmp_path: Path) -> None:
+    path = tmp_path / "c.xyz"
+    path.write_text("# x y z nx ny nz\n0 0 0 0 0 2\n1 2 3 3 0 0\n")
+    points, normals = read_cloud(path)
+    np.testing.assert_array_equal(points, [[0, 0, 0], [1, 2, 3]])
+    np.testing.assert_array_equal(normals, [[0, 0, 1], [1, 0, 0]])
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "message"),
+    [
+        ("c.obj", "v 0 0 0\n", "unknown point-cloud extension"),
+        ("c.xyz", "1 2\n3 4\n", "N x 3"),
+        ("c.xyz", "1 2 3\nnan 2 3\n4 5 inf\n", "2 of 3 points have NaN or inf"),
+        ("c.xyz", "# nothing\n", "empty"),
+        ("c.xyz", "1 2 three\n", "not a readable"),
+        ("c.xyz", "1 2 3 0 0 0\n", "zero length"),
+        ("c.ply", "not a ply\n", "no points could be read"),
+        ("c.npy", "garbage", "not a readable"),
+    ],
+)
+def test_bad_files_name_the_file(tmp_path: Path, name: str, content: str, message: str) -> None:
+    path = tmp_path / name
+    path.write_text(content)
+    with pytest.raises(ValueError, match=message) as info:
+        read_cloud(path)
+    assert str(path) in str(info.value)
+
+
+def test_bad_npy_shape_and_missing_file(tmp_path: Path) -> None:
+    path = tmp_path / "c.npy"
+    np.save(path, np.zeros((4, 4)))
+    with pytest.raises(ValueError, match=r"got shape \(4, 4\)"):
+        read_cloud(path)
+    with pytest.raises(ValueError, match="no such point-cloud file"):
+        read_cloud(tmp_path / "missing.ply")
+
+
+def test_write_refuses_bad_arrays(tmp_path: Path) -> None:
+    points, normals = _cloud()
+    with pytest.raises(ValueError, match="NaN"):
+        write_cloud(tmp_path / "c.ply", np.vstack([points, [np.nan, 0, 0]]))
+    with pytest.raises(ValueError, match="does not match"):
+        write_cloud(tmp_path / "c.npy", points, normals[:10])
+    with pytest.raises(ValueError, match="unknown"):
+        write_cloud(tmp_path / "c.txt", points)
