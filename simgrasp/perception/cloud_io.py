@@ -11,6 +11,7 @@ detector sees. Normals are rescaled to unit length; zero-length normals are refu
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -84,7 +85,9 @@ def _read_table(path: Path, suffix: str) -> NDArray[np.float64]:
         if suffix == ".npy":
             table = np.load(path, allow_pickle=False)
         else:
-            table = np.loadtxt(path, dtype=np.float64, comments="#", ndmin=2)
+            with warnings.catch_warnings():  # an empty file is reported below, not warned
+                warnings.simplefilter("ignore", UserWarning)
+                table = np.loadtxt(path, dtype=np.float64, comments="#", ndmin=2)
     except (ValueError, OSError, EOFError) as exc:
         raise ValueError(f"{path}: not a readable {suffix} point cloud ({exc})") from exc
     if table.dtype.kind not in "fiu":

@@ -1,0 +1,86 @@
+"""Normal estimation and neighbourhood gathering on a 20k-point cloud: medians of repeats.
+
+Compares plain Open3D ``estimate_normals`` (hybrid KD search, no orientation) with
+``simgrasp.perception.estimate_normals`` in its three orientation modes, and times
+``gather_neighborhoods`` for 3000 cube neighbourhoods. Run:
+``MUJOCO_GL=egl .venv/bin/python benchmarks/bench_normals.py [--object 025_mug]``
+(a YCB id reads ``$SIMGRASP_YCB_DIR``; the default is a generated torus).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import open3d as o3d
+import trimesh
+
+from simgrasp.perception import (
+    estimate_normals,
+    gather_neighborhoods,
+    point_spacing,
+    sample_centers,
+    sample_surface,
+)
+from simgrasp.perception.normals import RADIUS_PER_SPACING
+from simgrasp.seeding import rng_for
+
+
+def _median_s(step: Callable[[], object], repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        step()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def _mesh(name: str) -> trimesh.Trimesh:
+    if name == "torus":
+        return trimesh.creation.torus(major_radius=0.05, minor_radius=0.015)
+    import os
+
+    path = Path(os.environ["SIMGRASP_YCB_DIR"]) / name / "google_16k" / "textured.obj"
+    return trimesh.load(path, force="mesh")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--object", default="torus")
+    parser.add_argument("--points", type=int, default=20000)
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    points, _ = sample_surface(_mesh(args.object), args.points, rng_for(0, "bench_normals"))
+    radius = RADIUS_PER_SPACING * point_spacing(points)
+
+    def open3d_only() -> None:
+        cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+        cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=radius, max_nn=30))
+
+    centers = points[sample_centers(points, rng_for(0, "centers"), count=3000)]
+    normals = estimate_normals(points, orient="none")
+    rows = {
+        "open3d estimate_normals": open3d_only,
+        "estimate_normals orient=none": lambda: estimate_normals(points, orient="none"),
+        "estimate_normals orient=viewpoint": lambda: estimate_normals(
+            points, orient="viewpoint", viewpoint=np.array([0, 0, 1.0])
+        ),
+        "estimate_normals orient=outward": lambda: estimate_normals(points, orient="outward"),
+        "gather_neighborhoods 3000 cubes 16 mm": lambda: gather_neighborhoods(
+            points, normals, centers, 0.016, "cube", 64, 10, rng_for(0)
+        ),
+    }
+    medians = {name: _median_s(step, args.repeats) for name, step in rows.items()}
+    base = medians["open3d estimate_normals"]
+    print(f"{args.object}: {len(points)} points, radius {radius * 1000:.2f} mm")
+    print(f"median of {args.repeats} runs")
+    for name, seconds in medians.items():
+        print(f"  {name:40s} {seconds * 1000:8.1f} ms  ({seconds / base:5.1f}x Open3D)")
+
+
+if __name__ == "__main__":
+    main()
