@@ -10,6 +10,11 @@ v(p) = [x², y², z², 2xy, 2xz, 2yz, 2x, 2y, 2z, 1] (f(p) = v(p)·c) and the gr
   ∇f(p) = n for every point, minimizing Σ (v·c)² + w Σ |G c - n|², with ``w =
   gradient_weight`` (default 1: in standardized units a unit residual in f and a unit error in
   the unit normal weigh the same). Normals fix the scale, so there is no trivial solution.
+  The normal rows split into a tangential part (∇f ∥ n) and a magnitude part (nᵀ∇f = 1);
+  ``magnitude_weight`` m scales the latter: m = 1 (default) is Birdal's plain ∇f = n, which
+  is biased where |∇f| varies over the patch (elliptic sections: about 20-100 % error in the
+  smaller semi-axis on noise-free 70° patches); m -> 0 keeps only ∇f ∥ n plus the scale and
+  is exact on exact data but less robust to noise.
 - ``"taubin"``: minimize Σ (v·c)² / Σ |G c|², the generalized eigenproblem M c = λ N c with
   the smallest λ (J eliminated by its Schur complement because N does not involve J).
 - ``"algebraic"``: minimize Σ (v·c)² subject to |c| = 1, the smallest eigenvector of M.
@@ -38,6 +43,9 @@ MIN_POINTS = {"birdal": 3, "taubin": 9, "algebraic": 9}
 """Fewest points per neighborhood: 9 determine a quadric; with normals each point gives 4
 equations."""
 
+CHUNK = 1024
+"""Neighborhoods fitted per vectorized step (keeps the working arrays in cache)."""
+
 FLAT_TOL = 1e-12
 """A standardized neighborhood is collinear / coplanar when its second / smallest covariance
 eigenvalue is below this (an RMS thickness below 1e-6 of the RMS radius)."""
@@ -47,6 +55,7 @@ CONDITION_LIMIT = 1e12
 smallest accepted ratio max/min of the eigen gap for the eigenvector methods."""
 
 MAGNITUDE_WEIGHT = 1.0
+"""Default weight of the nᵀ∇f = 1 rows relative to the ∇f ∥ n rows (1: Birdal's ∇f = n)."""
 
 FAILURES = ("non_finite", "too_few_points", "collinear", "coplanar", "ill_conditioned")
 
@@ -110,6 +119,8 @@ def fit_quadrics(
         mask: (B, K) bool, True for real points (only with dense ``points``); masked-out
             entries are ignored whatever their value.
         gradient_weight: weight w of the normal rows against the f rows (``"birdal"``).
+        magnitude_weight: relative weight of the unit-gradient-magnitude part of the normal
+            rows (``"birdal"``; module docstring).
 
     Returns:
         A :class:`QuadricFit` in the frame and units of ``points``.
@@ -122,8 +133,12 @@ def fit_quadrics(
         raise ValueError(f"fit_quadrics: unknown method {method!r}; use one of {METHODS}")
     if method == "birdal" and normals is None:
         raise ValueError("fit_quadrics: method 'birdal' needs normals (one per point)")
-    if not (np.isfinite(gradient_weight) and gradient_weight > 0):
-        raise ValueError(f"fit_quadrics: gradient_weight must be > 0, got {gradient_weight!r}")
+    for name, value in (
+        ("gradient_weight", gradient_weight),
+        ("magnitude_weight", magnitude_weight),
+    ):
+        if not (np.isfinite(value) and value > 0):
+            raise ValueError(f"fit_quadrics: {name} must be > 0, got {value!r}")
     pts, nrm, valid_point = _dense_inputs(points, normals if method == "birdal" else None, mask)
     with np.errstate(all="ignore"):
         return _fit(pts, nrm, valid_point, method, gradient_weight, magnitude_weight)
@@ -199,7 +214,7 @@ def _fit(
     valid: np.ndarray,
     method: str,
     weight: float,
-    magnitude_weight: float,
+    mw: float,
 ) -> QuadricFit:
     batch = len(pts)
     failure = np.full(batch, None, dtype=object)
@@ -212,34 +227,49 @@ def _fit(
     count = weights.sum(axis=1)
     failure[(failure == None) & (count < MIN_POINTS[method])] = "too_few_points"  # noqa: E711
 
-    pts = np.where(weights[:, :, None] > 0, pts, 0.0)
-    standard, standard_T_input, centroids = _standardize(pts, weights, count)
-    spread = _spread(standard, weights, count)
-    open_ = failure == None  # noqa: E711
-    failure[open_ & ~(spread[:, 1] > FLAT_TOL)] = "collinear"
-    open_ = failure == None  # noqa: E711
-    failure[open_ & ~(spread[:, 0] > FLAT_TOL)] = "coplanar"
-
-    active = failure == None  # noqa: E711
     coefficients = np.full((batch, 10), np.nan)
-    if np.any(active):
-        idx = np.flatnonzero(active)
-        std_pts, w = standard[idx], weights[idx]
-        if method == "birdal":
-            n = np.where(w[:, :, None] > 0, nrm[idx], 0.0)
-            length = np.linalg.norm(n, axis=2)
-            n = np.where(length[:, :, None] > 0, n / np.where(length > 0, length, 1)[:, :, None], 0)
-            fitted, ok = _birdal(std_pts, n, w, w * (length > 0), weight, magnitude_weight)
-        elif method == "taubin":
-            fitted, ok = _taubin(std_pts, w)
-        else:
-            fitted, ok = _algebraic(std_pts, w)
-        world = _to_world(fitted, standard_T_input[idx])
+    centroids = np.zeros((batch, 3))
+    for start in range(0, batch, CHUNK):
+        chunk = slice(start, start + CHUNK)
+        w = weights[chunk]
+        chunk_pts = np.where(w[:, :, None] > 0, pts[chunk], 0.0)
+        standard, standard_T_input, centroids[chunk] = _standardize(chunk_pts, w, count[chunk])
+        spread = _spread(standard, count[chunk])
+        flags = failure[chunk]  # a view: flags set here land in ``failure``
+        flags[(flags == None) & ~(spread[:, 1] > FLAT_TOL)] = "collinear"  # noqa: E711
+        flags[(flags == None) & ~(spread[:, 0] > FLAT_TOL)] = "coplanar"  # noqa: E711
+        local = np.flatnonzero(flags == None)  # noqa: E711
+        if len(local) == 0:
+            continue
+        idx = start + local
+        fitted, ok = _fit_standard(standard[local], w[local], nrm, idx, method, weight, mw)
+        world = _to_world(fitted, standard_T_input[local])
         ok &= np.all(np.isfinite(world), axis=1) & np.any(world[:, :6] != 0, axis=1)
         coefficients[idx[ok]] = world[ok]
         failure[idx[~ok]] = "ill_conditioned"
     valid_fit = failure == None  # noqa: E711
     return QuadricFit(coefficients, valid_fit, tuple(failure.tolist()), method, centroids)
+
+
+def _fit_standard(
+    std_pts: np.ndarray,
+    w: np.ndarray,
+    nrm: np.ndarray | None,
+    idx: np.ndarray,
+    method: str,
+    weight: float,
+    magnitude_weight: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Fit one chunk of standardized neighborhoods: (coefficients, ok) in the standard frame."""
+    if method == "taubin":
+        return _taubin(std_pts, w)
+    if method == "algebraic":
+        return _algebraic(std_pts, w)
+    n = np.where(w[:, :, None] > 0, nrm[idx], 0.0)
+    length = np.sqrt(np.einsum("bki,bki->bk", n, n))
+    has_normal = length > 0
+    n /= np.where(has_normal, length, 1.0)[:, :, None]
+    return _birdal(std_pts, n, w, w * has_normal, weight, magnitude_weight)
 
 
 def _standardize(
@@ -265,9 +295,9 @@ def _standardize(
     return standard, transform, centroid * magnitude[:, None]
 
 
-def _spread(standard: np.ndarray, weights: np.ndarray, count: np.ndarray) -> np.ndarray:
+def _spread(standard: np.ndarray, count: np.ndarray) -> np.ndarray:
     """(B, 3) ascending eigenvalues of the standardized covariance (they sum to 1)."""
-    cov = np.einsum("bki,bkj->bij", standard, standard) / np.maximum(count, 1)[:, None, None]
+    cov = np.matmul(np.swapaxes(standard, 1, 2), standard) / np.maximum(count, 1)[:, None, None]
     cov = np.where(np.isfinite(cov), cov, 0.0)
     return np.linalg.eigvalsh(cov)
 
@@ -275,30 +305,41 @@ def _spread(standard: np.ndarray, weights: np.ndarray, count: np.ndarray) -> np.
 def _monomials(p: np.ndarray) -> np.ndarray:
     """(B, K, 10) rows v(p) with f(p) = v(p) · [A..J]."""
     x, y, z = p[..., 0], p[..., 1], p[..., 2]
-    return np.stack(
-        [
-            x * x,
-            y * y,
-            z * z,
-            2 * x * y,
-            2 * x * z,
-            2 * y * z,
-            2 * x,
-            2 * y,
-            2 * z,
-            np.ones_like(x),
-        ],
-        axis=-1,
-    )
+    v = np.empty(p.shape[:-1] + (10,))
+    np.multiply(x, x, out=v[..., 0])
+    np.multiply(y, y, out=v[..., 1])
+    np.multiply(z, z, out=v[..., 2])
+    np.multiply(2 * x, y, out=v[..., 3])
+    np.multiply(2 * x, z, out=v[..., 4])
+    np.multiply(2 * y, z, out=v[..., 5])
+    np.multiply(2, p, out=v[..., 6:9])
+    v[..., 9] = 1.0
+    return v
 
 
-# ∂f/∂x_d = 2 Σ_a p̃_a c[_GRAD_INDEX[d, a]] with p̃ = [x, y, z, 1].
+def _normal_rows(p: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """(B, K, 10) rows r(p) = G(p)ᵀ n with nᵀ∇f(p) = r(p) · [A..J]."""
+    x, y, z = p[..., 0], p[..., 1], p[..., 2]
+    nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
+    r = np.empty(p.shape[:-1] + (10,))
+    np.multiply(2 * x, nx, out=r[..., 0])
+    np.multiply(2 * y, ny, out=r[..., 1])
+    np.multiply(2 * z, nz, out=r[..., 2])
+    r[..., 3] = 2 * (y * nx + x * ny)
+    r[..., 4] = 2 * (z * nx + x * nz)
+    r[..., 5] = 2 * (z * ny + y * nz)
+    np.multiply(2, n, out=r[..., 6:9])
+    r[..., 9] = 0.0
+    return r
+
+
+# ∂f/∂x_d = 2 Σ_a p̃_a c[_GRAD_INDEX[d, a]] with p̃ = [x, y, z, 1] (G(p) = ∂(∇f)/∂c).
 _GRAD_INDEX = np.array([[0, 3, 4, 6], [3, 1, 5, 7], [4, 5, 2, 8]])
 
 
 def _gradient_operators() -> tuple[np.ndarray, np.ndarray]:
     """Linear maps from second moments S = Σ p̃ p̃ᵀ (16) to Σ GᵀG (100), and from the cross
-    moments C = Σ p̃ nᵀ (12) to Σ Gᵀ n (10)."""
+    moments C = Σ p̃ nᵀ (12) to Σ Gᵀn (10)."""
     to_normal = np.zeros((4, 4, 10, 10))
     to_rhs = np.zeros((4, 3, 10))
     for d in range(3):
@@ -319,13 +360,14 @@ def _homogeneous(p: np.ndarray) -> np.ndarray:
 def _moments(
     p: np.ndarray, w: np.ndarray, w_grad: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M = Σ w v vᵀ (B,10,10), N = Σ w_g GᵀG (B,10,10) and p̃ (B,K,4)."""
-    v = _monomials(p)
-    M = np.matmul(np.swapaxes(v * w[:, :, None], 1, 2), v)
+    """M = Σ w v vᵀ (B,10,10), N = Σ w_g GᵀG (B,10,10) and the weighted p̃ w_g (B,K,4)."""
+    v = _monomials(p) * np.sqrt(w)[:, :, None]
+    M = np.matmul(np.swapaxes(v, 1, 2), v)
     ph = _homogeneous(p)
-    S = np.matmul(np.swapaxes(ph * w_grad[:, :, None], 1, 2), ph)
+    ph_weighted = ph * w_grad[:, :, None]
+    S = np.matmul(np.swapaxes(ph_weighted, 1, 2), ph)
     N = (S.reshape(-1, 16) @ _TO_NORMAL).reshape(-1, 10, 10)
-    return M, N, ph
+    return M, N, ph_weighted
 
 
 def _birdal(
@@ -338,44 +380,51 @@ def _birdal(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Normal equations of Σ (v·c)² + w Σ |P_t G c|² + w m Σ (nᵀG c - 1)² (P_t = I - n nᵀ).
 
-    With r_p = Gᵀn: Σ |P_t G c|² = cᵀ(N - Σ r rᵀ)c and Σ (nᵀGc - 1)² = cᵀ(Σ r rᵀ)c - 2 cᵀΣ r + K.
+    With r_p = Gᵀn: Σ |P_t G c|² = cᵀ(N - Σ r rᵀ)c and Σ (nᵀGc - 1)² = cᵀ(Σ r rᵀ)c - 2 cᵀΣ r + K,
+    so for m = 1 (plain ∇f = n) the Σ r rᵀ terms cancel.
     """
-    M, N, ph = _moments(p, w, w_grad)
-    outer = (ph[:, :, :, None] * n[:, :, None, :]).reshape(*n.shape[:2], 12)
-    r = (outer @ _TO_RHS) * np.sqrt(w_grad)[:, :, None]
-    R = np.matmul(np.swapaxes(r, 1, 2), r)
-    A = M + weight * N + weight * (magnitude_weight - 1) * R
-    rhs = weight * magnitude_weight * r.sum(axis=1)
+    M, N, ph_weighted = _moments(p, w, w_grad)
+    A = M + weight * N
+    if magnitude_weight != 1.0:
+        r = _normal_rows(p, n) * np.sqrt(w_grad)[:, :, None]
+        A += weight * (magnitude_weight - 1) * np.matmul(np.swapaxes(r, 1, 2), r)
+    C = np.matmul(np.swapaxes(ph_weighted, 1, 2), n)
+    rhs = weight * magnitude_weight * (C.reshape(-1, 12) @ _TO_RHS)
     return _solve_spd(A, rhs)
 
 
 def _solve_spd(A: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve batched symmetric systems with Jacobi equilibration; flag ill-conditioned ones."""
+    """Solve batched symmetric positive (semi)definite systems with Jacobi equilibration.
+
+    A system is ill-conditioned when a Cholesky pivot of the equilibrated matrix (unit
+    diagonal) is below 1 / CONDITION_LIMIT, or the factorization fails.
+    """
     diag = np.einsum("bii->bi", A)
     ok = np.all(diag > 0, axis=1) & np.all(np.isfinite(A), axis=(1, 2))
     d = 1.0 / np.sqrt(np.where(ok[:, None], diag, 1.0))
     A_eq = A * d[:, :, None] * d[:, None, :]
     A_eq[~ok] = np.eye(A.shape[1])
-    inverse = _batched_inverse(A_eq, ok)
-    cond = np.abs(A_eq).sum(axis=1).max(axis=1) * np.abs(inverse).sum(axis=1).max(axis=1)
-    ok &= cond < CONDITION_LIMIT
-    solution = d * np.einsum("bij,bj->bi", inverse, d * rhs)
+    factor = _batched_cholesky(A_eq, ok)
+    pivots = np.einsum("bii->bi", factor) ** 2
+    ok &= np.min(pivots, axis=1) * CONDITION_LIMIT > 1.0
+    A_eq[~ok] = np.eye(A.shape[1])
+    solution = d * np.linalg.solve(A_eq, (d * rhs)[:, :, None])[:, :, 0]
     return solution, ok
 
 
-def _batched_inverse(A: np.ndarray, ok: np.ndarray) -> np.ndarray:
-    """Inverse of each matrix; exactly singular ones (rare) are marked not ok, not raised."""
+def _batched_cholesky(A: np.ndarray, ok: np.ndarray) -> np.ndarray:
+    """Cholesky factors; matrices that are not positive definite (rare) are marked not ok."""
     try:
-        return np.linalg.inv(A)
+        return np.linalg.cholesky(A)
     except np.linalg.LinAlgError:
-        inverse = np.empty_like(A)
+        factor = np.empty_like(A)
         for i, matrix in enumerate(A):
             try:
-                inverse[i] = np.linalg.inv(matrix)
+                factor[i] = np.linalg.cholesky(matrix)
             except np.linalg.LinAlgError:
-                inverse[i] = np.eye(len(matrix))
+                factor[i] = np.eye(len(matrix))
                 ok[i] = False
-        return inverse
+        return factor
 
 
 def _smallest_eigenvector(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
