@@ -13,7 +13,7 @@ from scipy.spatial import cKDTree
 from simgrasp.assets.labels import ycb_handle_label
 from simgrasp.handles import TenPasConfig, detect
 from simgrasp.handles.detection import TIMING_STEPS
-from simgrasp.handles.tenpas_detector import detect_tenpas_handles
+from simgrasp.handles.tenpas_detector import align_shells, detect_tenpas_handles
 
 from shapes import hammer_like
 
@@ -161,6 +161,28 @@ def test_ycb_hammer_best_handle_is_on_the_handle(ycb_dir: str) -> None:
     assert label.contains(best.center[None])[0]
     assert best.support >= 0.8 * len(detection.candidates)
     assert best.width == pytest.approx(0.032, rel=0.2)
+
+
+def test_alignment_chains_only_parallel_close_similar_shells() -> None:
+    config = TenPasConfig()  # 20 deg, 6 mm off-line, radius ratio 0.5, 4 cm gap, 3 shells
+    along_z = np.tile([0.0, 0.0, 1.0], (6, 1))
+    radii = np.full(6, 0.01)
+    two_groups = np.array(
+        [[0, 0, 0], [0, 0, 0.01], [0, 0, 0.02], [0, 0, 0.2], [0, 0, 0.21], [0, 0, 0.22]]
+    )
+    handles = align_shells(two_groups, along_z, radii, config)
+    assert sorted(h.support for h in handles) == [3, 3]
+    assert {round(h.center[2], 3) for h in handles} == {0.01, 0.21}
+    assert all(h.width == pytest.approx(0.02) and h.score == pytest.approx(0.5) for h in handles)
+    crossed = along_z.copy()
+    crossed[1] = [1.0, 0, 0]  # one perpendicular shell leaves only two in the first group
+    assert [h.support for h in align_shells(two_groups, crossed, radii, config)] == [3]
+    offset = two_groups.copy()
+    offset[1] = [0.01, 0, 0.01]  # 1 cm off the others' axis line
+    assert [h.support for h in align_shells(offset, along_z, radii, config)] == [3]
+    thicker = radii.copy()
+    thicker[1] = 0.03  # three times the radius of its neighbors
+    assert [h.support for h in align_shells(two_groups, along_z, thicker, config)] == [3]
 
 
 def test_same_seed_same_result_and_seed_matters() -> None:
