@@ -23,14 +23,18 @@ class LabeledCloud:
         return float(self.on_handle[index].mean())
 
 
-def _sample(parts: list[tuple[trimesh.Trimesh, bool]], density: float, seed: int) -> LabeledCloud:
+def _sample(
+    parts: list[tuple[trimesh.Trimesh, bool]], density: float, seed: int, min_x: float = -np.inf
+) -> LabeledCloud:
+    """Sample every part; handle parts keep only points with x > ``min_x``."""
     points, normals, flags = [], [], []
     for i, (mesh, is_handle) in enumerate(parts):
         count = max(int(mesh.area * density), 50)
         p, face = trimesh.sample.sample_surface(mesh, count, seed=seed + i)
-        points.append(p)
-        normals.append(mesh.face_normals[face])
-        flags.append(np.full(len(p), is_handle))
+        keep = p[:, 0] > min_x if is_handle else np.ones(len(p), dtype=bool)
+        points.append(p[keep])
+        normals.append(mesh.face_normals[face][keep])
+        flags.append(np.full(int(keep.sum()), is_handle))
     return LabeledCloud(np.concatenate(points), np.concatenate(normals), np.concatenate(flags))
 
 
@@ -44,8 +48,7 @@ def mug_like(seed: int = 0, density: float = 4e6) -> LabeledCloud:
     torus = trimesh.creation.torus(major_radius=0.028, minor_radius=0.007)
     torus.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
     torus.apply_translation([0.040, 0, 0.045])
-    handle = torus.slice_plane([0.046, 0, 0], [1, 0, 0])
-    return _sample([(wall, False), (bottom, False), (handle, True)], density, seed)
+    return _sample([(wall, False), (bottom, False), (torus, True)], density, seed, min_x=0.0405)
 
 
 def hammer_like(seed: int = 0, density: float = 4e6) -> LabeledCloud:

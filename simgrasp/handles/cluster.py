@@ -1,4 +1,5 @@
-"""Cluster accepted candidates into handle hypotheses (single linkage on handle points)."""
+"""Cluster accepted candidates into handle hypotheses (single linkage on handle points), score
+them and keep the plausible ones."""
 
 from __future__ import annotations
 
@@ -16,7 +17,10 @@ def cluster_handles(
     *,
     distance: float,
     min_support: int,
-) -> tuple[Handle, ...]:
+    object_center: NDArray[np.float64] | None = None,
+    object_radius: float | None = None,
+    min_relative_score: float = 0.0,
+) -> tuple[tuple[Handle, ...], tuple[NDArray[np.int64], ...]]:
     """Group candidates whose handle points chain within ``distance`` (m) into handles.
 
     Args:
@@ -25,30 +29,48 @@ def cluster_handles(
         widths: (M,) grasp widths (m).
         distance: single-linkage cut distance (m).
         min_support: clusters with fewer candidates are dropped.
+        object_center, object_radius: the cloud's centroid and RMS radius (m). When given,
+            a handle's score is weighted by its centrality exp(-(d / radius)^2), d being the
+            distance from the handle center to the centroid: holding an object near its
+            center of mass keeps the lift's torque small.
+        min_relative_score: handles scoring below this fraction of the best are dropped.
 
     Returns:
-        Handles sorted by decreasing score. A handle's axis is the dominant direction of its
-        candidates' axes (sign-free), its ``score`` is its share of all candidates times that
-        direction's coherence (mean squared cosine), its center the candidate point nearest
-        the cluster's median.
+        Handles sorted by decreasing score, and for each the indices of its candidates. A
+        handle's axis is the dominant direction of its candidates' axes (sign-free), its
+        center the candidate point nearest the cluster's median, its score its share of all
+        candidates times that direction's coherence (mean squared cosine) times centrality.
     """
     count = len(handle_points)
     if count == 0:
-        return ()
+        return (), ()
     labels = (
         np.ones(1, dtype=int)
         if count == 1
         else fcluster(linkage(handle_points, method="single"), t=distance, criterion="distance")
     )
-    handles = []
+    found = []
     for label in np.unique(labels):
         members = np.flatnonzero(labels == label)
         if len(members) < min_support:
             continue
-        handles.append(
-            _handle_from_members(handle_points[members], axes[members], widths[members], count)
-        )
-    return tuple(sorted(handles, key=lambda h: -h.score))
+        handle = _handle_from_members(handle_points[members], axes[members], widths[members], count)
+        if object_center is not None and object_radius:
+            offset = np.linalg.norm(handle.center - object_center) / object_radius
+            handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
+        found.append((handle, members))
+    if not found:
+        return (), ()
+    best = max(h.score for h, _ in found)
+    kept = sorted(
+        ((h, m) for h, m in found if h.score >= min_relative_score * best),
+        key=lambda x: -x[0].score,
+    )
+    return tuple(h for h, _ in kept), tuple(m for _, m in kept)
+
+
+def _rescored(handle: Handle, score: float) -> Handle:
+    return Handle(handle.center, handle.axis, handle.width, score, handle.support, handle.extent)
 
 
 def _handle_from_members(

@@ -36,9 +36,11 @@ class QuadricDetectorConfig:
     kind_rtol: float = 1e-2
     """Relative tolerance for rank decisions when classifying noisy fits (a smallest
     eigenvalue below ``kind_rtol`` x the largest counts as zero, i.e. a cylinder)."""
-    center_tolerance: float = 1.0
-    """Criterion (b): the quadric center (cylinder: axis) must lie within this many
-    neighborhood half sizes of the neighborhood center."""
+    center_tolerance: float = 1.1
+    """Criterion (b): the quadric center (cylinder: its axis) must lie within this many half
+    gripper openings of the neighborhood center. The neighborhood center is a surface point,
+    so a graspable handle's center lies about one transverse radius (at most half the opening)
+    away from it; a farther center means a fit that is not a closed handle around the point."""
     eccentricity_test: bool = False
     min_elongation: float = 1.3
     """Ellipsoids whose longest/shortest semi-axis ratio is below this are rejected."""
@@ -46,6 +48,9 @@ class QuadricDetectorConfig:
     """Also require the larger transverse semi-axis to fit the gripper (x ``width_slack``)."""
     width_slack: float = 1.0
     shell_test: bool = True
+    shell_half_length: float = 0.016
+    """Half length (m) along the handle axis over which the shell must be clear (about half
+    a finger pad's width plus a margin)."""
     shell_gap: float = 0.006
     """The shell starts this far outside the fitted surface (m) ..."""
     shell_thickness: float = 0.01
@@ -59,6 +64,13 @@ class QuadricDetectorConfig:
     """Single-linkage distance (m) joining candidates into one handle hypothesis."""
     min_support: int = 2
     """A handle hypothesis needs at least this many candidates."""
+    prefer_central: bool = True
+    """Weight handle scores by closeness to the cloud's centroid (grasps near the center of
+    mass lift with less torque): exp(-(d / (centrality_scale x RMS radius))^2)."""
+    centrality_scale: float = 0.7
+    min_relative_score: float = 0.5
+    """Handles scoring below this fraction of the best handle are dropped, and with them
+    their candidates; candidates supporting no handle are always dropped. 0 keeps all."""
 
     def __post_init__(self) -> None:
         positive = (
@@ -68,6 +80,8 @@ class QuadricDetectorConfig:
             "kind_rtol",
             "center_tolerance",
             "shell_thickness",
+            "shell_half_length",
+            "centrality_scale",
             "cluster_distance",
         )
         for name in positive:

@@ -93,6 +93,19 @@ def detect_quadric_handles(
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
     with _timed(timings, "cluster"):
         index = np.flatnonzero(accepted)
+        centroid = pts.mean(axis=0)
+        handles, members = cluster_handles(
+            on_axis[index],
+            analysis.handle_axes[index],
+            2 * analysis.transverse_semi_axes[index, 0],
+            distance=config.cluster_distance,
+            min_support=config.min_support,
+            object_center=centroid if config.prefer_central else None,
+            object_radius=config.centrality_scale
+            * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
+            min_relative_score=config.min_relative_score,
+        )
+        supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
         candidates = tuple(
             Candidate(
                 center=hoods.centers[i],
@@ -102,14 +115,7 @@ def detect_quadric_handles(
                 width=float(2 * analysis.transverse_semi_axes[i, 0]),
                 handle_point=on_axis[i],
             )
-            for i in index
-        )
-        handles = cluster_handles(
-            on_axis[index],
-            analysis.handle_axes[index],
-            2 * analysis.transverse_semi_axes[index, 0],
-            distance=config.cluster_distance,
-            min_support=config.min_support,
+            for i in supporting
         )
     return Detection(candidates, handles, hoods.centers, "quadric", timings, pts)
 
@@ -134,7 +140,9 @@ def _test(fit, centers, tree, normals, config):  # noqa: ANN001, ANN202 - intern
     half = config.neighborhood_half_size
     with np.errstate(invalid="ignore"):
         accepted = handle_kind & np.all(np.isfinite(on_axis), axis=1)
-        accepted &= criteria.center_near(on_axis, centers, config.center_tolerance * half)
+        accepted &= criteria.center_near(
+            on_axis, centers, config.center_tolerance * config.gripper_max_opening / 2
+        )
         accepted &= criteria.fits_gripper(
             analysis.transverse_semi_axes, config.gripper_max_opening, 0
         )
@@ -155,7 +163,7 @@ def _test(fit, centers, tree, normals, config):  # noqa: ANN001, ANN202 - intern
             on_axis[idx],
             axes[idx],
             analysis.transverse_semi_axes[idx, 1],
-            half_length=half,
+            half_length=config.shell_half_length,
             gap=config.shell_gap,
             thickness=config.shell_thickness,
             max_fraction=config.max_shell_fraction,
