@@ -137,7 +137,6 @@ def _test(fit, centers, tree, normals, config):  # noqa: ANN001, ANN202 - intern
     handle_kind = fit.valid & np.isin(kinds, list(HANDLE_KINDS))
     axes = np.where(handle_kind[:, None], analysis.handle_axes, 0.0)
     on_axis = criteria.handle_points(kinds, analysis.centers, axes, centers)
-    half = config.neighborhood_half_size
     with np.errstate(invalid="ignore"):
         accepted = handle_kind & np.all(np.isfinite(on_axis), axis=1)
         accepted &= criteria.center_near(
