@@ -1,0 +1,346 @@
+"""Procedurally generated handle-bearing objects whose handle labels are exact by construction.
+
+Every object is a union of watertight primitive parts (concatenated, not booleaned: parts
+overlap by a few millimeters where they join). Sizes are drawn from realistic ranges by a
+seed. The object frame is z up, the object resting on z = 0 in its constructed pose, and the
+x/y origin at the center of its footprint (the x/y bounding box). Units are meters and
+kilograms.
+
+Handle thicknesses stay within 2-4 cm so a parallel gripper with ~8.5 cm maximum opening can
+close on them; ``can`` and ``fruit`` are graspable everywhere (whole-object labels) and stay
+below 8 cm across.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+
+from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
+from simgrasp.assets.object import ObjectAsset
+from simgrasp.seeding import rng_for
+
+# Densities (kg/m^3) of the materials the parts are made of.
+DENSITY_WOOD = 700.0
+DENSITY_PLASTIC = 1100.0
+DENSITY_STEEL = 7850.0
+DENSITY_ALUMINUM = 2700.0
+DENSITY_CERAMIC = 2400.0
+DENSITY_FILLED_CAN = 1000.0  # a full food can: contents dominate, about water
+DENSITY_FRUIT = 850.0
+
+LABEL_MARGIN = 0.001  # meters added around the handle part so its surface is inside the label
+
+
+@dataclass(frozen=True)
+class Part:
+    """One watertight primitive of a generated object (object frame, meters)."""
+
+    name: str
+    mesh: trimesh.Trimesh
+    density: float
+    is_handle: bool
+
+
+@dataclass(frozen=True)
+class GeneratedTool:
+    """A generated object's parts and handle regions, before it becomes an ``ObjectAsset``."""
+
+    kind: str
+    seed: int
+    parts: tuple[Part, ...]
+    handle: HandleLabel
+
+    @property
+    def mass(self) -> float:
+        """Sum of part volume x density (kg); the few-mm overlaps at joints are counted twice."""
+        return float(sum(p.mesh.volume * p.density for p in self.parts))
+
+
+def _uniform(rng: np.random.Generator, low: float, high: float) -> float:
+    return float(rng.uniform(low, high))
+
+
+def _along_x(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """Rotate a z-axis primitive so its axis lies along +x."""
+    mesh.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+    return mesh
+
+
+def _x_cylinder(
+    radius_y: float, radius_z: float, x0: float, x1: float, z: float
+) -> trimesh.Trimesh:
+    """An elliptic cylinder along x from ``x0`` to ``x1`` with its axis at height ``z``."""
+    mesh = _along_x(trimesh.creation.cylinder(radius=1.0, height=x1 - x0, sections=48))
+    mesh.apply_scale([1.0, radius_y, radius_z])
+    mesh.apply_translation([(x0 + x1) / 2, 0.0, z])
+    return mesh
+
+
+def _x_box_region(
+    x0: float, x1: float, half_y: float, half_z: float, z: float, margin: float = LABEL_MARGIN
+) -> Box:
+    """An axis-aligned label box around a straight handle along x (ends flush, sides padded)."""
+    return Box(
+        center=np.array([(x0 + x1) / 2, 0.0, z]),
+        object_R_box=np.eye(3),
+        half_extents=np.array([(x1 - x0) / 2, half_y + margin, half_z + margin]),
+    )
+
+
+def torus_arc(
+    center: NDArray[np.float64],
+    major_radius: float,
+    minor_radius: float,
+    angle_start: float,
+    angle_end: float,
+    arc_sections: int = 48,
+    tube_sections: int = 24,
+) -> trimesh.Trimesh:
+    """A closed tube along a circular arc in the x-z plane (capped ends, outward normals).
+
+    The centerline is ``center + major_radius * (cos a, 0, sin a)`` for ``a`` in
+    [``angle_start``, ``angle_end``] (radians); the tube radius is ``minor_radius``.
+    """
+    angles = np.linspace(angle_start, angle_end, arc_sections + 1)
+    phis = np.linspace(0.0, 2 * np.pi, tube_sections, endpoint=False)
+    radial = np.stack([np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1)
+    centerline = center + major_radius * radial
+    binormal = np.array([0.0, 1.0, 0.0])
+    rings = (
+        centerline[:, None, :]
+        + minor_radius * np.cos(phis)[None, :, None] * radial[:, None, :]
+        + minor_radius * np.sin(phis)[None, :, None] * binormal
+    )
+    vertices = np.concatenate([rings.reshape(-1, 3), centerline[[0, -1]]])
+    n_ring = tube_sections
+    faces = []
+    for i in range(arc_sections):
+        for j in range(n_ring):
+            a, b = i * n_ring + j, i * n_ring + (j + 1) % n_ring
+            c, d = a + n_ring, b + n_ring
+            faces += [[a, c, b], [b, c, d]]
+    start_center, end_center = len(vertices) - 2, len(vertices) - 1
+    last = arc_sections * n_ring
+    for j in range(n_ring):
+        faces.append([start_center, j, (j + 1) % n_ring])
+        faces.append([end_center, last + (j + 1) % n_ring, last + j])
+    mesh = trimesh.Trimesh(vertices, np.array(faces), process=False)
+    if mesh.volume < 0:
+        mesh.invert()
+    return mesh
+
+
+def _arc_capsules(
+    center: NDArray[np.float64],
+    major_radius: float,
+    minor_radius: float,
+    angle_start: float,
+    angle_end: float,
+    count: int = 8,
+) -> tuple[Capsule, ...]:
+    """Capsules along the chords of an arc, padded by the chord's sagitta plus the margin."""
+    angles = np.linspace(angle_start, angle_end, count + 1)
+    step = abs(angle_end - angle_start) / count
+    sagitta = major_radius * (1 - np.cos(step / 2))
+    radius = minor_radius + sagitta + LABEL_MARGIN
+    points = center + major_radius * np.stack(
+        [np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1
+    )
+    return tuple(Capsule(points[i], points[i + 1], float(radius)) for i in range(count))
+
+
+def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    radius = _uniform(rng, 0.037, 0.043)
+    height = _uniform(rng, 0.085, 0.105)
+    wall = _uniform(rng, 0.003, 0.0045)
+    bottom = _uniform(rng, 0.005, 0.007)
+    minor = _uniform(rng, 0.010, 0.0125)
+    major = _uniform(rng, 0.028, 0.034)
+    offset = _uniform(rng, 0.25, 0.4) * major  # torus center outside the wall
+    body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
+    body.apply_translation([0, 0, height / 2])
+    base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
+    base.apply_translation([0, 0, bottom / 2])
+    center = np.array([radius + offset, 0.0, 0.55 * height])
+    # The handle tube enters the wall by half its thickness: centerline x = radius - wall / 2.
+    inner = np.arccos(-(offset + wall / 2) / major)
+    handle = torus_arc(center, major, minor, -inner, inner)
+    # The label covers the arc outside the outer wall (centerline x >= radius).
+    outside = np.arccos(-offset / major)
+    regions = _arc_capsules(center, major, minor, -outside, outside)
+    parts = [
+        Part("body", body, DENSITY_CERAMIC, False),
+        Part("bottom", base, DENSITY_CERAMIC, False),
+        Part("handle", handle, DENSITY_CERAMIC, True),
+    ]
+    return parts, regions, False
+
+
+def _hammer(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    length = _uniform(rng, 0.22, 0.30)
+    half_z = _uniform(rng, 0.013, 0.018)  # elliptic grip: 2.6-3.6 cm tall
+    half_y = _uniform(rng, 0.011, 0.014)  # 2.2-2.8 cm wide
+    head_length = _uniform(rng, 0.095, 0.12)  # along y
+    head_side = _uniform(rng, 0.024, 0.028)
+    overlap = 0.002
+    z_axis = head_side / 2
+    handle = _x_cylinder(half_y, half_z, 0.0, length, z_axis)
+    head = trimesh.creation.box([head_side, head_length, head_side])
+    head.apply_translation([length - overlap + head_side / 2, 0.0, z_axis])
+    parts = [
+        Part("handle", handle, DENSITY_WOOD, True),
+        Part("head", head, DENSITY_STEEL, False),
+    ]
+    return parts, (_x_box_region(0.0, length - overlap, half_y, half_z, z_axis),), False
+
+
+def _spatula(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    handle_length = _uniform(rng, 0.15, 0.20)
+    handle_radius = _uniform(rng, 0.010, 0.014)
+    blade_length = _uniform(rng, 0.08, 0.11)
+    blade_width = _uniform(rng, 0.06, 0.08)
+    blade_thickness = _uniform(rng, 0.002, 0.003)
+    overlap = 0.003
+    handle = _x_cylinder(handle_radius, handle_radius, 0.0, handle_length, handle_radius)
+    blade = trimesh.creation.box([blade_length, blade_width, blade_thickness])
+    blade.apply_translation([handle_length - overlap + blade_length / 2, 0.0, blade_thickness / 2])
+    parts = [
+        Part("handle", handle, DENSITY_PLASTIC, True),
+        Part("blade", blade, DENSITY_STEEL, False),
+    ]
+    region = _x_box_region(
+        0.0, handle_length - overlap, handle_radius, handle_radius, handle_radius
+    )
+    return parts, (region,), False
+
+
+def _screwdriver(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    handle_length = _uniform(rng, 0.09, 0.12)
+    handle_radius = _uniform(rng, 0.012, 0.017)
+    shaft_length = _uniform(rng, 0.08, 0.15)
+    shaft_radius = _uniform(rng, 0.0025, 0.004)
+    overlap = 0.005
+    handle = _x_cylinder(handle_radius, handle_radius, 0.0, handle_length, handle_radius)
+    shaft = _x_cylinder(
+        shaft_radius,
+        shaft_radius,
+        handle_length - overlap,
+        handle_length + shaft_length,
+        handle_radius,
+    )
+    parts = [
+        Part("handle", handle, DENSITY_PLASTIC, True),
+        Part("shaft", shaft, DENSITY_STEEL, False),
+    ]
+    region = _x_box_region(0.0, handle_length, handle_radius, handle_radius, handle_radius)
+    return parts, (region,), False
+
+
+def _pan(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    radius = _uniform(rng, 0.09, 0.12)
+    height = _uniform(rng, 0.035, 0.05)
+    wall = _uniform(rng, 0.003, 0.004)
+    handle_length = _uniform(rng, 0.15, 0.20)
+    handle_radius = _uniform(rng, 0.011, 0.015)
+    body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=96)
+    body.apply_translation([0, 0, height / 2])
+    base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=wall, sections=96)
+    base.apply_translation([0, 0, wall / 2])
+    z_axis = height - handle_radius
+    x0 = radius - wall / 2
+    handle = _x_cylinder(handle_radius, handle_radius, x0, radius + handle_length, z_axis)
+    parts = [
+        Part("body", body, DENSITY_ALUMINUM, False),
+        Part("bottom", base, DENSITY_ALUMINUM, False),
+        Part("handle", handle, DENSITY_WOOD, True),
+    ]
+    region = _x_box_region(radius, radius + handle_length, handle_radius, handle_radius, z_axis)
+    return parts, (region,), False
+
+
+def _can(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    radius = _uniform(rng, 0.030, 0.040)
+    height = _uniform(rng, 0.08, 0.14)
+    body = trimesh.creation.cylinder(radius=radius, height=height, sections=64)
+    body.apply_translation([0, 0, height / 2])
+    return [Part("body", body, DENSITY_FILLED_CAN, True)], (), True
+
+
+def _fruit(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    semi_axes = np.array(
+        [_uniform(rng, 0.030, 0.038), _uniform(rng, 0.028, 0.036), _uniform(rng, 0.027, 0.035)]
+    )
+    body = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+    body.apply_scale(semi_axes)
+    body.apply_translation([0, 0, semi_axes[2]])
+    return [Part("body", body, DENSITY_FRUIT, True)], (), True
+
+
+_BUILDERS: dict[
+    str, Callable[[np.random.Generator], tuple[list[Part], tuple[Region, ...], bool]]
+] = {
+    "mug": _mug,
+    "hammer": _hammer,
+    "spatula": _spatula,
+    "screwdriver": _screwdriver,
+    "pan": _pan,
+    "can": _can,
+    "fruit": _fruit,
+}
+
+GENERATED_KINDS: tuple[str, ...] = tuple(_BUILDERS)
+
+
+def generated_name(kind: str, seed: int) -> str:
+    """The object name of a generated tool, e.g. ``gen_hammer_s3``."""
+    return f"gen_{kind}_s{seed}"
+
+
+def _recenter(parts: list[Part]) -> NDArray[np.float64]:
+    """Offset putting the footprint center at x = y = 0 and the lowest point on z = 0."""
+    bounds = np.array([p.mesh.bounds for p in parts])
+    low, high = bounds[:, 0].min(axis=0), bounds[:, 1].max(axis=0)
+    return -np.array([(low[0] + high[0]) / 2, (low[1] + high[1]) / 2, low[2]])
+
+
+def _shift_region(region: Region, offset: NDArray[np.float64]) -> Region:
+    if isinstance(region, Capsule):
+        return Capsule(region.p0 + offset, region.p1 + offset, region.radius)
+    return Box(region.center + offset, region.object_R_box, region.half_extents)
+
+
+def generate_parts(kind: str, seed: int) -> GeneratedTool:
+    """Build the parts and handle label of a generated tool (object frame, see module doc)."""
+    if kind not in _BUILDERS:
+        raise ValueError(
+            f"unknown generated object kind {kind!r}; known kinds: {', '.join(GENERATED_KINDS)}"
+        )
+    parts, regions, whole = _BUILDERS[kind](rng_for(seed, "generated", kind))
+    offset = _recenter(parts)
+    for part in parts:
+        part.mesh.apply_translation(offset)
+    regions = tuple(_shift_region(r, offset) for r in regions)
+    name = generated_name(kind, seed)
+    return GeneratedTool(kind, seed, tuple(parts), HandleLabel(name, regions, whole))
+
+
+def generate_tool(kind: str, seed: int) -> ObjectAsset:
+    """A generated object ``gen_<kind>_s<seed>`` (kinds: ``GENERATED_KINDS``).
+
+    The mesh is the concatenation of the watertight parts; mass is the sum of part volume x
+    material density (``DENSITY_*``).
+    """
+    tool = generate_parts(kind, seed)
+    mesh = trimesh.util.concatenate([p.mesh for p in tool.parts])
+    return ObjectAsset(
+        name=tool.handle.object_name,
+        mesh=mesh,
+        handle=tool.handle,
+        mass=tool.mass,
+        source="generated",
+    )

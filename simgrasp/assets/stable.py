@@ -1,0 +1,86 @@
+"""Stable resting poses of an object on a horizontal plane (trimesh's quasi-static analysis).
+
+A pose is ``rest_T_object`` (4 x 4): it maps object-frame points into a rest frame whose
+plane z = 0 is the support plane, the object lying on it (lowest point at z = 0) with its
+footprint (x/y bounding box) centered on x = y = 0.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+
+from simgrasp.assets.model import ObjectModel, inertial_properties
+from simgrasp.assets.object import ObjectAsset
+
+MIN_PROBABILITY = 1e-3  # poses less likely than this (knife-edge balances) are dropped
+
+
+class StablePose(NamedTuple):
+    """One resting pose and the probability of landing in it from a random drop."""
+
+    rest_T_object: NDArray[np.float64]
+    probability: float
+
+
+def _support_and_com(
+    asset_or_model: ObjectAsset | ObjectModel,
+) -> tuple[trimesh.Trimesh, NDArray[np.float64]]:
+    if isinstance(asset_or_model, ObjectModel):
+        model = asset_or_model
+        points = np.concatenate([h.vertices for h in model.hulls] + [model.asset.mesh.vertices])
+        return trimesh.convex.convex_hull(points), model.inertial.com_object
+    asset = asset_or_model
+    hull = asset.mesh.convex_hull
+    if asset.mesh.is_watertight and asset.mesh.volume > 0:
+        return hull, asset.mesh.center_mass
+    return hull, inertial_properties(asset, (hull,)).com_object
+
+
+def _on_plane_centered(rest_T_object: NDArray[np.float64], points_object: NDArray) -> NDArray:
+    points_rest = points_object @ rest_T_object[:3, :3].T + rest_T_object[:3, 3]
+    low, high = points_rest.min(axis=0), points_rest.max(axis=0)
+    shifted = rest_T_object.copy()
+    shifted[:3, 3] -= [(low[0] + high[0]) / 2, (low[1] + high[1]) / 2, low[2]]
+    return shifted
+
+
+def stable_poses(
+    asset_or_model: ObjectAsset | ObjectModel, min_probability: float = MIN_PROBABILITY
+) -> list[StablePose]:
+    """Stable poses, most probable first, probabilities renormalized to sum to 1.
+
+    Computed on the convex hull of the object (and its collision hulls, for a model) with
+    the object's center of mass (from the model's inertia, or the watertight mesh).
+    """
+    support, com_object = _support_and_com(asset_or_model)
+    transforms, probabilities = trimesh.poses.compute_stable_poses(
+        support, center_mass=com_object, sigma=0.0, n_samples=1, threshold=0.0
+    )
+    keep = np.asarray(probabilities) >= min_probability
+    if not np.any(keep):
+        keep = np.asarray(probabilities) == np.max(probabilities)
+    total = float(np.sum(np.asarray(probabilities)[keep]))
+    poses = [
+        StablePose(
+            _on_plane_centered(np.asarray(t, dtype=float), support.vertices), float(p) / total
+        )
+        for t, p, k in zip(transforms, probabilities, keep, strict=True)
+        if k
+    ]
+    return sorted(poses, key=lambda pose: -pose.probability)
+
+
+def sample_rest_pose(model: ObjectModel, rng: np.random.Generator) -> NDArray[np.float64]:
+    """``world_T_object`` (4 x 4): a stable pose drawn by probability, a uniform random yaw
+    about world z, the object resting on the plane z = 0 with its footprint centered at
+    x = y = 0."""
+    poses = stable_poses(model)
+    index = int(rng.choice(len(poses), p=[pose.probability for pose in poses]))
+    yaw = float(rng.uniform(0.0, 2 * np.pi))
+    world_T_rest = trimesh.transformations.rotation_matrix(yaw, [0.0, 0.0, 1.0])
+    support, _ = _support_and_com(model)
+    return _on_plane_centered(world_T_rest @ poses[index].rest_T_object, support.vertices)
