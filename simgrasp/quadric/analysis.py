@@ -130,8 +130,9 @@ def analyze_quadrics(
             any reference.
 
     Returns:
-        A :class:`QuadricAnalysis`. Rows with non-finite coefficients or a zero quadratic part
-        get kind ``None`` and NaN geometry; this function never raises for such rows.
+        A :class:`QuadricAnalysis`. Rows with non-finite coefficients, a zero quadratic part
+        or a quadratic part so small that the center overflows get kind ``None`` and NaN
+        geometry; this function never raises for such rows.
     """
     c = validate_coefficient_rows(coefficients)
     if not (np.isfinite(rtol) and 0 < rtol < 1):
@@ -219,9 +220,9 @@ def _analyze(c: np.ndarray, rtol: float, rround: float) -> QuadricAnalysis:
         np.inf,
     )
     semi = np.where(central[:, None], semi, np.nan)
+    invalid = (code == _NO_KIND) | ~np.all(np.isfinite(centers), axis=1)  # overflowed centers
+    code = np.where(invalid, _NO_KIND, code)
     handle_axes, transverse = _handle_geometry(code, axes, semi, lam_sorted)
-
-    invalid = code == _NO_KIND
     centers[invalid] = np.nan
     axes[invalid] = np.nan
     semi[invalid] = np.nan

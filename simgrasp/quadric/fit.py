@@ -279,7 +279,7 @@ def _standardize(
     transform T mapping input coordinates to standard ones (x' = T x) and the (B, 3)
     centroids in input coordinates."""
     safe_count = np.maximum(count, 1)
-    magnitude = np.max(np.abs(pts), axis=(1, 2))
+    magnitude = np.max(np.abs(pts), axis=(1, 2), initial=0.0)
     magnitude = np.where(magnitude > 0, magnitude, 1.0)
     scaled = pts / magnitude[:, None, None]
     centroid = np.einsum("bk,bki->bi", weights, scaled) / safe_count[:, None]
