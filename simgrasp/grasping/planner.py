@@ -1,0 +1,259 @@
+"""From handle hypotheses (or baselines) to ranked parallel-jaw grasp poses.
+
+Grasp convention (see README): ``world_T_tcp`` with the TCP midway between the finger pads,
++z the approach direction (palm toward object) and +y the direction in which the jaws open and
+close. For a handle, the jaws close across it: +x lies along the handle axis, and approaches
+are sampled around that axis.
+
+Candidates whose open fingers or palm would collide with the observed cloud, or reach below
+the table top, are rejected. All inputs are in the world frame, meters.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.grasping.grasp import Grasp
+from simgrasp.handles.detection import Handle
+
+
+@dataclass(frozen=True)
+class GripperGeometry:
+    """Boxes swept by an open parallel-jaw gripper, in its TCP frame (meters).
+
+    Each finger is a box ``finger_thickness`` (y) x ``finger_width`` (x) x ``finger_length``
+    (z, from the TCP back toward the palm, plus ``pad_reach`` past the TCP); the palm is a box
+    ``palm_size`` (x, y, z) just behind the fingers.
+    """
+
+    max_opening: float
+    finger_length: float = 0.05
+    finger_thickness: float = 0.012
+    finger_width: float = 0.022
+    pad_reach: float = 0.012
+    palm_size: tuple[float, float, float] = (0.05, 0.12, 0.04)
+
+
+@dataclass(frozen=True)
+class PlannerConfig:
+    """Grasp sampling and ranking parameters."""
+
+    approaches_per_handle: int = 16
+    max_handles: int = 3
+    table_clearance: float = 0.008
+    """Gripper boxes must stay this far above the table top (m), also at the pre-grasp."""
+    pregrasp_distance: float = 0.10
+    max_colliding_points: int = 0
+    view_weight: float = 0.3
+    """Rank bonus for approaching from the camera's side (cosine with the view direction)."""
+    top_weight: float = 0.3
+    """Rank bonus for approaching from above (cosine with world -z)."""
+    max_tcp_shift: float = 0.015
+    """A grasp whose fingertips would reach below the table is backed off along its approach by
+    up to this much (m), so objects lying flat can still be held above the table."""
+    antipodal_samples: int = 400
+    antipodal_cos: float = 0.9
+
+
+def _orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(axis, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)
+
+
+def tcp_frame(position: NDArray, closing: NDArray, approach: NDArray) -> NDArray[np.float64]:
+    """``world_T_tcp`` from a position, the jaw direction (+y) and the approach (+z)."""
+    z = approach / np.linalg.norm(approach)
+    y = closing - (closing @ z) * z
+    y /= np.linalg.norm(y)
+    pose = np.eye(4)
+    pose[:3, :3] = np.column_stack([np.cross(y, z), y, z])
+    pose[:3, 3] = position
+    return pose
+
+
+def _gripper_boxes(geometry: GripperGeometry, opening: float) -> list[tuple[NDArray, NDArray]]:
+    """(center, half extents) of the fingers and palm in the TCP frame."""
+    half_len = (geometry.finger_length + geometry.pad_reach) / 2
+    z_finger = geometry.pad_reach - half_len
+    y_finger = opening / 2 + geometry.finger_thickness / 2
+    finger_half = np.array([geometry.finger_width / 2, geometry.finger_thickness / 2, half_len])
+    palm_half = np.asarray(geometry.palm_size) / 2
+    palm_center = np.array([0.0, 0.0, -geometry.finger_length - palm_half[2]])
+    return [
+        (np.array([0.0, y_finger, z_finger]), finger_half),
+        (np.array([0.0, -y_finger, z_finger]), finger_half),
+        (palm_center, palm_half),
+    ]
+
+
+def collides(
+    world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry, limit: int
+) -> bool:
+    """Whether more than ``limit`` cloud points fall inside the open gripper's boxes."""
+    tcp_T_world = np.linalg.inv(world_T_tcp)
+    points_tcp = points_world @ tcp_T_world[:3, :3].T + tcp_T_world[:3, 3]
+    hits = 0
+    for center, half in _gripper_boxes(geometry, geometry.max_opening):
+        hits += int(np.all(np.abs(points_tcp - center) <= half, axis=1).sum())
+    return hits > limit
+
+
+def table_margin(
+    world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
+) -> float:
+    """Lowest gripper box corner above the table plus clearance (m), at the grasp and at the
+    pre-grasp; negative when the gripper would touch the table."""
+    signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
+    lowest = np.inf
+    for back in (0.0, config.pregrasp_distance):
+        for center, half in _gripper_boxes(geometry, geometry.max_opening):
+            corners_tcp = center + signs * half - np.array([0.0, 0.0, back])
+            corners_world = corners_tcp @ world_T_tcp[:3, :3].T + world_T_tcp[:3, 3]
+            lowest = min(lowest, float(corners_world[:, 2].min()))
+    return lowest - table_z - config.table_clearance
+
+
+def above_table(
+    world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
+) -> NDArray | None:
+    """``world_T_tcp`` if it clears the table, else backed off along its approach by at most
+    ``config.max_tcp_shift`` until it does, else None."""
+    margin = table_margin(world_T_tcp, geometry, table_z, config)
+    if margin >= 0:
+        return world_T_tcp
+    rise_per_meter = -world_T_tcp[2, 2]
+    if rise_per_meter <= 1e-6 or -margin / rise_per_meter > config.max_tcp_shift:
+        return None
+    shifted = world_T_tcp.copy()
+    shifted[:3, 3] -= world_T_tcp[:3, 2] * (-margin / rise_per_meter + 1e-4)
+    return shifted
+
+
+def _rank(approach: NDArray, position: NDArray, cameras: NDArray, config: PlannerConfig) -> float:
+    view = position - cameras
+    view /= np.linalg.norm(view, axis=1, keepdims=True)
+    return config.view_weight * float(np.max(view @ approach)) + config.top_weight * float(
+        -approach[2]
+    )
+
+
+def grasps_from_handles(
+    handles: Sequence[Handle],
+    points_world: NDArray[np.float64],
+    cameras_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    rng: np.random.Generator,
+    config: PlannerConfig = PlannerConfig(),
+    source: str = "quadric",
+) -> list[Grasp]:
+    """Grasps closing across each handle, best first.
+
+    Approaches are sampled around each handle's axis (seeded jitter); a grasp's score is the
+    handle's score plus bonuses for approaching from the camera's side and from above.
+    """
+    cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
+    grasps = []
+    for handle in list(handles)[: config.max_handles]:
+        u, v = _orthonormal(handle.axis)
+        angles = np.linspace(0, 2 * np.pi, config.approaches_per_handle, endpoint=False)
+        angles = angles + rng.uniform(0, 2 * np.pi / config.approaches_per_handle)
+        for angle in angles:
+            approach = np.cos(angle) * u + np.sin(angle) * v
+            closing = np.cross(approach, handle.axis)
+            pose = above_table(
+                tcp_frame(handle.center, closing, approach), geometry, table_z, config
+            )
+            if pose is None:
+                continue
+            if collides(pose, points_world, geometry, config.max_colliding_points):
+                continue
+            score = handle.score + _rank(approach, handle.center, cameras, config)
+            grasps.append(
+                Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
+            )
+    return sorted(grasps, key=lambda g: -g.score)
+
+
+def centroid_grasps(
+    points_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig = PlannerConfig(),
+) -> list[Grasp]:
+    """Baseline: top-down grasps at the cloud centroid, jaws across the narrower horizontal
+    extent first, then rotated in 30 degree steps."""
+    centroid = points_world.mean(axis=0)
+    spread = np.cov((points_world[:, :2] - centroid[:2]).T)
+    _, vectors = np.linalg.eigh(spread)
+    narrow = np.append(vectors[:, 0], 0.0)
+    down = np.array([0.0, 0.0, -1.0])
+    grasps = []
+    for step in range(6):
+        angle = np.radians(30 * step)
+        closing = np.cos(angle) * narrow + np.sin(angle) * np.cross(down, narrow)
+        pose = tcp_frame(centroid, closing, down)
+        margin = table_margin(pose, geometry, table_z, config)
+        pose[2, 3] -= min(margin, 0.0)
+        if collides(pose, points_world, geometry, config.max_colliding_points):
+            continue
+        grasps.append(
+            Grasp(
+                world_T_tcp=pose,
+                width=geometry.max_opening,
+                score=1.0 - step / 6,
+                source="centroid",
+            )
+        )
+    return grasps
+
+
+def antipodal_grasps(
+    points_world: NDArray[np.float64],
+    normals_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    rng: np.random.Generator,
+    config: PlannerConfig = PlannerConfig(),
+) -> list[Grasp]:
+    """Baseline: random antipodal point pairs (normals opposed along the line joining them,
+    closer than the opening), approached from a random direction perpendicular to the jaws."""
+    count = len(points_world)
+    first = rng.integers(0, count, config.antipodal_samples)
+    second = rng.integers(0, count, config.antipodal_samples)
+    grasps = []
+    for i, j in zip(first, second, strict=True):
+        line = points_world[j] - points_world[i]
+        distance = float(np.linalg.norm(line))
+        if not 0.005 < distance < geometry.max_opening * 0.9:
+            continue
+        line /= distance
+        if (
+            normals_world[i] @ -line < config.antipodal_cos
+            or normals_world[j] @ line < config.antipodal_cos
+        ):
+            continue
+        u, v = _orthonormal(line)
+        angle = rng.uniform(0, 2 * np.pi)
+        approach = np.cos(angle) * u + np.sin(angle) * v
+        pose = tcp_frame((points_world[i] + points_world[j]) / 2, line, approach)
+        pose = above_table(pose, geometry, table_z, config)
+        if pose is None:
+            continue
+        if collides(pose, points_world, geometry, config.max_colliding_points):
+            continue
+        grasps.append(
+            Grasp(
+                world_T_tcp=pose,
+                width=geometry.max_opening,
+                score=float(-approach[2]),
+                source="random",
+            )
+        )
+    return sorted(grasps, key=lambda g: -g.score)
