@@ -84,11 +84,11 @@ def _x_cylinder(
 def _x_box_region(
     x0: float, x1: float, half_y: float, half_z: float, z: float, margin: float = LABEL_MARGIN
 ) -> Box:
-    """An axis-aligned label box around a straight handle along x (ends flush, sides padded)."""
+    """An axis-aligned label box around a straight handle part along x, padded by ``margin``."""
     return Box(
         center=np.array([(x0 + x1) / 2, 0.0, z]),
         object_R_box=np.eye(3),
-        half_extents=np.array([(x1 - x0) / 2, half_y + margin, half_z + margin]),
+        half_extents=np.array([(x1 - x0) / 2 + margin, half_y + margin, half_z + margin]),
     )
 
 
@@ -196,7 +196,7 @@ def _hammer(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], b
         Part("handle", handle, DENSITY_WOOD, True),
         Part("head", head, DENSITY_STEEL, False),
     ]
-    return parts, (_x_box_region(0.0, length - overlap, half_y, half_z, z_axis),), False
+    return parts, (_x_box_region(0.0, length, half_y, half_z, z_axis),), False
 
 
 def _spatula(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
@@ -213,9 +213,7 @@ def _spatula(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], 
         Part("handle", handle, DENSITY_PLASTIC, True),
         Part("blade", blade, DENSITY_STEEL, False),
     ]
-    region = _x_box_region(
-        0.0, handle_length - overlap, handle_radius, handle_radius, handle_radius
-    )
+    region = _x_box_region(0.0, handle_length, handle_radius, handle_radius, handle_radius)
     return parts, (region,), False
 
 
@@ -259,7 +257,7 @@ def _pan(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
         Part("bottom", base, DENSITY_ALUMINUM, False),
         Part("handle", handle, DENSITY_WOOD, True),
     ]
-    region = _x_box_region(radius, radius + handle_length, handle_radius, handle_radius, z_axis)
+    region = _x_box_region(x0, radius + handle_length, handle_radius, handle_radius, z_axis)
     return parts, (region,), False
 
 
