@@ -27,7 +27,14 @@ from simgrasp.perception import (
     sample_centers,
     voxel_downsample,
 )
-from simgrasp.quadric import HANDLE_KINDS, Quadric, analyze_quadrics, fit_quadrics
+from simgrasp.quadric import (
+    HANDLE_KINDS,
+    Quadric,
+    QuadricAnalysis,
+    QuadricFit,
+    analyze_quadrics,
+    fit_quadrics,
+)
 from simgrasp.seeding import rng_for
 
 
@@ -109,7 +116,9 @@ def detect_quadric_handles(
         candidates = tuple(
             Candidate(
                 center=hoods.centers[i],
-                quadric=Quadric(fit.coefficients[i], rtol=config.kind_rtol),
+                quadric=Quadric(
+                    fit.coefficients[i], rtol=config.kind_rtol, reference_point=fit.centroids[i]
+                ),
                 kind=analysis.kinds[i].value,
                 axis=analysis.handle_axes[i],
                 width=float(2 * analysis.transverse_semi_axes[i, 0]),
@@ -130,9 +139,17 @@ def _estimate_normals(
     )
 
 
-def _test(fit, centers, tree, normals, config):  # noqa: ANN001, ANN202 - internal batch step
+def _test(
+    fit: QuadricFit,
+    centers: NDArray[np.float64],
+    tree: cKDTree,
+    normals: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+) -> tuple[NDArray[np.bool_], NDArray[np.float64], QuadricAnalysis]:
     """Apply every enabled criterion; returns (accepted mask, handle points, analysis)."""
-    analysis = analyze_quadrics(fit.coefficients, rtol=config.kind_rtol)
+    analysis = analyze_quadrics(
+        fit.coefficients, rtol=config.kind_rtol, reference_points=fit.centroids
+    )
     kinds = analysis.kinds
     handle_kind = fit.valid & np.isin(kinds, list(HANDLE_KINDS))
     axes = np.where(handle_kind[:, None], analysis.handle_axes, 0.0)
