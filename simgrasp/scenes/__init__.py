@@ -1,1 +1,5 @@
 """scenes stage: MuJoCo scenes, grippers, cameras and rendering."""
+
+from simgrasp.gl_platform import configure_mujoco_gl
+
+configure_mujoco_gl()

@@ -36,74 +36,19 @@ render must be started with the ``spawn`` or ``forkserver`` start method (e.g.
 from __future__ import annotations
 
 import functools
-import os
-import subprocess
-import sys
 import warnings
 from dataclasses import dataclass
 
-BACKENDS: tuple[str, ...] = ("egl", "osmesa", "raycast")
-GL_BACKENDS: tuple[str, ...] = ("egl", "osmesa")
-FORCE_ENV = "SIMGRASP_RENDER_BACKEND"
-PROBE_TIMEOUT_S = 30.0
+from simgrasp.gl_platform import (  # noqa: E402  (chooses MUJOCO_GL before mujoco loads)
+    BACKENDS,
+    FORCE_ENV,
+    GL_BACKENDS,
+    configure_mujoco_gl,
+    forced_backend,
+    probe_gl,
+)
 
-_PROBE_SCRIPT = """
-import mujoco
-model = mujoco.MjModel.from_xml_string(
-    '<mujoco><worldbody><geom type="box" size="0.5 0.5 0.1" pos="0 0 -1"/>'
-    '<camera name="c" pos="0 0 0"/></worldbody></mujoco>')
-data = mujoco.MjData(model)
-mujoco.mj_forward(model, data)
-with mujoco.Renderer(model, 8, 8) as renderer:
-    renderer.update_scene(data, "c")
-    renderer.enable_depth_rendering()
-    depth = renderer.render()
-assert abs(float(depth[4, 4]) - 0.9) < 1e-3, depth[4, 4]
-print("ok")
-"""
-
-
-def _forced_backend() -> str | None:
-    forced = os.environ.get(FORCE_ENV, "").strip().lower()
-    if not forced:
-        return None
-    if forced not in BACKENDS:
-        raise ValueError(f"{FORCE_ENV}={forced!r} is not a render backend; use one of {BACKENDS}")
-    return forced
-
-
-def probe_gl(platform: str, timeout_s: float = PROBE_TIMEOUT_S) -> bool:
-    """True if a fresh process with ``MUJOCO_GL=platform`` renders a correct depth pixel."""
-    env = dict(os.environ, MUJOCO_GL=platform, PYOPENGL_PLATFORM=platform)
-    try:
-        result = subprocess.run(
-            [sys.executable, "-c", _PROBE_SCRIPT],
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=timeout_s,
-            check=False,
-        )
-    except subprocess.TimeoutExpired:
-        return False
-    return result.returncode == 0 and result.stdout.strip() == "ok"
-
-
-def _configure_mujoco_gl() -> None:
-    """Set ``MUJOCO_GL`` before mujoco's first import (see the module docstring)."""
-    if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL"):
-        return
-    forced = _forced_backend()
-    if forced == "raycast":
-        return
-    candidates = (forced,) if forced else GL_BACKENDS
-    for platform in candidates:
-        if forced or probe_gl(platform):
-            os.environ["MUJOCO_GL"] = platform
-            return
-
-
-_configure_mujoco_gl()
+configure_mujoco_gl()
 
 # mujoco must be imported after MUJOCO_GL is chosen.
 import mujoco  # noqa: E402
@@ -132,7 +77,7 @@ def loaded_gl_platform() -> str | None:
 def select_backend() -> str:
     """The backend this process renders with (cached; see the module docstring)."""
     platform = loaded_gl_platform()
-    forced = _forced_backend()
+    forced = forced_backend()
     if forced is not None:
         if forced in GL_BACKENDS and platform != forced:
             raise RuntimeError(
