@@ -7,17 +7,23 @@ the frame its :class:`~simgrasp.assets.labels.HandleLabel` lives in).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import HandleLabel
+from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
 
 ON_HANDLE_THRESHOLD = 0.5
 """A grasp is ``on_handle`` when at least this share of its finger-object contact points (at
 the end of the hold) lies inside the labeled handle region."""
+
+
+HANDLE_MARGIN = 0.005
+"""Contact points within this distance (m) of a handle region count as on it: contacts lie on
+the convex collision hulls, which bulge a few millimeters beyond the surface the labels were
+drawn around."""
 
 
 @dataclass(frozen=True)
@@ -72,11 +78,22 @@ def points_in_object_frame(
     return (points_world - translation) @ rotation
 
 
-def handle_fraction(points_object: NDArray[np.float64], handle: HandleLabel) -> float:
-    """Share of contact points (object frame) inside the handle label; 0 without points."""
+def _grown(region: Region, margin: float) -> Region:
+    if isinstance(region, Capsule):
+        return replace(region, radius=region.radius + margin)
+    assert isinstance(region, Box)
+    return replace(region, half_extents=region.half_extents + margin)
+
+
+def handle_fraction(
+    points_object: NDArray[np.float64], handle: HandleLabel, margin: float = HANDLE_MARGIN
+) -> float:
+    """Share of contact points (object frame) inside the handle label grown by ``margin`` (m);
+    0 without points or without a handle."""
     if len(points_object) == 0 or not handle.has_handle:
         return 0.0
-    return float(np.mean(handle.contains(points_object)))
+    grown = replace(handle, regions=tuple(_grown(r, margin) for r in handle.regions))
+    return float(np.mean(grown.contains(points_object)))
 
 
 def relative_pose(

@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 
 from simgrasp.grasping.grasp import Grasp, pose7_from_matrix
 from simgrasp.grasping.scoring import (
+    HANDLE_MARGIN,
     ON_HANDLE_THRESHOLD,
     finger_contacts,
     geoms_touching,
@@ -78,6 +79,8 @@ class TrialConfig:
     perturb_time: float = 0.3
     """Duration of each tug (s); the tugs are separated by rests of the same length."""
     on_handle_threshold: float = ON_HANDLE_THRESHOLD
+    handle_margin: float = HANDLE_MARGIN
+    """Contacts this close (m) to the handle label count as on it (see scoring)."""
     lifted_fraction: float = 0.5
     """The object counts as lifted when it rose at least this share of ``lift_height``."""
     approach_lag_limit: float = 0.02
@@ -325,7 +328,7 @@ def _execute(
         tcp_T_object_closed, relative_pose(gripper.world_T_tcp(data), world_T_object)
     )
     points_object = points_in_object_frame(contacts.points_world, world_T_object)
-    fraction = handle_fraction(points_object, scene.object_model.asset.handle)
+    fraction = handle_fraction(points_object, scene.object_model.asset.handle, config.handle_margin)
     record["contact_points_object"] = points_object.tolist()
     record["handle_fraction"] = fraction
     record["on_handle"] = bool(len(points_object)) and fraction >= config.on_handle_threshold
