@@ -7,6 +7,7 @@ detector's neighborhood sampling, the planner's approach jitter.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -23,7 +24,7 @@ from simgrasp.grasping.planner import (
     centroid_grasps,
     grasps_from_handles,
 )
-from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
+from simgrasp.grasping.trial import Phase, TrialConfig, TrialResult, run_trial
 from simgrasp.handles import DETECTORS, default_config, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
 from simgrasp.handles.detection import Detection
@@ -201,9 +202,14 @@ def model_for(object_name: str, ycb_dir: str | None = None) -> ObjectModel:
 
 
 def run_chain(
-    object_model: ObjectModel, config: ChainConfig, seed: int, gripper: Gripper | None = None
+    object_model: ObjectModel,
+    config: ChainConfig,
+    seed: int,
+    gripper: Gripper | None = None,
+    on_phase: Callable[[Phase, Scene], None] | None = None,
 ) -> ChainResult:
-    """Render, detect, plan and execute the best-ranked grasp on ``object_model``."""
+    """Render, detect, plan and execute the best-ranked grasp on ``object_model``;
+    ``on_phase`` is passed to :func:`run_trial` (e.g. to render key frames)."""
     timings: dict[str, float] = {}
     start = time.perf_counter()
     gripper = gripper or make_gripper(config.gripper)
@@ -218,7 +224,7 @@ def run_chain(
     )
     timings["detect_and_plan"] = time.perf_counter() - start
     accuracy, recall = _detection_scores(scene, detection)
-    trial = run_trial(scene, grasps[0], config.trial) if grasps else None
+    trial = run_trial(scene, grasps[0], config.trial, on_phase) if grasps else None
     return ChainResult(
         object=object_model.asset.name,
         detector=config.detector,

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.grasping.grasp import Grasp
+from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.handles.detection import Handle
 
 
@@ -64,17 +64,6 @@ def _orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
     u = np.cross(axis, helper)
     u /= np.linalg.norm(u)
     return u, np.cross(axis, u)
-
-
-def tcp_frame(position: NDArray, closing: NDArray, approach: NDArray) -> NDArray[np.float64]:
-    """``world_T_tcp`` from a position, the jaw direction (+y) and the approach (+z)."""
-    z = approach / np.linalg.norm(approach)
-    y = closing - (closing @ z) * z
-    y /= np.linalg.norm(y)
-    pose = np.eye(4)
-    pose[:3, :3] = np.column_stack([np.cross(y, z), y, z])
-    pose[:3, 3] = position
-    return pose
 
 
 def _gripper_boxes(geometry: GripperGeometry, opening: float) -> list[tuple[NDArray, NDArray]]:
@@ -168,7 +157,7 @@ def grasps_from_handles(
             approach = np.cos(angle) * u + np.sin(angle) * v
             closing = np.cross(approach, handle.axis)
             pose = above_table(
-                tcp_frame(handle.center, closing, approach), geometry, table_z, config
+                tcp_pose(handle.center, closing, approach), geometry, table_z, config
             )
             if pose is None:
                 continue
@@ -198,7 +187,7 @@ def centroid_grasps(
     for step in range(6):
         angle = np.radians(30 * step)
         closing = np.cos(angle) * narrow + np.sin(angle) * np.cross(down, narrow)
-        pose = tcp_frame(centroid, closing, down)
+        pose = tcp_pose(centroid, closing, down)
         margin = table_margin(pose, geometry, table_z, config)
         pose[2, 3] -= min(margin, 0.0)
         if collides(pose, points_world, geometry, config.max_colliding_points):
@@ -242,7 +231,7 @@ def antipodal_grasps(
         u, v = _orthonormal(line)
         angle = rng.uniform(0, 2 * np.pi)
         approach = np.cos(angle) * u + np.sin(angle) * v
-        pose = tcp_frame((points_world[i] + points_world[j]) / 2, line, approach)
+        pose = tcp_pose((points_world[i] + points_world[j]) / 2, line, approach)
         pose = above_table(pose, geometry, table_z, config)
         if pose is None:
             continue

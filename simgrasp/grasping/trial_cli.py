@@ -25,7 +25,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         nargs=7,
         type=float,
         metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ"),
-        help="TCP pose (TCP between the pads, +z approach, +y jaw direction); required for now",
+        help="TCP pose (TCP between the pads, +z approach, +y jaw direction); without it the "
+        "full chain runs: render the scene, detect handles, plan and execute the best grasp",
+    )
+    parser.add_argument(
+        "--detector",
+        choices=("quadric", "tenpas", "centroid", "random"),
+        default="quadric",
+        help="grasp proposer for the full chain (without --grasp)",
+    )
+    parser.add_argument(
+        "--noise", type=float, default=0.0, help="multiplicative cloud noise sigma (full chain)"
     )
     parser.add_argument(
         "--grasp-frame",
@@ -48,15 +58,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.grasp is None:
-        raise ValueError(
-            "--grasp x y z qw qx qy qz is required: running the full chain (render, detect, "
-            "plan) without it is not wired into `simgrasp trial` yet"
-        )
     if args.render is not None:
         _check_render_target(args.render)
-        import simgrasp.scenes.render  # noqa: F401  (chooses the GL platform before mujoco)
+    frames: list[np.ndarray] = []
+    recorder = _FrameRecorder(frames) if args.render is not None else None
+    try:
+        trial = _manual_trial if args.grasp is not None else _chain_trial
+        record = trial(args, recorder)
+    finally:
+        if recorder is not None:
+            recorder.close()
+    if args.render is not None:
+        _write_frames(frames, args.render)
+        record["render"] = str(args.render)
+    if args.json:
+        print(json.dumps(record))
+    else:
+        _print_summary(record)
+    return 0
 
+
+def _manual_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> dict[str, Any]:
+    """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import build_object_model
     from simgrasp.assets.registry import load_object
     from simgrasp.grasping.grasp import Grasp, matrix_from_pose7
@@ -78,25 +101,18 @@ def run(args: argparse.Namespace) -> int:
         grasp = Grasp.from_object_frame(pose, scene.world_T_object, width, source="cli")
     else:
         grasp = Grasp(pose, width, source="cli")
+    return run_trial(scene, grasp, on_phase=recorder).to_json()
 
-    frames: list[np.ndarray] = []
-    renderer, on_phase = None, None
-    if args.render is not None:
-        renderer, on_phase = _frame_recorder(scene, frames)
-    try:
-        result = run_trial(scene, grasp, on_phase=on_phase)
-    finally:
-        if renderer is not None:
-            renderer.close()
-    record = result.to_json()
-    if args.render is not None:
-        _write_frames(frames, args.render)
-        record["render"] = str(args.render)
-    if args.json:
-        print(json.dumps(record))
-    else:
-        _print_summary(record)
-    return 0
+
+def _chain_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> dict[str, Any]:
+    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.chain`)."""
+    from simgrasp.assets.model import build_object_model
+    from simgrasp.assets.registry import load_object
+    from simgrasp.grasping.chain import ChainConfig, run_chain
+
+    config = ChainConfig(detector=args.detector, gripper=args.gripper, noise=args.noise)
+    object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
+    return run_chain(object_model, config, args.seed, on_phase=recorder).to_json()
 
 
 def _check_render_target(path: Path) -> None:
@@ -110,24 +126,33 @@ def _check_render_target(path: Path) -> None:
         )
 
 
-def _frame_recorder(scene: Any, frames: list[np.ndarray]) -> tuple[Any, Any]:
-    """A renderer and a phase callback appending one RGB picture per key moment."""
-    import mujoco
+class _FrameRecorder:
+    """Phase callback that renders one RGB picture per key moment of a trial; the renderer is
+    made on the first call (when the scene exists) and released by :meth:`close`."""
 
-    from simgrasp.scenes.render import SceneRenderer
+    def __init__(self, frames: list[np.ndarray]) -> None:
+        self.frames = frames
+        self._renderer: Any = None
+        self._camera: Any = None
 
-    renderer = SceneRenderer(scene.model)
-    camera = mujoco.MjvCamera()
-    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
-    camera.distance = 0.9
-    camera.azimuth = 135.0
-    camera.elevation = -25.0
-    camera.lookat[:] = scene.world_T_object[:3, 3] + np.array([0.0, 0.0, 0.12])
+    def __call__(self, _phase: str, scene: Any) -> None:
+        if self._renderer is None:
+            import mujoco
 
-    def on_phase(_phase: str, phase_scene: Any) -> None:
-        frames.append(renderer.rgb(phase_scene.data, camera, *RENDER_SIZE))
+            from simgrasp.scenes.render import SceneRenderer
 
-    return renderer, on_phase
+            self._renderer = SceneRenderer(scene.model)
+            self._camera = mujoco.MjvCamera()
+            self._camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+            self._camera.distance = 0.9
+            self._camera.azimuth = 135.0
+            self._camera.elevation = -25.0
+            self._camera.lookat[:] = scene.world_T_object[:3, 3] + np.array([0.0, 0.0, 0.12])
+        self.frames.append(self._renderer.rgb(scene.data, self._camera, *RENDER_SIZE))
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
 
 
 def _write_frames(frames: list[np.ndarray], path: Path) -> None:

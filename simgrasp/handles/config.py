@@ -25,6 +25,10 @@ class QuadricDetectorConfig:
     """Search radius for normal estimation (m)."""
     neighborhood_half_size: float = 0.016
     """Half edge of the cube-shaped neighborhood (m), or its radius for spheres."""
+    neighborhood_scales: tuple[float, ...] = (1.0,)
+    """Neighborhoods are gathered at these multiples of ``neighborhood_half_size`` around each
+    center; a center becomes a candidate at its smallest passing scale (large scales let wide
+    handles be fitted, small ones keep thin handles)."""
     neighborhood_shape: Literal["cube", "sphere"] = "cube"
     max_points: int = 64
     """Neighborhoods with more points are subsampled (seeded) to this many."""
@@ -94,6 +98,11 @@ class QuadricDetectorConfig:
             raise ValueError(
                 "detector config: need 9 <= min_points <= max_points, got "
                 f"{self.min_points}, {self.max_points}"
+            )
+        if not self.neighborhood_scales or any(not s > 0 for s in self.neighborhood_scales):
+            raise ValueError(
+                "detector config: neighborhood_scales must be positive, got "
+                f"{self.neighborhood_scales}"
             )
         if self.neighborhoods is not None and self.neighborhoods < 1:
             raise ValueError(

@@ -80,24 +80,36 @@ def detect_quadric_handles(
         center_index = sample_centers(
             pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
         )
-        hoods = gather_neighborhoods(
-            pts,
-            nrm,
-            pts[center_index],
-            config.neighborhood_half_size,
-            shape=config.neighborhood_shape,
-            max_points=config.max_points,
-            min_points=config.min_points,
-            rng=rng,
-        )
-    empty = Detection((), (), hoods.centers, "quadric", timings, pts)
-    if len(hoods.centers) == 0:
-        return empty
+        scales = [
+            gather_neighborhoods(
+                pts,
+                nrm,
+                pts[center_index],
+                config.neighborhood_half_size * scale,
+                shape=config.neighborhood_shape,
+                max_points=config.max_points,
+                min_points=config.min_points,
+                rng=rng,
+            )
+            for scale in config.neighborhood_scales
+        ]
+        hood_points = np.concatenate([h.points for h in scales])
+        hood_normals = np.concatenate([h.normals for h in scales])
+        hood_mask = np.concatenate([h.mask for h in scales])
+        hood_centers = np.concatenate([h.centers for h in scales])
+        hood_source = np.concatenate([h.source for h in scales])
+    sampled_centers = pts[center_index[np.unique(hood_source)]]
+    if len(hood_centers) == 0:
+        return Detection((), (), sampled_centers, "quadric", timings, pts)
     with _timed(timings, "fit"):
-        fit = fit_quadrics(hoods.points, hoods.normals, method=config.fit_method, mask=hoods.mask)
+        fit = fit_quadrics(hood_points, hood_normals, method=config.fit_method, mask=hood_mask)
     with _timed(timings, "test"):
         tree = cKDTree(pts)
-        accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
+        accepted, on_axis, analysis = _test(fit, hood_centers, tree, nrm, config)
+        rows = np.flatnonzero(accepted)
+        _, first = np.unique(hood_source[rows], return_index=True)
+        accepted = np.zeros_like(accepted)
+        accepted[rows[first]] = True  # one candidate per center: its smallest passing scale
     with _timed(timings, "cluster"):
         index = np.flatnonzero(accepted)
         centroid = pts.mean(axis=0)
@@ -115,7 +127,7 @@ def detect_quadric_handles(
         supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
         candidates = tuple(
             Candidate(
-                center=hoods.centers[i],
+                center=hood_centers[i],
                 quadric=Quadric(
                     fit.coefficients[i], rtol=config.kind_rtol, reference_point=fit.centroids[i]
                 ),
@@ -126,7 +138,7 @@ def detect_quadric_handles(
             )
             for i in supporting
         )
-    return Detection(candidates, handles, hoods.centers, "quadric", timings, pts)
+    return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
 
 
 def _estimate_normals(
