@@ -1,0 +1,90 @@
+"""The full chain (render -> detect -> plan -> execute) and the grasp planner, with the real
+simulator and renderer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from simgrasp.grasping.chain import ChainConfig, model_for, run_chain
+from simgrasp.grasping.planner import (
+    GripperGeometry,
+    PlannerConfig,
+    collides,
+    grasps_from_handles,
+    table_margin,
+)
+from simgrasp.handles.detection import Handle
+
+GEOMETRY = GripperGeometry(max_opening=0.085)
+
+
+def _handle(center, axis) -> Handle:
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    return Handle(np.asarray(center, float), axis, 0.03, 1.0, 10, 0.05)
+
+
+def test_handle_grasps_close_across_the_handle_and_clear_the_table() -> None:
+    handle = _handle([0.0, 0.0, 0.05], [1.0, 0.2, 0.0])
+    cameras = np.array([[0.5, 0.0, 0.5]])
+    grasps = grasps_from_handles(
+        [handle], np.zeros((0, 3)), cameras, GEOMETRY, 0.0, np.random.default_rng(0)
+    )
+    assert grasps
+    for grasp in grasps:
+        x_axis, y_axis = grasp.world_T_tcp[:3, 0], grasp.world_T_tcp[:3, 1]
+        assert abs(x_axis @ handle.axis) == pytest.approx(1.0, abs=1e-9)
+        assert abs(y_axis @ handle.axis) < 1e-9
+        assert table_margin(grasp.world_T_tcp, GEOMETRY, 0.0, PlannerConfig()) >= -1e-9
+    scores = [g.score for g in grasps]
+    assert scores == sorted(scores, reverse=True)
+    assert grasps[0].approach_world[2] < -0.5, "the best grasp should come from above"
+
+
+def test_a_cloud_point_inside_a_finger_rejects_the_grasp() -> None:
+    handle = _handle([0.0, 0.0, 0.1], [1.0, 0.0, 0.0])
+    rng = np.random.default_rng(0)
+    grasps = grasps_from_handles([handle], np.zeros((0, 3)), np.zeros((1, 3)), GEOMETRY, 0.0, rng)
+    pose = grasps[0].world_T_tcp
+    finger_point_tcp = np.array([0.0, GEOMETRY.max_opening / 2 + 0.005, -0.01])
+    finger_point_world = pose[:3, :3] @ finger_point_tcp + pose[:3, 3]
+    assert collides(pose, finger_point_world[None], GEOMETRY, 0)
+    between_pads = pose[:3, 3][None]
+    assert not collides(pose, between_pads, GEOMETRY, 0)
+
+
+@pytest.fixture(scope="module")
+def hammer_model():
+    return model_for("gen_hammer")
+
+
+def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_model) -> None:
+    result = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=0)
+    assert result.cloud_points > 500
+    assert result.candidates > 0 and result.detection_accuracy >= 0.8
+    assert result.handle_recall
+    assert result.success and result.on_handle, result.to_json()["failure"]
+
+
+def test_full_chain_is_reproducible(hammer_model) -> None:
+    first = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=3).to_json()
+    second = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=3).to_json()
+    for record in (first, second):
+        record.pop("timings_s")
+    assert first == second
+
+
+@pytest.mark.parametrize("detector", ["centroid", "random", "tenpas"])
+def test_baselines_run_through_the_same_chain(hammer_model, detector: str) -> None:
+    record = run_chain(hammer_model, ChainConfig(detector=detector), seed=1).to_json()
+    assert record["detector"] == detector
+    assert record["success"] in (True, False)
+    assert record["failure"] in (
+        None,
+        "no_grasp",
+        "approach_collision",
+        "missed",
+        "slipped_in_lift",
+        "dropped_in_perturbation",
+        "invalid_start",
+    )
