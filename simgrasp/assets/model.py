@@ -51,14 +51,15 @@ class ObjectModel:
     """An object ready for MuJoCo: asset (mesh, handle label, mass), hulls and contact params.
 
     ``hulls`` are convex meshes in the object frame. ``friction`` is MuJoCo's (sliding,
-    torsional, rolling); ``condim`` 4 adds torsional friction to the sliding cone.
+    torsional, rolling); ``condim`` 6 adds torsional and rolling friction to the sliding
+    cone, so round objects (cans, fruit) stop rolling as real ones do.
     """
 
     asset: ObjectAsset
     hulls: tuple[trimesh.Trimesh, ...]
     inertial: Inertial
-    friction: tuple[float, float, float] = (0.8, 0.01, 0.0002)
-    condim: int = 4
+    friction: tuple[float, float, float] = (0.8, 0.01, 0.001)
+    condim: int = 6
     solref: tuple[float, float] = (0.01, 1.0)
     solimp: tuple[float, float, float, float, float] = (0.95, 0.99, 0.001, 0.5, 2.0)
 
