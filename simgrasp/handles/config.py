@@ -52,10 +52,10 @@ class QuadricDetectorConfig:
     """Also require the larger transverse semi-axis to fit the gripper (x ``width_slack``)."""
     width_slack: float = 1.0
     shell_test: bool = True
-    shell_half_length: float = 0.016
+    shell_half_length: float = 0.008
     """Half length (m) along the handle axis over which the shell must be clear (about half
     a finger pad's width plus a margin)."""
-    shell_gap: float = 0.006
+    shell_gap: float = 0.004
     """The shell starts this far outside the fitted surface (m) ..."""
     shell_thickness: float = 0.01
     """... and is this thick (m)."""
