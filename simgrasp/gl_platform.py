@@ -60,10 +60,11 @@ def probe_gl(platform: str, timeout_s: float = PROBE_TIMEOUT_S) -> bool:
 
 
 def configure_mujoco_gl() -> None:
-    """Set ``MUJOCO_GL`` before mujoco's first import (see the module docstring)."""
+    """Set ``MUJOCO_GL`` before mujoco's first import (see the module docstring); a bad
+    ``SIMGRASP_RENDER_BACKEND`` is an error even when the platform is already chosen."""
+    forced = forced_backend()
     if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL"):
         return
-    forced = forced_backend()
     if forced == "raycast":
         return
     candidates = (forced,) if forced else GL_BACKENDS

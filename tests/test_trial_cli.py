@@ -53,9 +53,29 @@ def test_trial_json_in_object_frame(tmp_path) -> None:
     assert image.std() > 10  # not a blank picture
 
 
-def test_trial_without_grasp_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["trial", "gen_hammer"]) == 2
-    assert "--grasp" in capsys.readouterr().err
+def test_unknown_object_and_bad_width_are_clear_errors(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["trial", "no_such_thing"]) == 2
+    assert "unknown YCB object 'no_such_thing'" in capsys.readouterr().err
+    assert (
+        main(
+            [
+                "trial",
+                "gen_hammer",
+                "--width",
+                "0.5",
+                "--grasp",
+                "0",
+                "0",
+                "0.1",
+                "1",
+                "0",
+                "0",
+                "0",
+            ]
+        )
+        == 2
+    )
+    assert "--width must be in (0, 0.085]" in capsys.readouterr().err
 
 
 def test_trial_rejects_bad_render_suffix(capsys: pytest.CaptureFixture[str]) -> None:
