@@ -66,6 +66,16 @@ def _orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
     return u, np.cross(axis, u)
 
 
+def _downward_basis(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Unit vectors ``u, v`` perpendicular to ``axis`` with ``u`` the steepest downward
+    direction (world -z projected off the axis); any perpendicular pair for a vertical axis."""
+    down = np.array([0.0, 0.0, -1.0]) - axis * -axis[2]
+    if np.linalg.norm(down) < 1e-6:
+        return _orthonormal(axis)
+    u = down / np.linalg.norm(down)
+    return u, np.cross(axis, u)
+
+
 def _gripper_boxes(geometry: GripperGeometry, opening: float) -> list[tuple[NDArray, NDArray]]:
     """(center, half extents) of the fingers and palm in the TCP frame."""
     half_len = (geometry.finger_length + geometry.pad_reach) / 2
@@ -144,15 +154,18 @@ def grasps_from_handles(
 ) -> list[Grasp]:
     """Grasps closing across each handle, best first.
 
-    Approaches are sampled around each handle's axis (seeded jitter); a grasp's score is the
-    handle's score plus bonuses for approaching from the camera's side and from above.
+    Approaches are sampled around each handle's axis: the steepest downward approach first
+    (exactly, so a handle lying flat on the table keeps its one feasible top-down grasp), then
+    evenly spaced ones turned by a seeded jitter. A grasp's score is the handle's score plus
+    bonuses for approaching from the camera's side and from above.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     grasps = []
     for handle in list(handles)[: config.max_handles]:
-        u, v = _orthonormal(handle.axis)
-        angles = np.linspace(0, 2 * np.pi, config.approaches_per_handle, endpoint=False)
-        angles = angles + rng.uniform(0, 2 * np.pi / config.approaches_per_handle)
+        u, v = _downward_basis(handle.axis)
+        step = 2 * np.pi / config.approaches_per_handle
+        angles = np.arange(config.approaches_per_handle) * step
+        angles[1:] += rng.uniform(-step / 2, step / 2)
         for angle in angles:
             approach = np.cos(angle) * u + np.sin(angle) * v
             closing = np.cross(approach, handle.axis)

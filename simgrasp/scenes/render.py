@@ -282,7 +282,8 @@ class SceneRenderer:
         renderer.enable_segmentation_rendering()
         segmentation = renderer.render()
         renderer.disable_segmentation_rendering()
-        is_geom = segmentation[..., 1] == mujoco.mjtObj.mjOBJ_GEOM
+        # int(): comparing an array with the enum object runs per pixel in Python (~0.3 s).
+        is_geom = segmentation[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM)
         geom_ids = np.where(is_geom, segmentation[..., 0], -1).astype(np.int32)
         near, far = self.clip_range
         hit = (geom_ids >= 0) & (depth >= near) & (depth < far)
