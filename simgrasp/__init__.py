@@ -6,4 +6,12 @@ fitting), ``handles`` (handle detection), ``grasping`` (grasps and trials), ``en
 (gymnasium), ``evaluation`` (sweeps and reports).
 """
 
+import gymnasium
+
 __version__ = "0.1.0"
+
+# The entry point is a string so that `import simgrasp` stays light (no mujoco).
+gymnasium.register(
+    id="simgrasp/HandleGrasp-v0",
+    entry_point="simgrasp.envs.handle_grasp:HandleGraspEnv",
+)

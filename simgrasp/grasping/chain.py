@@ -31,13 +31,15 @@ from simgrasp.handles.detection import Detection
 from simgrasp.perception import estimate_normals, multiplicative_noise
 from simgrasp.scenes.gripper import Gripper, make_gripper
 from simgrasp.scenes.observe import ObjectCloud, object_cloud
-from simgrasp.scenes.render import SceneRenderer
+from simgrasp.scenes.render import DepthFrame, SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
 from simgrasp.seeding import rng_for
 
 ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
 CHAIN_DETECTORS: tuple[str, ...] = (*DETECTORS, "centroid", "random")
 CLOUD_VOXEL = 0.003
+MIN_CLOUD_POINTS = 10
+"""Clouds with fewer points than this get no grasp proposals."""
 
 
 @dataclass(frozen=True)
@@ -113,11 +115,19 @@ def _no_grasp_record(result: ChainResult) -> dict[str, Any]:
 
 
 def gripper_geometry(gripper: Gripper) -> GripperGeometry:
-    """The planner's collision boxes for ``gripper`` (documented approximations)."""
+    """The planner's collision boxes for ``gripper`` (documented approximations).
+
+    The boxes are those of the open gripper (pre-grasp and approach). The Robotiq's pads swing
+    forward as they close (tips 9.5 mm past the TCP open, 23 mm closed), so near the table its
+    closing fingertips sweep along the table top, pushing the compliant gripper up a little,
+    as a real one does when picking a flat object; the trial simulates that.
+    """
     if gripper.name == "robotiq_2f85":
+        from simgrasp.scenes.robotiq import OPEN_FINGER_REACH
+
         return GripperGeometry(
             max_opening=gripper.max_opening,
-            pad_reach=gripper.finger_reach,
+            pad_reach=OPEN_FINGER_REACH,
             finger_length=0.06,
             finger_width=0.025,
             palm_size=(0.07, 0.14, 0.06),
@@ -125,11 +135,17 @@ def gripper_geometry(gripper: Gripper) -> GripperGeometry:
     return GripperGeometry(max_opening=gripper.max_opening, pad_reach=gripper.finger_reach)
 
 
-def observe(scene: Scene, noise: float, seed: int) -> ObjectCloud:
-    """Render every scene camera and fuse the object's pixels into a world-frame cloud."""
+def render_views(scene: Scene, renderer: SceneRenderer) -> list[DepthFrame]:
+    """Depth and segmentation from every scene camera, the scene reset to its initial state."""
     scene.reset()
-    with SceneRenderer(scene.model) as renderer:
-        frames = [renderer.depth(scene.data, camera) for camera in scene.cameras]
+    return [renderer.depth(scene.data, camera) for camera in scene.cameras]
+
+
+def cloud_from_views(
+    scene: Scene, frames: list[DepthFrame], noise: float, seed: int
+) -> ObjectCloud:
+    """Fuse the object's pixels of ``frames`` into a world-frame cloud (3 mm voxels) and apply
+    the multiplicative noise ``noise`` about its centroid (seeded by ``seed``)."""
     cloud = object_cloud(frames, [scene.object_body], voxel_size=CLOUD_VOXEL)
     if noise == 0 or len(cloud) == 0:
         return cloud
@@ -137,6 +153,13 @@ def observe(scene: Scene, noise: float, seed: int) -> ObjectCloud:
     rng = rng_for(seed, "chain", "noise")
     noisy = centroid + multiplicative_noise(cloud.points_world - centroid, noise, rng)
     return ObjectCloud(noisy, cloud.viewpoints_world, cloud.view_counts, cloud.camera_names)
+
+
+def observe(scene: Scene, noise: float, seed: int) -> ObjectCloud:
+    """Render every scene camera and fuse the object's pixels into a world-frame cloud."""
+    with SceneRenderer(scene.model) as renderer:
+        frames = render_views(scene, renderer)
+    return cloud_from_views(scene, frames, noise, seed)
 
 
 def viewpoint_normals(cloud: ObjectCloud) -> NDArray[np.float64]:
@@ -147,6 +170,57 @@ def viewpoint_normals(cloud: ObjectCloud) -> NDArray[np.float64]:
     return normals
 
 
+def plan_grasps(
+    points_world: NDArray[np.float64],
+    normals_world: NDArray[np.float64],
+    cameras_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_top_z: float,
+    config: ChainConfig,
+    seed: int,
+) -> tuple[list[Grasp], Detection | None]:
+    """Ranked grasps (best first) from the configured detector or baseline, on plain arrays.
+
+    The chain (:func:`propose_grasps`) and the gymnasium policy
+    (:class:`simgrasp.envs.policy.DetectorPolicy`) both plan through this function.
+
+    Args:
+        points_world: (N, 3) object cloud, world frame, meters.
+        normals_world: (N, 3) unit normals turned toward the camera that saw each point (as
+            :func:`viewpoint_normals` makes them); the centroid baseline ignores them.
+        cameras_world: (K, 3) optical centers of the cameras that saw the cloud (world frame,
+            meters), for the planner's view bonus.
+        geometry: the gripper's collision boxes (:func:`gripper_geometry`).
+        table_top_z: world z of the table top (m).
+        config: its ``detector`` and ``planner`` are used.
+        seed: seeds the detector's sampling and the planner's approach jitter.
+
+    Returns:
+        The grasps and, for the handle detectors, their detection (None for the baselines).
+    """
+    rng = rng_for(seed, "chain", "plan")
+    if config.detector == "centroid":
+        return centroid_grasps(points_world, geometry, table_top_z, config.planner), None
+    if config.detector == "random":
+        grasps = antipodal_grasps(
+            points_world, normals_world, geometry, table_top_z, rng, config.planner
+        )
+        return grasps, None
+    detector_config = default_config(config.detector, geometry.max_opening)
+    detection = detect(points_world, normals_world, detector_config, seed, detector=config.detector)
+    grasps = grasps_from_handles(
+        detection.handles,
+        points_world,
+        cameras_world,
+        geometry,
+        table_top_z,
+        rng,
+        config.planner,
+        config.detector,
+    )
+    return grasps, detection
+
+
 def propose_grasps(
     scene: Scene,
     cloud: ObjectCloud,
@@ -154,22 +228,15 @@ def propose_grasps(
     seed: int,
 ) -> tuple[list[Grasp], Detection | None]:
     """Ranked grasps from the configured detector (or baseline) on the observed cloud."""
-    geometry = gripper_geometry(scene.gripper.gripper)
-    table_z = scene.config.table_top_z
-    rng = rng_for(seed, "chain", "plan")
-    points = cloud.points_world
-    if config.detector == "centroid":
-        return centroid_grasps(points, geometry, table_z, config.planner), None
-    normals = viewpoint_normals(cloud)
-    if config.detector == "random":
-        return antipodal_grasps(points, normals, geometry, table_z, rng, config.planner), None
-    detector_config = default_config(config.detector, geometry.max_opening)
-    detection = detect(points, normals, detector_config, seed, detector=config.detector)
-    cameras = np.unique(cloud.viewpoints_world, axis=0)
-    grasps = grasps_from_handles(
-        detection.handles, points, cameras, geometry, table_z, rng, config.planner, config.detector
+    return plan_grasps(
+        cloud.points_world,
+        viewpoint_normals(cloud),
+        np.unique(cloud.viewpoints_world, axis=0),
+        gripper_geometry(scene.gripper.gripper),
+        scene.config.table_top_z,
+        config,
+        seed,
     )
-    return grasps, detection
 
 
 def _detection_scores(
@@ -220,7 +287,7 @@ def run_chain(
     timings["render"] = time.perf_counter() - start
     start = time.perf_counter()
     grasps, detection = (
-        ([], None) if len(cloud) < 10 else propose_grasps(scene, cloud, config, seed)
+        ([], None) if len(cloud) < MIN_CLOUD_POINTS else propose_grasps(scene, cloud, config, seed)
     )
     timings["detect_and_plan"] = time.perf_counter() - start
     accuracy, recall = _detection_scores(scene, detection)

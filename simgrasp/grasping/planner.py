@@ -52,9 +52,12 @@ class PlannerConfig:
     """Rank bonus for approaching from the camera's side (cosine with the view direction)."""
     top_weight: float = 0.3
     """Rank bonus for approaching from above (cosine with world -z)."""
-    max_tcp_shift: float = 0.015
+    max_tcp_shift: float = 0.025
     """A grasp whose fingertips would reach below the table is backed off along its approach by
     up to this much (m), so objects lying flat can still be held above the table."""
+    shift_weight: float = 1.0
+    """Rank penalty per ``max_tcp_shift`` of back-off: a grasp backed off the handle holds it
+    with the pad edges only, so the least backed-off grasp of a flat handle comes first."""
     antipodal_samples: int = 400
     antipodal_cos: float = 0.9
 
@@ -157,7 +160,8 @@ def grasps_from_handles(
     Approaches are sampled around each handle's axis: the steepest downward approach first
     (exactly, so a handle lying flat on the table keeps its one feasible top-down grasp), then
     evenly spaced ones turned by a seeded jitter. A grasp's score is the handle's score plus
-    bonuses for approaching from the camera's side and from above.
+    bonuses for approaching from the camera's side and from above, less a penalty for backing
+    off the handle to clear the table.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     grasps = []
@@ -176,7 +180,12 @@ def grasps_from_handles(
                 continue
             if collides(pose, points_world, geometry, config.max_colliding_points):
                 continue
-            score = handle.score + _rank(approach, handle.center, cameras, config)
+            shift = float(np.linalg.norm(pose[:3, 3] - handle.center))
+            score = (
+                handle.score
+                + _rank(approach, handle.center, cameras, config)
+                - config.shift_weight * shift / config.max_tcp_shift
+            )
             grasps.append(
                 Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
             )

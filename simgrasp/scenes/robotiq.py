@@ -27,6 +27,9 @@ pads ride on an arc, so their center moves from 0.131 m fully open to 0.144 m cl
 FINGER_REACH = 0.023
 """Pad tips past the TCP (m): 0.0095 fully open, 0.023 closed (the pads swing forward)."""
 
+OPEN_FINGER_REACH = 0.0095
+"""Pad tips past the TCP (m) with the jaws fully open, as during the pre-grasp and approach."""
+
 CTRL_CLOSED = 255.0
 CALIBRATION_CTRLS = np.linspace(0.0, 255.0, 18)
 CALIBRATION_STEPS = 600

@@ -1,0 +1,110 @@
+"""A scripted policy for ``simgrasp/HandleGrasp-v0``: the chain's detectors as observation ->
+action.
+
+:class:`DetectorPolicy` plans with the very function the chain plans with
+(:func:`simgrasp.grasping.chain.plan_grasps`), on the observation's cloud, normals and the
+centers of the cameras that saw the cloud, and returns the best-ranked grasp as an action.
+Given the episode seed, it proposes exactly the grasp ``run_chain`` executes for that object
+and seed when the env and the chain share gripper, noise and scene (and the cloud was not
+subsampled, see :mod:`simgrasp.envs.observation`).
+
+Fallback: when the cloud has fewer than ``MIN_CLOUD_POINTS`` points or no grasp survives
+planning (the chain would then run no trial), the action is a top-down grasp (approach world
+-z, jaws opening along world y) at full opening, centered on the cloud's centroid (on the table
+top at the world origin for an empty cloud) and raised until the gripper clears the table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import gymnasium
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.envs.action import action_from_grasp
+from simgrasp.envs.handle_grasp import HandleGraspEnv
+from simgrasp.envs.observation import Observation
+from simgrasp.grasping.chain import (
+    MIN_CLOUD_POINTS,
+    ChainConfig,
+    ChainDetector,
+    gripper_geometry,
+    plan_grasps,
+)
+from simgrasp.grasping.grasp import Grasp, tcp_pose
+from simgrasp.grasping.planner import GripperGeometry, PlannerConfig, table_margin
+from simgrasp.scenes.gripper import GripperName, make_gripper
+
+FALLBACK_SOURCE = "fallback"
+"""``Grasp.source`` of the fallback grasp."""
+
+
+@dataclass(frozen=True)
+class DetectorPolicy:
+    """Grasp actions from a handle detector (``"quadric"``, ``"tenpas"``) or a baseline
+    (``"centroid"``, ``"random"``), for ``gripper`` over a table top at ``table_top_z`` (world
+    z, meters); :meth:`for_env` takes both from an env."""
+
+    detector: ChainDetector = "quadric"
+    gripper: GripperName = "builtin"
+    table_top_z: float = 0.0
+    planner: PlannerConfig = field(default_factory=PlannerConfig)
+    chain_config: ChainConfig = field(init=False, repr=False)
+    geometry: GripperGeometry = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        chain_config = ChainConfig(
+            detector=self.detector, gripper=self.gripper, planner=self.planner
+        )
+        object.__setattr__(self, "chain_config", chain_config)
+        object.__setattr__(self, "geometry", gripper_geometry(make_gripper(self.gripper)))
+
+    @classmethod
+    def for_env(
+        cls,
+        env: gymnasium.Env,
+        detector: ChainDetector = "quadric",
+        planner: PlannerConfig | None = None,
+    ) -> DetectorPolicy:
+        """The policy for ``env`` (a possibly wrapped :class:`HandleGraspEnv`): its gripper
+        and table height."""
+        unwrapped = env.unwrapped
+        if not isinstance(unwrapped, HandleGraspEnv):
+            raise TypeError(f"DetectorPolicy.for_env needs a HandleGraspEnv, got {unwrapped!r}")
+        config = unwrapped.config
+        return cls(detector, config.gripper, config.scene.table_top_z, planner or PlannerConfig())
+
+    def plan(self, observation: Observation, seed: int) -> Grasp:
+        """The best grasp (world frame) on the observed cloud, or the fallback grasp; ``seed``
+        (the episode seed, to match the chain) seeds the detector and the planner."""
+        valid = observation["valid"].astype(bool)
+        points_world = observation["points_world"][valid]
+        if len(points_world) < MIN_CLOUD_POINTS:
+            return self.fallback(points_world)
+        view_index = observation["view_index"][valid]
+        cameras_world = np.unique(observation["world_T_cam"][view_index, :3, 3], axis=0)
+        grasps, _ = plan_grasps(
+            points_world,
+            observation["normals_world"][valid],
+            cameras_world,
+            self.geometry,
+            self.table_top_z,
+            self.chain_config,
+            seed,
+        )
+        return grasps[0] if grasps else self.fallback(points_world)
+
+    def act(self, observation: Observation, seed: int) -> NDArray[np.float64]:
+        """The action ``[x, y, z, qw, qx, qy, qz, width]`` of :meth:`plan`."""
+        return action_from_grasp(self.plan(observation, seed))
+
+    def fallback(self, points_world: NDArray[np.float64]) -> Grasp:
+        """The documented fallback grasp (module docstring) for the cloud ``points_world``."""
+        center = (
+            points_world.mean(axis=0) if len(points_world) else np.array([0, 0, self.table_top_z])
+        )
+        world_T_tcp = tcp_pose(center, closing=(0.0, 1.0, 0.0), approach=(0.0, 0.0, -1.0))
+        margin = table_margin(world_T_tcp, self.geometry, self.table_top_z, self.planner)
+        world_T_tcp[2, 3] -= min(margin, 0.0)
+        return Grasp(world_T_tcp, self.geometry.max_opening, score=0.0, source=FALLBACK_SOURCE)
