@@ -33,10 +33,14 @@ def expand_objects(names: tuple[str, ...]) -> list[str]:
 
 
 def check_plan(
-    objects: list[str], detectors: tuple[str, ...], grippers: tuple[str, ...], ycb_dir: str | None
+    objects: list[str],
+    detectors: tuple[str, ...],
+    grippers: tuple[str, ...],
+    noises: tuple[float, ...],
+    ycb_dir: str | None,
 ) -> None:
     """Fail before any worker starts on an unknown detector, gripper or object (or missing YCB
-    data), naming the offending value."""
+    data) or a noise sigma outside [0, 1), naming the offending value."""
     from simgrasp.assets.registry import load_object
     from simgrasp.grasping.chain import CHAIN_DETECTORS
     from simgrasp.scenes.gripper import make_gripper
@@ -46,6 +50,9 @@ def check_plan(
             raise ValueError(
                 f"unknown --detector {detector!r}; choose from {', '.join(CHAIN_DETECTORS)}"
             )
+    for noise in noises:
+        if not 0 <= noise < 1:
+            raise ValueError(f"--noise sigmas must be in [0, 1), got {noise:g}")
     for gripper in grippers:
         make_gripper(gripper)
     for name in objects:
@@ -79,7 +86,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--workers", type=int, default=2, help="parallel worker processes")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--backend", choices=("local", "ray"), default="local")
-    parser.add_argument("--address", default=None, help="Ray cluster address (--backend ray)")
+    parser.add_argument(
+        "--address",
+        default=None,
+        help="Ray cluster to join with --backend ray, or auto for $RAY_ADDRESS / `ray start` "
+        "(default: a new local instance with --workers CPUs)",
+    )
     parser.add_argument(
         "--ycb-dir", default=None, help="YCB directory (default: $SIMGRASP_YCB_DIR)"
     )
@@ -95,10 +107,10 @@ def run(args: argparse.Namespace) -> int:
     if args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     if args.address and args.backend != "ray":
-        raise ValueError("--address is only used with --backend ray")
+        raise ValueError(f"--address {args.address} needs --backend ray")
     ycb_dir = args.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
     objects = expand_objects(args.objects)
-    check_plan(objects, args.detector, args.gripper, ycb_dir)
+    check_plan(objects, args.detector, args.gripper, args.noise, ycb_dir)
     specs = plan_trials(objects, args.detector, args.gripper, args.noise, range(args.seeds))
     start = time.perf_counter()
     records = run_sweep(

@@ -14,6 +14,7 @@ import multiprocessing
 import os
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from contextlib import closing
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -90,21 +91,24 @@ def run_local(
             prepare_object(name, ycb_dir)
         yield from (run_spec(spec, ycb_dir) for spec in specs)
         return
-    context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(workers, mp_context=context) as pool:
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    try:
         list(pool.map(prepare_object, objects, itertools.repeat(ycb_dir)))
         pending = {pool.submit(run_spec, spec, ycb_dir) for spec in specs}
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
                 yield future.result()
+    finally:  # on an error, drop the queued trials instead of running them all first
+        pool.shutdown(cancel_futures=True)
 
 
 def run_ray(
     specs: Sequence[TrialSpec], ycb_dir: str | None, workers: int, address: str | None
 ) -> Iterator[dict[str, Any]]:
-    """Yield trial records as Ray tasks finish. Without ``address`` a local Ray instance with
-    ``workers`` CPUs is started (and shut down afterwards)."""
+    """Yield trial records as Ray tasks finish. Without ``address`` a new local Ray instance
+    with ``workers`` CPUs is started (and shut down afterwards), even if ``RAY_ADDRESS`` is set
+    or a ``ray start`` cluster runs on this machine; ``address="auto"`` joins those."""
     try:
         import ray
     except ImportError:
@@ -116,7 +120,7 @@ def run_ray(
     if started:
         env = {k: v for k, v in os.environ.items() if k.startswith(("SIMGRASP_", "MUJOCO_"))}
         ray.init(
-            address=address,
+            address=address or "local",
             num_cpus=None if address else workers,
             include_dashboard=False,
             log_to_driver=False,
@@ -133,6 +137,25 @@ def run_ray(
     finally:
         if started:
             ray.shutdown()
+
+
+def run_trials(
+    specs: Sequence[TrialSpec],
+    ycb_dir: str | None,
+    workers: int,
+    backend: Backend,
+    address: str | None,
+) -> Iterator[dict[str, Any]]:
+    """Trial records from ``backend``, in completion order; starts no workers (nor Ray) when
+    there is nothing to run."""
+    if backend not in ("local", "ray"):
+        raise ValueError(f"unknown backend {backend!r}; use 'local' or 'ray'")
+    if specs:
+        yield from (
+            run_ray(specs, ycb_dir, workers, address)
+            if backend == "ray"
+            else run_local(specs, ycb_dir, workers)
+        )
 
 
 def run_sweep(
@@ -159,20 +182,15 @@ def run_sweep(
     bar = tqdm(
         total=len(specs), initial=len(finished), desc="evaluate", unit="trial", disable=not progress
     )
-    if backend == "ray":
-        records = run_ray(todo, ycb_dir, workers, address)
-    elif backend == "local":
-        records = run_local(todo, ycb_dir, workers)
-    else:
-        raise ValueError(f"unknown backend {backend!r}; use 'local' or 'ray'")
-    for record in records:
-        key = trial_key(record)
-        if key in finished:  # never record a trial twice
-            continue
-        log.append(record)
-        finished[key] = record
-        bar.update()
-        if on_record:
-            on_record(record)
+    with closing(run_trials(todo, ycb_dir, workers, backend, address)) as records:
+        for record in records:
+            key = trial_key(record)
+            if key in finished:  # never record a trial twice
+                continue
+            log.append(record)
+            finished[key] = record
+            bar.update()
+            if on_record:
+                on_record(record)
     bar.close()
     return [finished[spec.key] for spec in specs]

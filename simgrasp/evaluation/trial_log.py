@@ -3,7 +3,8 @@
 Every finished trial is appended as one line and flushed to disk (``flush`` + ``fsync``) before
 the next, so a killed sweep loses at most the trial that was being written. A torn last line
 (no trailing newline: the process died mid-write) is cut off when the log is opened again;
-a malformed line anywhere else is an error naming the file and line.
+any other line that is not a trial record (a JSON object with the :data:`KEY_FIELDS`) is an
+error naming the file and line, raised before the file is changed.
 """
 
 from __future__ import annotations
@@ -14,13 +15,19 @@ from pathlib import Path
 from typing import Any
 
 TrialKey = tuple[str, str, str, float, int]
+KEY_FIELDS = ("object", "detector", "gripper", "noise", "seed")
 
 NOISE_DIGITS = 9
 """Noise levels are compared after rounding to this many decimals."""
 
 
-def trial_key(record: dict[str, Any]) -> TrialKey:
+def trial_key(record: Any) -> TrialKey:
     """The identity of a trial: (object, detector, gripper, noise, seed)."""
+    if not isinstance(record, dict):
+        raise ValueError(f"a trial record is a JSON object, not {type(record).__name__}")
+    missing = [name for name in KEY_FIELDS if name not in record]
+    if missing:
+        raise ValueError(f"trial record without {', '.join(missing)}: {record!r:.200}")
     try:
         return (
             str(record["object"]),
@@ -29,8 +36,10 @@ def trial_key(record: dict[str, Any]) -> TrialKey:
             round(float(record["noise"]), NOISE_DIGITS),
             int(record["seed"]),
         )
-    except (KeyError, TypeError, ValueError) as exc:
-        raise ValueError(f"trial record without a valid {exc} field: {record!r:.200}") from None
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"trial record with a bad noise {record['noise']!r} or seed {record['seed']!r}"
+        ) from None
 
 
 class TrialLog:
@@ -40,23 +49,33 @@ class TrialLog:
         self.path = Path(path)
 
     def load(self) -> list[dict[str, Any]]:
-        """All complete records, in file order, after cutting off a torn last line."""
+        """All complete records, in file order. A torn last line is then cut off the file; a
+        bad complete line raises before anything is changed."""
         if not self.path.exists():
             return []
-        self._drop_torn_tail()
-        records = []
-        with self.path.open(encoding="utf-8") as handle:
-            for number, line in enumerate(handle, start=1):
-                if not line.strip():
-                    continue
-                try:
-                    records.append(json.loads(line))
-                except json.JSONDecodeError as exc:
-                    raise ValueError(
-                        f"{self.path}:{number}: not a JSON record ({exc.msg}); the trial log is "
-                        "corrupt beyond a torn last line"
-                    ) from None
+        data = self.path.read_bytes()
+        complete = data[: data.rfind(b"\n") + 1]
+        lines = complete.split(b"\n")[:-1]
+        records = [self._parse(line, n) for n, line in enumerate(lines, start=1) if line.strip()]
+        if len(complete) < len(data):
+            self._truncate(len(complete))
         return records
+
+    def _parse(self, line: bytes, number: int) -> dict[str, Any]:
+        """The trial record on line ``number``; a ValueError naming the file and line if the
+        line is not one."""
+        try:
+            record = json.loads(line)
+            trial_key(record)
+        except json.JSONDecodeError as exc:
+            problem = f"not a JSON record ({exc.msg})"
+        except ValueError as exc:  # not UTF-8, or not a trial record
+            problem = str(exc)
+        else:
+            return record
+        raise ValueError(
+            f"{self.path}:{number}: {problem}; the trial log is corrupt beyond a torn last line"
+        )
 
     def append(self, record: dict[str, Any]) -> None:
         """Append one record as a single line and force it to disk."""
@@ -67,12 +86,9 @@ class TrialLog:
             handle.flush()
             os.fsync(handle.fileno())
 
-    def _drop_torn_tail(self) -> None:
-        """Truncate the file after its last newline (a line cut short by a kill)."""
+    def _truncate(self, size: int) -> None:
+        """Cut the file to ``size`` bytes (a line torn by a kill) and force that to disk."""
         with self.path.open("rb+") as handle:
-            data = handle.read()
-            if not data or data.endswith(b"\n"):
-                return
-            handle.truncate(data.rfind(b"\n") + 1)
+            handle.truncate(size)
             handle.flush()
             os.fsync(handle.fileno())
