@@ -9,25 +9,30 @@ Compares plain Open3D ``estimate_normals`` (hybrid KD search, no orientation) wi
 
 from __future__ import annotations
 
-import argparse
-import statistics
-import time
-from collections.abc import Callable
-from pathlib import Path
+import os
 
-import numpy as np
-import open3d as o3d
-import trimesh
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
 
-from simgrasp.perception import (
+import argparse  # noqa: E402
+import statistics  # noqa: E402
+import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+import open3d as o3d  # noqa: E402
+import trimesh  # noqa: E402
+
+from simgrasp.perception import (  # noqa: E402
     estimate_normals,
     gather_neighborhoods,
     point_spacing,
     sample_centers,
     sample_surface,
 )
-from simgrasp.perception.normals import RADIUS_PER_SPACING
-from simgrasp.seeding import rng_for
+from simgrasp.perception.normals import RADIUS_PER_SPACING  # noqa: E402
+from simgrasp.seeding import rng_for  # noqa: E402
 
 
 def _median_s(step: Callable[[], object], repeats: int) -> float:
@@ -42,8 +47,6 @@ def _median_s(step: Callable[[], object], repeats: int) -> float:
 def _mesh(name: str) -> trimesh.Trimesh:
     if name == "torus":
         return trimesh.creation.torus(major_radius=0.05, minor_radius=0.015)
-    import os
-
     path = Path(os.environ["SIMGRASP_YCB_DIR"]) / name / "google_16k" / "textured.obj"
     return trimesh.load(path, force="mesh")
 
@@ -77,7 +80,7 @@ def main() -> None:
     medians = {name: _median_s(step, args.repeats) for name, step in rows.items()}
     base = medians["open3d estimate_normals"]
     print(f"{args.object}: {len(points)} points, radius {radius * 1000:.2f} mm")
-    print(f"median of {args.repeats} runs")
+    print(f"median of {args.repeats} runs, one thread")
     for name, seconds in medians.items():
         print(f"  {name:40s} {seconds * 1000:8.1f} ms  ({seconds / base:5.1f}x Open3D)")
 

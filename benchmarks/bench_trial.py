@@ -1,8 +1,17 @@
 """Grasp trial speed: simulated seconds per wall second, and trial wall time over raw mj_step.
 
-For each gripper, one handle grasp on a generated hammer is run ``--repeats`` times; a raw
-``mj_step`` loop of the same model for the same number of steps (from the same initial state,
-with the gripper parked) is timed in the same run. Medians are reported.
+For each gripper, one handle grasp on a generated hammer is run ``--repeats`` times and, in the
+same run, two raw ``mj_step`` baselines of the same model for the same number of steps:
+
+- ``replay`` (the ratio's baseline): the trial's own trajectory with no harness. Every
+  ``mj_step`` call of one recorded trial is replayed from its recorded integration state
+  (qpos, qvel, warm start, ctrl, mocap, applied forces, ...), timing only the ``mj_step``
+  calls, so the physics work (contacts while closing, lifting, tugging) is exactly the
+  trial's and the ratio measures the harness's overhead alone.
+- ``parked``: the same number of steps from the initial state with the gripper parked and no
+  control (cheaper physics: no finger contacts), for reference.
+
+Medians are reported.
 
     python benchmarks/bench_trial.py [--repeats 7] [--json]
 
@@ -19,6 +28,7 @@ import time
 from pathlib import Path
 
 import mujoco
+import numpy as np
 
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
@@ -29,9 +39,12 @@ from simgrasp.scenes.scene import build_scene
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 from test_trial import handle_grasp  # noqa: E402  (the hand-placed handle grasp of the tests)
 
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+
 
 def raw_step_seconds(model: mujoco.MjModel, data: mujoco.MjData, steps: int, nstep: int) -> float:
-    """Wall time of ``steps`` physics steps in chunks of ``nstep`` (no control, no checks)."""
+    """Wall time of ``steps`` physics steps in chunks of ``nstep`` from the initial state
+    (gripper parked, no control, no checks)."""
     mujoco.mj_resetData(model, data)
     start = time.perf_counter()
     for _ in range(steps // nstep):
@@ -39,27 +52,80 @@ def raw_step_seconds(model: mujoco.MjModel, data: mujoco.MjData, steps: int, nst
     return time.perf_counter() - start
 
 
+def record_trial(scene, grasp, config: TrialConfig):
+    """Run one trial recording, before each ``mj_step`` call, the integration state and
+    ``nstep``; also the state after the last call. Returns (result, calls, final state)."""
+    calls: list[tuple[np.ndarray, int]] = []
+    size = mujoco.mj_stateSize(scene.model, STATE)
+    original = mujoco.mj_step
+
+    def recording_step(model, data, nstep=1):
+        if model is scene.model:  # not e.g. the Robotiq's one-off calibration model
+            state = np.empty(size)
+            mujoco.mj_getState(model, data, state, STATE)
+            calls.append((state, nstep))
+        original(model, data, nstep)
+
+    mujoco.mj_step = recording_step
+    try:
+        result = run_trial(scene, grasp, config)
+    finally:
+        mujoco.mj_step = original
+    final = np.empty(size)
+    mujoco.mj_getState(scene.model, scene.data, final, STATE)
+    if sum(n for _, n in calls) != result.steps:
+        raise RuntimeError("recorded mj_step calls do not add up to the trial's steps")
+    return result, calls, final
+
+
+def replay_seconds(
+    model: mujoco.MjModel, data: mujoco.MjData, calls: list[tuple[np.ndarray, int]]
+) -> tuple[float, np.ndarray]:
+    """Seconds spent in ``mj_step`` replaying the recorded calls (each from its recorded
+    state; only the ``mj_step`` calls are timed), and the state after the last one."""
+    total = 0.0
+    for state, nstep in calls:
+        mujoco.mj_setState(model, data, state, STATE)
+        start = time.perf_counter()
+        mujoco.mj_step(model, data, nstep)
+        total += time.perf_counter() - start
+    final = np.empty(mujoco.mj_stateSize(model, STATE))
+    mujoco.mj_getState(model, data, final, STATE)
+    return total, final
+
+
 def bench(gripper_name: str, repeats: int) -> dict[str, float | str | int]:
     model = build_object_model(load_object("gen_hammer", seed=1))
     scene = build_scene(model, make_gripper(gripper_name), seed=3)
     grasp = handle_grasp(scene)
     config = TrialConfig()
-    trial_wall, raw_wall, sim_time, steps, outcome = [], [], 0.0, 0, None
+    recorded, calls, recorded_final = record_trial(scene, grasp, config)
+    steps, sim_time = recorded.steps, recorded.sim_time
+    trial_wall, replay_wall, parked_wall = [], [], []
+    replay_exact = True
     for _ in range(repeats):
         result = run_trial(scene, grasp, config)
+        if (result.steps, result.failure) != (steps, recorded.failure):
+            raise RuntimeError("trial is not reproducible: steps or outcome changed")
         trial_wall.append(result.timings_s["total"])
-        sim_time, steps, outcome = result.sim_time, result.steps, result.failure
-        raw_wall.append(raw_step_seconds(scene.model, scene.data, steps, config.control_steps))
-    trial, raw = statistics.median(trial_wall), statistics.median(raw_wall)
+        seconds, final = replay_seconds(scene.model, scene.data, calls)
+        replay_exact &= bool(np.array_equal(final, recorded_final))
+        replay_wall.append(seconds)
+        parked_wall.append(raw_step_seconds(scene.model, scene.data, steps, config.control_steps))
+    trial = statistics.median(trial_wall)
+    replay, parked = statistics.median(replay_wall), statistics.median(parked_wall)
     return {
         "gripper": gripper_name,
-        "outcome": outcome or "success",
+        "outcome": recorded.failure or "success",
         "steps": steps,
         "sim_time_s": sim_time,
         "trial_wall_s": trial,
-        "raw_step_wall_s": raw,
+        "raw_replay_wall_s": replay,
+        "raw_parked_wall_s": parked,
+        "replay_bit_exact": replay_exact,
         "real_time_factor": sim_time / trial,
-        "trial_over_raw": trial / raw,
+        "trial_over_raw": trial / replay,
+        "trial_over_parked": trial / parked,
     }
 
 
@@ -72,13 +138,18 @@ def main() -> int:
     if args.json:
         print(json.dumps(rows, indent=2))
         return 0
+    print(f"median of {args.repeats} runs; ratio = trial wall / raw replay (target <= 1.25)")
     print(
-        f"{'gripper':14} {'outcome':10} {'sim s':>6} {'trial s':>8} {'raw s':>7} {'x RT':>6} ratio"
+        f"{'gripper':14} {'outcome':8} {'steps':>6} {'sim s':>6} {'trial s':>8} {'x RT':>6} "
+        f"{'replay s':>9} {'ratio':>6} {'parked s':>9} {'ratio':>6}"
     )
     for r in rows:
         print(
-            f"{r['gripper']:14} {r['outcome']:10} {r['sim_time_s']:6.2f} {r['trial_wall_s']:8.3f} "
-            f"{r['raw_step_wall_s']:7.3f} {r['real_time_factor']:6.1f} {r['trial_over_raw']:.2f}"
+            f"{r['gripper']:14} {r['outcome']:8} {r['steps']:6d} {r['sim_time_s']:6.2f} "
+            f"{r['trial_wall_s']:8.3f} {r['real_time_factor']:6.1f} "
+            f"{r['raw_replay_wall_s']:9.3f} {r['trial_over_raw']:6.2f} "
+            f"{r['raw_parked_wall_s']:9.3f} {r['trial_over_parked']:6.2f}"
+            + ("" if r["replay_bit_exact"] else "  (replay not bit-exact)")
         )
     return 0
 
