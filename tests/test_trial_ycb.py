@@ -1,7 +1,8 @@
 """Grasp trials on real YCB objects (SIMGRASP_YCB_DIR) with both grippers.
 
 Handle grasps come from each object's shipped handle label (midpoint and axis of its longest
-region); the far grasp is placed 10 cm beyond the object's footprint.
+region); the far grasp is placed 10 cm beyond the object's footprint; the hammer's head is the
+part of the mesh beyond the end of its labeled handle.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import pytest
 from test_trial import handle_center_axis, top_down_grasp
 
 from simgrasp.assets.model import build_object_model
+from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.trial import TrialConfig, run_trial
@@ -64,3 +66,53 @@ def test_ycb_far_grasp_is_missed(ycb_scene: Scene) -> None:
     result = run_trial(ycb_scene, Grasp(world_T_tcp, grasp.width))
     assert result.failure == "missed"
     assert result.success is False
+
+
+@pytest.fixture(scope="module", params=GRIPPERS)
+def ycb_hammer_scene(request: pytest.FixtureRequest, ycb_dir: str) -> Scene:
+    model = build_object_model(load_object("048_hammer", ycb_dir))
+    scene = build_scene(model, make_gripper(request.param), seed=0)
+    assert abs(scene.world_T_object[2, 2]) > 0.95, "seed 0 should lay the hammer flat"
+    return scene
+
+
+def hammer_head(asset: ObjectAsset) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(head center, handle axis, across-the-head direction, head length), object frame: the
+    head is the mesh beyond the labeled handle's far end (1 cm margin)."""
+    vertices = asset.mesh.vertices
+    inside = asset.handle.contains(vertices)
+    centroid = vertices[inside].mean(axis=0)
+    axis = np.linalg.svd(vertices[inside] - centroid)[2][0]
+    along = (vertices - centroid) @ axis
+    if np.sum(along > along[inside].max()) < np.sum(along < along[inside].min()):
+        axis, along = -axis, -along
+    head = vertices[along > along[inside].max() + 0.01]
+    assert len(head) > 100, "the hammer's head should extend beyond its handle label"
+    across = np.cross([0.0, 0.0, 1.0], axis)
+    across /= np.linalg.norm(across)
+    head_across = (head - head.mean(axis=0)) @ across
+    return head.mean(axis=0), axis, across, float(np.ptp(head_across))
+
+
+def test_ycb_hammer_head_grasp_is_not_on_handle(ycb_hammer_scene: Scene) -> None:
+    """Closing across one arm of the head: the built-in gripper lifts the hammer by it, the
+    weaker 2F-85 lets it slip (a 0.66 kg hammer held 5 cm off its axis); never on the handle."""
+    center, _, across, head_length = hammer_head(ycb_hammer_scene.object_model.asset)
+    arm = center + across * 0.3 * head_length  # mid-arm, past the neck where the handle joins
+    result = run_trial(ycb_hammer_scene, top_down_grasp(ycb_hammer_scene, arm, across))
+    if ycb_hammer_scene.gripper.gripper.name == "builtin":
+        assert result.success is True, result.failure
+    else:
+        assert result.failure in (None, "slipped_in_lift", "dropped_in_perturbation")
+    assert not result.on_handle
+    assert result.handle_fraction < 0.5
+
+
+def test_ycb_hammer_too_wide_head_is_not_lifted(ycb_hammer_scene: Scene) -> None:
+    """Closing along the head's length (longer than the stroke) cannot lift the hammer."""
+    center, axis, _, head_length = hammer_head(ycb_hammer_scene.object_model.asset)
+    assert head_length > ycb_hammer_scene.gripper.gripper.max_opening
+    result = run_trial(ycb_hammer_scene, top_down_grasp(ycb_hammer_scene, center, axis))
+    assert result.success is False
+    assert result.failure in ("approach_collision", "missed", "slipped_in_lift")
+    assert result.lift_height < 0.05
