@@ -159,13 +159,15 @@ def grasps_from_handles(
 
     Approaches are sampled around each handle's axis: the steepest downward approach first
     (exactly, so a handle lying flat on the table keeps its one feasible top-down grasp), then
-    evenly spaced ones turned by a seeded jitter. A grasp's score is the handle's score plus
-    bonuses for approaching from the camera's side and from above, less a penalty for backing
+    evenly spaced ones turned by a seeded jitter. A grasp's score is the handle's score relative
+    to the best handle's (1 for the best) plus bonuses for approaching from the camera's side and from above, less a penalty for backing
     off the handle to clear the table.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
+    handles = list(handles)[: config.max_handles]
+    best_score = max((h.score for h in handles), default=1.0) or 1.0
     grasps = []
-    for handle in list(handles)[: config.max_handles]:
+    for handle in handles:
         u, v = _downward_basis(handle.axis)
         step = 2 * np.pi / config.approaches_per_handle
         angles = np.arange(config.approaches_per_handle) * step
@@ -182,7 +184,7 @@ def grasps_from_handles(
                 continue
             shift = float(np.linalg.norm(pose[:3, 3] - handle.center))
             score = (
-                handle.score
+                handle.score / best_score
                 + _rank(approach, handle.center, cameras, config)
                 - config.shift_weight * shift / config.max_tcp_shift
             )
