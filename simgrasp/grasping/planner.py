@@ -160,8 +160,8 @@ def grasps_from_handles(
     Approaches are sampled around each handle's axis: the steepest downward approach first
     (exactly, so a handle lying flat on the table keeps its one feasible top-down grasp), then
     evenly spaced ones turned by a seeded jitter. A grasp's score is the handle's score relative
-    to the best handle's (1 for the best) plus bonuses for approaching from the camera's side and from above, less a penalty for backing
-    off the handle to clear the table.
+    to the best handle's (1 for the best) plus bonuses for approaching from the camera's side
+    and from above, less a penalty for backing off the handle to clear the table.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     handles = list(handles)[: config.max_handles]
