@@ -96,6 +96,11 @@ def main() -> None:
     for name in ("quadric", "tenpas"):
         ratio = np.median(totals[name]) / normals
         print(f"ratio whole {name} detection / Open3D normals: {ratio:.2f}x (target <= 2x)")
+    floor = np.median(steps["quadric"]["voxelize"]) + normals + np.median(steps["quadric"]["fit"])
+    print(
+        "floor of the quadric ratio set by Open3D (voxelizing, normals) and the quadric fit "
+        f"alone: {floor / normals:.2f}x"
+    )
     normals_input = np.median(totals["open3d_normals_input"])
     print(
         f"for reference, Open3D normals on the {len(points)}-point input cloud (before "

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial import cKDTree
 
 from simgrasp.perception import (
     gather_neighborhoods,
@@ -66,6 +67,19 @@ def test_large_neighborhoods_are_subsampled_from_the_seed() -> None:
     full = _brute_force(points, first.centers[0], 0.015, "cube")
     row_of = {tuple(p): i for i, p in enumerate(points)}
     assert {row_of[tuple(p)] for p in first.points[0, first.mask[0]]} <= full
+
+
+def test_a_given_tree_gives_the_same_neighborhoods() -> None:
+    points, normals = _cloud(5000)
+    centers = points[:50]
+    built = gather_neighborhoods(points, normals, centers, 0.015, "cube", 64, 10, rng_for(1))
+    given = gather_neighborhoods(
+        points, normals, centers, 0.015, "cube", 64, 10, rng_for(1), tree=cKDTree(points)
+    )
+    for field in ("points", "normals", "mask", "counts", "centers", "source"):
+        np.testing.assert_array_equal(getattr(given, field), getattr(built, field))
+    with pytest.raises(ValueError, match="tree holds 10 points"):
+        gather_neighborhoods(points, normals, centers, 0.015, tree=cKDTree(points[:10]))
 
 
 def test_small_neighborhoods_are_dropped_and_traced_to_their_centers() -> None:

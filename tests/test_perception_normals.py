@@ -6,8 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial import cKDTree
 
 from simgrasp.perception import estimate_normals, sample_surface
+from simgrasp.perception import normals as normals_module
 from simgrasp.seeding import rng_for
 
 
@@ -91,6 +93,18 @@ def test_explicit_radius_and_unoriented_mode() -> None:
     points, true_normals = _cloud("box", 5000)
     normals = estimate_normals(points, radius=0.008, max_nn=20, orient="none")
     assert np.median(np.abs(np.einsum("ij,ij->i", normals, true_normals))) > 0.999
+
+
+def test_a_given_tree_and_view_grouping_leave_the_normals_unchanged(monkeypatch) -> None:
+    points, _ = _cloud("mug-like", 5000)
+    reference = estimate_normals(points, orient="outward")
+    np.testing.assert_array_equal(
+        estimate_normals(points, orient="outward", tree=cKDTree(points)), reference
+    )
+    monkeypatch.setattr(normals_module, "_MAX_FRONT_CELLS", 1)  # one pixel grid per group
+    np.testing.assert_array_equal(estimate_normals(points, orient="outward"), reference)
+    with pytest.raises(ValueError, match="tree holds 10 points"):
+        estimate_normals(points, orient="outward", tree=cKDTree(points[:10]))
 
 
 @pytest.mark.parametrize(

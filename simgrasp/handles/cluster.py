@@ -18,7 +18,8 @@ def cluster_handles(
     distance: float,
     min_support: int,
     object_center: NDArray[np.float64] | None = None,
-    object_radius: float | None = None,
+    centrality_length: float | None = None,
+    max_opening: float | None = None,
     min_relative_score: float = 0.0,
 ) -> tuple[tuple[Handle, ...], tuple[NDArray[np.int64], ...]]:
     """Group candidates whose handle points chain within ``distance`` (m) into handles.
@@ -29,10 +30,15 @@ def cluster_handles(
         widths: (M,) grasp widths (m).
         distance: single-linkage cut distance (m).
         min_support: clusters with fewer candidates are dropped.
-        object_center, object_radius: the cloud's centroid and RMS radius (m). When given,
-            a handle's score is weighted by its centrality exp(-(d / radius)^2), d being the
-            distance from the handle center to the centroid: holding an object near its
-            center of mass keeps the lift's torque small.
+        object_center, centrality_length: the cloud's centroid and a length (m). When given,
+            a handle's score is weighted by its centrality exp(-(d / length)^2), d being the
+            distance from the handle center to the centroid: the torque of the object's
+            weight about the grasp grows with d (an absolute distance, so the handle of a
+            compact object such as a mug is not penalized for being off its center).
+        max_opening: the gripper's maximum opening (m). When given, a handle's score is
+            weighted by its jaw clearance min(1, (max_opening - width) / (max_opening / 2)):
+            a part barely narrower than the open jaws (a mug's body) leaves no room for
+            pose error, a handle half the opening or narrower is not penalized.
         min_relative_score: handles scoring below this fraction of the best are dropped.
 
     Returns:
@@ -55,9 +61,12 @@ def cluster_handles(
         if len(members) < min_support:
             continue
         handle = _handle_from_members(handle_points[members], axes[members], widths[members], count)
-        if object_center is not None and object_radius:
-            offset = np.linalg.norm(handle.center - object_center) / object_radius
+        if object_center is not None and centrality_length:
+            offset = np.linalg.norm(handle.center - object_center) / centrality_length
             handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
+        if max_opening:
+            clearance = np.clip((max_opening - handle.width) / (max_opening / 2), 0.0, 1.0)
+            handle = _rescored(handle, handle.score * float(clearance))
         found.append((handle, members))
     if not found:
         return (), ()

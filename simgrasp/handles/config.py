@@ -72,8 +72,13 @@ class QuadricDetectorConfig:
     """A handle hypothesis needs at least this many candidates."""
     prefer_central: bool = True
     """Weight handle scores by closeness to the cloud's centroid (grasps near the center of
-    mass lift with less torque): exp(-(d / (centrality_scale x RMS radius))^2)."""
-    centrality_scale: float = 0.7
+    mass lift with less torque): exp(-(d / centrality_length)^2), d in meters."""
+    centrality_length: float = 0.07
+    """Distance (m) from the centroid at which a handle's centrality weight is 1/e. Absolute,
+    not relative to the object's size: the weight's torque grows with the distance itself."""
+    prefer_clearance: bool = True
+    """Weight handle scores by the jaw clearance min(1, (opening - width) / (opening / 2)), so
+    a part barely narrower than the open jaws (a mug's body) ranks below a slim handle."""
     min_relative_score: float = 0.5
     """Handles scoring below this fraction of the best handle are dropped, and with them
     their candidates; candidates supporting no handle are always dropped. 0 keeps all."""
@@ -87,7 +92,7 @@ class QuadricDetectorConfig:
             "center_tolerance",
             "shell_thickness",
             "shell_half_length",
-            "centrality_scale",
+            "centrality_length",
             "cluster_distance",
         )
         for name in positive:

@@ -6,6 +6,8 @@ returns a (B,) boolean mask of neighborhoods that pass.
 
 from __future__ import annotations
 
+from itertools import chain
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
@@ -94,20 +96,26 @@ def shell_clear(
     ``outer_radius + gap < ρ <= outer_radius + gap + thickness``. The candidate passes when
     the shell holds at most ``max_fraction`` of the points with ρ inside the shell's outer
     radius (i.e. the fingers would close around the handle without hitting other parts).
+
+    The candidates' cloud points come from one ball query on ``tree`` (a ``cKDTree`` of the
+    cloud); only those within ``half_length`` along the axis get their ρ computed.
     """
     shell_out = outer_radius + gap + thickness
     reach = np.sqrt(shell_out**2 + half_length**2)
     neighbor_lists = tree.query_ball_point(points_on_axis, reach, return_sorted=False)
-    counts = np.fromiter((len(n) for n in neighbor_lists), dtype=int, count=len(neighbor_lists))
+    counts = np.fromiter(map(len, neighbor_lists), dtype=np.int64, count=len(neighbor_lists))
     passed = np.ones(len(points_on_axis), dtype=bool)
     if counts.sum() == 0:
         return passed
-    owner = np.repeat(np.arange(len(points_on_axis)), counts)
-    index = np.concatenate([np.asarray(n, dtype=int) for n in neighbor_lists if len(n)])
-    offsets = tree.data[index] - points_on_axis[owner]
-    along = np.einsum("ni,ni->n", offsets, axes[owner])
-    radial = np.linalg.norm(offsets - along[:, None] * axes[owner], axis=1)
-    within = (np.abs(along) <= half_length) & (radial <= shell_out[owner])
+    index = np.fromiter(chain.from_iterable(neighbor_lists), dtype=np.int64, count=counts.sum())
+    offsets = tree.data.take(index, axis=0) - np.repeat(points_on_axis, counts, axis=0)
+    pair_axes = np.repeat(axes, counts, axis=0)
+    along = np.einsum("ni,ni->n", offsets, pair_axes)
+    slab = np.flatnonzero(np.abs(along) <= half_length)
+    owner = np.repeat(np.arange(len(points_on_axis)), counts)[slab]
+    across = offsets.take(slab, axis=0) - along[slab, None] * pair_axes.take(slab, axis=0)
+    radial = np.linalg.norm(across, axis=1)
+    within = radial <= shell_out[owner]
     in_shell = within & (radial > (outer_radius + gap)[owner])
     total = np.bincount(owner, weights=within, minlength=len(points_on_axis))
     shell = np.bincount(owner, weights=in_shell, minlength=len(points_on_axis))

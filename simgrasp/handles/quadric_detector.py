@@ -3,7 +3,9 @@
 Pipeline, timed per step as in the paper's Table III: voxelize the cloud; estimate normals;
 sample neighborhood centers and gather cube-shaped neighborhoods; fit one quadric per
 neighborhood (Birdal et al. normals-based least squares by default); test each fit for handle
-shape; cluster accepted candidates into handle hypotheses.
+shape; cluster accepted candidates into handle hypotheses. One KD-tree of the voxelized cloud
+serves the normal orientation, the neighborhoods and the tests; it is built (and timed) in the
+normals step.
 """
 
 from __future__ import annotations
@@ -73,8 +75,9 @@ def detect_quadric_handles(
         if config.voxel_size > 0:
             pts, nrm = voxel_downsample(pts, config.voxel_size, normals=nrm)
     with _timed(timings, "normals"):
+        tree = cKDTree(pts)
         if nrm is None:
-            nrm = _estimate_normals(pts, config, viewpoint)
+            nrm = _estimate_normals(pts, config, viewpoint, tree)
     rng = rng_for(seed, "quadric_detector", "sample")
     with _timed(timings, "sample"):
         center_index = sample_centers(
@@ -90,21 +93,21 @@ def detect_quadric_handles(
                 max_points=config.max_points,
                 min_points=config.min_points,
                 rng=rng,
+                tree=tree,
             )
             for scale in config.neighborhood_scales
         ]
-        hood_points = np.concatenate([h.points for h in scales])
-        hood_normals = np.concatenate([h.normals for h in scales])
-        hood_mask = np.concatenate([h.mask for h in scales])
-        hood_centers = np.concatenate([h.centers for h in scales])
-        hood_source = np.concatenate([h.source for h in scales])
+        hood_points = _joined([h.points for h in scales])
+        hood_normals = _joined([h.normals for h in scales])
+        hood_mask = _joined([h.mask for h in scales])
+        hood_centers = _joined([h.centers for h in scales])
+        hood_source = _joined([h.source for h in scales])
     sampled_centers = pts[center_index[np.unique(hood_source)]]
     if len(hood_centers) == 0:
         return Detection((), (), sampled_centers, "quadric", timings, pts)
     with _timed(timings, "fit"):
         fit = fit_quadrics(hood_points, hood_normals, method=config.fit_method, mask=hood_mask)
     with _timed(timings, "test"):
-        tree = cKDTree(pts)
         accepted, on_axis, analysis = _test(fit, hood_centers, tree, nrm, config)
         rows = np.flatnonzero(accepted)
         _, first = np.unique(hood_source[rows], return_index=True)
@@ -120,8 +123,8 @@ def detect_quadric_handles(
             distance=config.cluster_distance,
             min_support=config.min_support,
             object_center=centroid if config.prefer_central else None,
-            object_radius=config.centrality_scale
-            * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
+            centrality_length=config.centrality_length,
+            max_opening=config.gripper_max_opening if config.prefer_clearance else None,
             min_relative_score=config.min_relative_score,
         )
         supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
@@ -142,13 +145,21 @@ def detect_quadric_handles(
 
 
 def _estimate_normals(
-    pts: NDArray[np.float64], config: QuadricDetectorConfig, viewpoint: ArrayLike | None
+    pts: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+    viewpoint: ArrayLike | None,
+    tree: cKDTree,
 ) -> NDArray[np.float64]:
     if viewpoint is None:
-        return estimate_normals(pts, radius=config.normal_radius, orient="outward")
+        return estimate_normals(pts, radius=config.normal_radius, orient="outward", tree=tree)
     return estimate_normals(
         pts, radius=config.normal_radius, orient="viewpoint", viewpoint=np.asarray(viewpoint)
     )
+
+
+def _joined(arrays: list[NDArray]) -> NDArray:
+    """The per-scale batches concatenated along the batch axis (a single scale: not copied)."""
+    return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
 
 
 def _test(

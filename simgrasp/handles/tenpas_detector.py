@@ -6,7 +6,8 @@ needed: Taubin's fit uses points only); sample neighborhood centers and gather s
 neighborhoods; fit a Taubin quadric per neighborhood; take the direction of minimal curvature
 at the neighborhood's surface point as the local axis and fit a circle across it (radius and
 axis point); keep cylindrical shells whose radius fits the gripper and that have a clear gap
-for the fingers around them; chain aligned shells into handles.
+for the fingers around them; chain aligned shells into handles. One KD-tree of the voxelized
+cloud, built (and timed) in the sampling step, serves the neighborhoods and the shell test.
 """
 
 from __future__ import annotations
@@ -91,6 +92,7 @@ def detect_tenpas_handles(
     timings["normals"] = 0.0
     rng = rng_for(seed, "tenpas", "sample")
     with _timed(timings, "sample"):
+        tree = cKDTree(pts)
         center_index = sample_centers(
             pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
         )
@@ -103,6 +105,7 @@ def detect_tenpas_handles(
             max_points=config.max_points,
             min_points=config.min_points,
             rng=rng,
+            tree=tree,
         )
     if len(hoods.centers) == 0:
         return Detection((), (), pts[center_index], "tenpas", _complete(timings), pts)
@@ -110,7 +113,7 @@ def detect_tenpas_handles(
         fit = fit_quadrics(hoods.points, None, method="taubin", mask=hoods.mask)
     with _timed(timings, "test"):
         shells = _test_shells(
-            fit.coefficients, fit.valid, hoods.points, hoods.mask, hoods.centers, pts, config
+            fit.coefficients, fit.valid, hoods.points, hoods.mask, hoods.centers, tree, config
         )
     with _timed(timings, "cluster"):
         index = np.flatnonzero(shells.accepted)
@@ -142,10 +145,11 @@ def _test_shells(
     hood_points: NDArray[np.float64],
     hood_mask: NDArray[np.bool_],
     centers: NDArray[np.float64],
-    cloud: NDArray[np.float64],
+    tree: cKDTree,
     config: TenPasConfig,
 ) -> Shells:
-    """Axis, circle, radius filter and shell test for a batch of B neighborhoods."""
+    """Axis, circle, radius filter and shell test for a batch of B neighborhoods (``tree``: a
+    ``cKDTree`` of the voxelized cloud)."""
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         surface = project_to_surface(coefficients, centers)
         curvature = minimal_curvature_axes(coefficients, surface)
@@ -159,7 +163,7 @@ def _test_shells(
     index = np.flatnonzero(accepted)
     if len(index):
         clear = criteria.shell_clear(
-            cKDTree(cloud),
+            tree,
             circles.axis_points[index],
             curvature.axes[index],
             radii[index],

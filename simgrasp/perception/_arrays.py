@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
 
 
 def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
@@ -30,6 +31,16 @@ def as_normals(
     if bad.any():
         raise ValueError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
     return array
+
+
+def kd_tree(points: NDArray[np.float64], tree: cKDTree | None = None) -> cKDTree:
+    """``tree`` (a caller's ``cKDTree`` of ``points``, checked to hold as many 3-D points) or,
+    when None, a new ``cKDTree`` of ``points``."""
+    if tree is None:
+        return cKDTree(points)
+    if tree.n != len(points) or tree.m != 3:
+        raise ValueError(f"tree holds {tree.n} points of dimension {tree.m}, not the cloud's")
+    return tree
 
 
 def positive(value: float, name: str) -> float:

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.perception._arrays import as_normals, as_points, positive
+from simgrasp.perception._arrays import as_normals, as_points, kd_tree, positive
 from simgrasp.perception.voxel import voxel_count
 
 NeighborhoodShape = Literal["cube", "sphere"]
@@ -86,6 +86,7 @@ def gather_neighborhoods(
     max_points: int = 64,
     min_points: int = 10,
     rng: np.random.Generator | None = None,
+    tree: cKDTree | None = None,
 ) -> Neighborhoods:
     """Collect the cloud points around each centre (scipy ``cKDTree.query_ball_point``).
 
@@ -98,6 +99,7 @@ def gather_neighborhoods(
         max_points: neighbourhoods with more points keep a uniform random subset of this many
             (drawn from ``rng``, required then).
         min_points: neighbourhoods with fewer points are dropped.
+        tree: optional ``cKDTree`` of ``points`` (same order) to query instead of building one.
     """
     pts = as_points(points)
     nrm = as_normals(normals, pts)
@@ -112,7 +114,9 @@ def gather_neighborhoods(
         raise ValueError(f"min_points ({min_points}) exceeds max_points ({max_points})")
 
     norm = np.inf if shape == "cube" else 2.0
-    found = cKDTree(pts).query_ball_point(centers, radius, p=norm, return_sorted=False, workers=-1)
+    found = kd_tree(pts, tree).query_ball_point(
+        centers, radius, p=norm, return_sorted=False, workers=-1
+    )
     sizes = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
     keep = np.flatnonzero(sizes >= min_points)
     sizes = sizes[keep]
@@ -123,10 +127,12 @@ def gather_neighborhoods(
         raise ValueError("gather_neighborhoods needs rng to subsample large neighbourhoods")
     offsets = _chosen_offsets(sizes, max_points, rng)
     mask = offsets < sizes[:, None]
-    rows = (np.cumsum(sizes) - sizes)[:, None] + np.where(mask, offsets, 0)
-    index = flat[np.where(mask, rows, 0)] if len(flat) else np.zeros(mask.shape, np.int64)
-    hood_points = np.where(mask[..., None], pts[index], 0.0)
-    hood_normals = np.where(mask[..., None], nrm[index], 0.0)
+    rows = (np.cumsum(sizes) - sizes)[:, None] + offsets
+    index = np.full(mask.shape, len(pts))  # padding reads the appended zero row
+    index[mask] = flat[rows[mask]]
+    padding = np.zeros((1, 3))
+    hood_points = np.concatenate([pts, padding]).take(index, axis=0)
+    hood_normals = np.concatenate([nrm, padding]).take(index, axis=0)
     counts = np.minimum(sizes, max_points)
     return Neighborhoods(hood_points, hood_normals, mask, counts, centers[keep], keep)
 

@@ -48,10 +48,12 @@ def voxel_count(points: ArrayLike, voxel_size: float) -> int:
 
     Uses the same grid as :func:`voxel_downsample` (origin half a voxel below the minimum
     corner), so it equals the number of points that function returns. It measures object
-    size: roughly surface area / voxel_size² for a surface cloud.
+    size: roughly surface area / voxel_size² for a surface cloud. Distinct cells are counted
+    on the lexicographically sorted cell indices.
     """
     pts = as_points(points)
     size = positive(voxel_size, "voxel_size")
     origin = pts.min(axis=0) - 0.5 * size
     cells = np.floor((pts - origin) / size).astype(np.int64)
-    return int(len(np.unique(cells, axis=0)))
+    ordered = cells[np.lexsort(cells.T)]
+    return 1 + int(np.count_nonzero(np.any(ordered[1:] != ordered[:-1], axis=1)))
