@@ -3,7 +3,8 @@
 Run: ``.venv/bin/python benchmarks/bench_fit.py [--batch 20000] [--repeats 7]``. Threads are
 pinned to one before numpy is imported. Neighborhoods are noisy patches of cylinders of
 random pose (points and unit normals); the median wall time of several runs is reported,
-with the analysis (classification) of the same batch for reference.
+with a ragged batch (``mask``, half to all of the points) and the analysis (classification)
+of the same batch for reference.
 """
 
 from __future__ import annotations
@@ -73,6 +74,16 @@ def main() -> None:
             f"| fit {method} | {wall:.3f} | {cpu:.3f} | {args.batch / wall:,.0f} | {rate:,.0f} | "
             f"{rate / PAPER_FITS_PER_SECOND:,.0f}x |"
         )
+    sizes = rng_for(args.seed, "bench_fit", "ragged").integers(
+        args.points // 2, args.points + 1, args.batch
+    )
+    mask = np.arange(args.points) < sizes[:, None]
+    wall, cpu = median_seconds(lambda: fit_quadrics(pts, nrm, mask=mask), args.repeats)
+    rate = args.batch / cpu
+    print(
+        f"| fit birdal, ragged (mask) | {wall:.3f} | {cpu:.3f} | {args.batch / wall:,.0f} | "
+        f"{rate:,.0f} | {rate / PAPER_FITS_PER_SECOND:,.0f}x |"
+    )
     fit = fit_quadrics(pts, nrm)
     wall, cpu = median_seconds(
         lambda: analyze_quadrics(fit.coefficients, rtol=1e-2, reference_points=fit.centroids),

@@ -26,6 +26,7 @@ from simgrasp.quadric import (
     analyze_quadrics,
     fit_quadrics,
 )
+from simgrasp.quadric.fit import FLAT_TOL
 
 FIT_RTOL = 1e-2
 POINTS = 50
@@ -259,6 +260,73 @@ def test_masked_padding_is_ignored_and_ragged_lists_match_dense_input() -> None:
     np.testing.assert_allclose(dense.coefficients, ragged.coefficients, rtol=1e-12)
     alone = fit_quadrics(points[1:2, :35], normals[1:2, :35])
     np.testing.assert_allclose(dense.coefficients[1], alone.coefficients[0], rtol=1e-12)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_fits_do_not_depend_on_how_the_batch_is_chunked(
+    method: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    patches = make_patches(QuadricKind.REAL_ELLIPSOID, 0.02, seed=16)
+    points, normals = patches.points.copy(), patches.normals.copy()
+    mask = np.ones(points.shape[:2], dtype=bool)
+    points[5] = points[5, 0] + np.outer(np.linspace(-0.01, 0.01, POINTS), [1.0, 2.0, 3.0])
+    points[11, 7] = np.nan
+    mask[17, 2:] = False
+    mask[23, 30:] = False
+    mask[56:, 2:] = False  # a whole chunk of failures below
+    whole = fit_quadrics(points, normals, method=method, mask=mask)
+    monkeypatch.setattr("simgrasp.quadric.fit.CHUNK", 7)
+    chunked = fit_quadrics(points, normals, method=method, mask=mask)
+    assert chunked.failure == whole.failure
+    assert [whole.failure[i] for i in (5, 11, 17, 56)] == [
+        "collinear",
+        "non_finite",
+        "too_few_points",
+        "too_few_points",
+    ]
+    np.testing.assert_array_equal(chunked.centroids, whole.centroids)
+    np.testing.assert_allclose(chunked.coefficients, whole.coefficients, rtol=1e-12)
+
+
+def test_normals_are_renormalized_and_points_without_one_only_fit_the_surface() -> None:
+    patches = make_patches(QuadricKind.REAL_ELLIPSOID, 0.01, seed=15)
+    normals = patches.normals.copy()
+    normals[:, ::3] = 0.0
+    base = fit_quadrics(patches.points, normals)
+    assert base.valid.all()
+    scale = np.abs(base.coefficients).max(axis=1, keepdims=True)
+    lengths = np.random.default_rng(15).uniform(0.5, 2.0, normals.shape[:2])
+    scaled = fit_quadrics(patches.points, normals * lengths[:, :, None])
+    np.testing.assert_allclose(scaled.coefficients / scale, base.coefficients / scale, atol=1e-9)
+    vanishing = normals.copy()
+    vanishing[:, ::3] = 1e-200 * patches.normals[:, ::3]  # squared length underflows to 0
+    vanishing[0] = 1e-200 * patches.normals[0]  # no normal at all: nothing fixes the scale
+    underflow = fit_quadrics(patches.points, vanishing)
+    assert underflow.failure[0] == "ill_conditioned"
+    np.testing.assert_array_equal(underflow.coefficients[1:], base.coefficients[1:])
+
+
+def test_flat_flags_follow_the_standardized_covariance_eigenvalues() -> None:
+    """Planes and lines of decreasing thickness around FLAT_TOL (an RMS thickness of about
+    1e-6 of the RMS radius): cheap bounds clear the thick ones, eigenvalues decide near it."""
+    rng = np.random.default_rng(17)
+    thickness = np.array([1e-4, 1e-5, 4e-6, 4e-7, 1e-7, 0.0])
+    ones = np.ones_like(thickness)
+    shapes = np.concatenate(
+        [np.stack([ones, ones, thickness], 1), np.stack([ones, thickness, thickness], 1)]
+    )
+    rotation = Rotation.random(random_state=rng).as_matrix()
+    points = (rng.normal(size=(len(shapes), POINTS, 3)) * shapes[:, None, :]) @ rotation.T + 0.3
+    fit = fit_quadrics(points, method="algebraic")
+    centered = points - points.mean(axis=1, keepdims=True)
+    standard = centered / np.sqrt(np.sum(centered**2, axis=(1, 2)) / POINTS)[:, None, None]
+    spread = np.linalg.eigvalsh(np.einsum("bki,bkj->bij", standard, standard) / POINTS)
+    expected = [
+        "collinear" if low[1] <= FLAT_TOL else "coplanar" if low[0] <= FLAT_TOL else None
+        for low in spread
+    ]
+    assert expected.count(None) == 6  # both sides of the threshold are covered
+    assert [f if f in ("collinear", "coplanar") else None for f in fit.failure] == expected
 
 
 @pytest.mark.parametrize("method", METHODS)

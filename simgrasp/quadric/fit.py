@@ -19,10 +19,13 @@ v(p) = [x², y², z², 2xy, 2xz, 2yz, 2x, 2y, 2z, 1] (f(p) = v(p)·c) and the gr
   the smallest λ (J eliminated by its Schur complement because N does not involve J).
 - ``"algebraic"``: minimize Σ (v·c)² subject to |c| = 1, the smallest eigenvector of M.
 
-All sums are built from batched matrix products and the small systems solved batched. A
-degenerate neighborhood never raises: its row is NaN, ``valid`` is False and ``failure`` says
-why (``"non_finite"``, ``"too_few_points"``, ``"collinear"``, ``"coplanar"``,
-``"ill_conditioned"``).
+The sums the methods need are batched BLAS products of per-point feature rows, one small
+matrix per neighborhood: the Gram matrix Σ u uᵀ of u = [x², y², z², xy, xz, yz, x, y, z, 1]
+holds every moment of the standardized points up to degree 4, and with normals come Σ p̃ nᵀ
+and Σ p̃ p̃ᵀ over the points with a normal (p̃ = [x, y, z, 1]). The small systems are then
+assembled and solved vectorized over neighborhoods. A degenerate neighborhood never raises:
+its row is NaN, ``valid`` is False and ``failure`` says why (``"non_finite"``,
+``"too_few_points"``, ``"collinear"``, ``"coplanar"``, ``"ill_conditioned"``).
 """
 
 from __future__ import annotations
@@ -217,120 +220,186 @@ def _fit(
     mw: float,
 ) -> QuadricFit:
     batch = len(pts)
-    failure = np.full(batch, None, dtype=object)
-    finite = np.isfinite(pts).all(axis=2)
-    if nrm is not None:
-        finite &= np.isfinite(nrm).all(axis=2)
-    bad_value = np.any(valid & ~finite, axis=1)
-    failure[bad_value] = "non_finite"
-    weights = (valid & finite).astype(np.float64)
-    count = weights.sum(axis=1)
-    failure[(failure == None) & (count < MIN_POINTS[method])] = "too_few_points"  # noqa: E711
-
-    coefficients = np.full((batch, 10), np.nan)
-    centroids = np.zeros((batch, 3))
+    coefficients = np.empty((batch, 10))
+    failure = np.empty(batch, dtype=np.intp)
+    centroids = np.empty((batch, 3))
     for start in range(0, batch, CHUNK):
         chunk = slice(start, start + CHUNK)
-        w = weights[chunk]
-        chunk_pts = np.where(w[:, :, None] > 0, pts[chunk], 0.0)
-        standard, standard_T_input, centroids[chunk] = _standardize(chunk_pts, w, count[chunk])
-        spread = _spread(standard, count[chunk])
-        flags = failure[chunk]  # a view: flags set here land in ``failure``
-        flags[(flags == None) & ~(spread[:, 1] > FLAT_TOL)] = "collinear"  # noqa: E711
-        flags[(flags == None) & ~(spread[:, 0] > FLAT_TOL)] = "coplanar"  # noqa: E711
-        local = np.flatnonzero(flags == None)  # noqa: E711
-        if len(local) == 0:
-            continue
-        idx = start + local
-        fitted, ok = _fit_standard(standard[local], w[local], nrm, idx, method, weight, mw)
-        world = _to_world(fitted, standard_T_input[local])
-        ok &= np.all(np.isfinite(world), axis=1) & np.any(world[:, :6] != 0, axis=1)
-        coefficients[idx[ok]] = world[ok]
-        failure[idx[~ok]] = "ill_conditioned"
-    valid_fit = failure == None  # noqa: E711
-    return QuadricFit(coefficients, valid_fit, tuple(failure.tolist()), method, centroids)
+        chunk_nrm = None if nrm is None else nrm[chunk]
+        coefficients[chunk], failure[chunk], centroids[chunk] = _fit_chunk(
+            pts[chunk], chunk_nrm, valid[chunk], method, weight, mw
+        )
+    names = np.array((None, *FAILURES), dtype=object)[failure]
+    return QuadricFit(coefficients, failure == 0, tuple(names.tolist()), method, centroids)
 
 
-def _fit_standard(
-    std_pts: np.ndarray,
-    w: np.ndarray,
+def _fit_chunk(
+    pts: np.ndarray,
     nrm: np.ndarray | None,
-    idx: np.ndarray,
+    valid: np.ndarray,
     method: str,
     weight: float,
-    magnitude_weight: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Fit one chunk of standardized neighborhoods: (coefficients, ok) in the standard frame."""
-    if method == "taubin":
-        return _taubin(std_pts, w)
-    if method == "algebraic":
-        return _algebraic(std_pts, w)
-    n = np.where(w[:, :, None] > 0, nrm[idx], 0.0)
-    length = np.sqrt(np.einsum("bki,bki->bk", n, n))
-    has_normal = length > 0
-    n /= np.where(has_normal, length, 1.0)[:, :, None]
-    return _birdal(std_pts, n, w, w * has_normal, weight, magnitude_weight)
+    mw: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fit one chunk of neighborhoods: (B, 10) coefficients (NaN where the fit failed), (B,)
+    failure codes (0: fitted, i: ``FAILURES[i - 1]``) and (B, 3) centroids."""
+    finite = _finite_points(pts)
+    if nrm is not None:
+        finite &= _finite_points(nrm)
+    use = valid & finite
+    count = np.count_nonzero(use, axis=1).astype(np.float64)
+    failure = np.zeros(len(pts), dtype=np.intp)
+    failure[count < MIN_POINTS[method]] = _code("too_few_points")
+    failure[np.any(valid & ~finite, axis=1)] = _code("non_finite")
+    phi, standard_T_input, centroids = _features(pts, nrm, use, count)
+    gram = _point_sums(phi[:10], phi[:10])  # Σ u uᵀ
+    collinear, coplanar = _flatness(gram, count)
+    failure[(failure == 0) & collinear] = _code("collinear")
+    failure[(failure == 0) & coplanar] = _code("coplanar")
+    coefficients = np.full((len(pts), 10), np.nan)
+    local = np.flatnonzero(failure == 0)
+    if len(local) == 0:
+        return coefficients, failure, centroids
+    if method == "birdal":
+        A, rhs = _birdal_system(gram, phi, weight, mw)
+        fitted, ok = _solve_spd(A[local], rhs[local])
+    elif method == "taubin":
+        fitted, ok = _taubin(gram[local])
+    else:
+        fitted, ok = _algebraic(gram[local])
+    world = _to_world(fitted, standard_T_input[local])
+    ok &= np.all(np.isfinite(world), axis=1) & np.any(world[:, :6] != 0, axis=1)
+    coefficients[local[ok]] = world[ok]
+    failure[local[~ok]] = _code("ill_conditioned")
+    return coefficients, failure, centroids
+
+
+def _code(failure: str) -> int:
+    """Integer code of a failure name (0 is success)."""
+    return FAILURES.index(failure) + 1
+
+
+def _finite_points(values: np.ndarray) -> np.ndarray:
+    """(B, K) True where all three coordinates of the (B, K, 3) ``values`` are finite."""
+    finite = np.isfinite(values)
+    return finite[:, :, 0] & finite[:, :, 1] & finite[:, :, 2]
+
+
+# Per-point features φ, one (B, K) plane each: u = [x², y², z², xy, xz, yz, x, y, z, 1] of the
+# standardized point (0 at unused points; the monomial row is v = _MONOMIAL_SCALE u, and
+# p̃ = [x, y, z, 1] the rows _X to _X + 3), then with normals ("birdal") the unit normal n (0
+# where there is none) and the gradient-row weight w_n (1 at used points with a normal).
+_X, _ONE, _NORMAL, _NORMAL_WEIGHT = 6, 9, 10, 13
+_MONOMIAL_SCALE = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 1.0])
+
+
+def _features(
+    pts: np.ndarray, nrm: np.ndarray | None, use: np.ndarray, count: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The (F, B, K) features φ of (B, K, 3) neighborhoods (F = 10, or 14 with normals), the
+    (B, 4, 4) transforms T mapping input coordinates to standard ones (x' = T x) and the
+    (B, 3) centroids in input coordinates. ``use`` (B, K) marks the points to fit, ``count``
+    their number per neighborhood."""
+    phi = np.empty((10 if nrm is None else 14,) + use.shape)
+    transform, centroids = _standardize(pts, use, count, phi[_X : _X + 3])
+    x, y, z = phi[_X : _X + 3]
+    for row, (a, b) in enumerate(((x, x), (y, y), (z, z), (x, y), (x, z), (y, z))):
+        np.multiply(a, b, out=phi[row])
+    phi[_ONE] = use
+    if nrm is not None:
+        phi[_NORMAL_WEIGHT] = _unit_normals(nrm, use, phi[_NORMAL : _NORMAL + 3])
+    return phi, transform, centroids
 
 
 def _standardize(
-    pts: np.ndarray, weights: np.ndarray, count: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Points in each neighborhood's standard frame (centroid 0, RMS radius 1), the (B, 4, 4)
-    transform T mapping input coordinates to standard ones (x' = T x) and the (B, 3)
-    centroids in input coordinates."""
+    pts: np.ndarray, use: np.ndarray, count: np.ndarray, out: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Write the standard coordinates of (B, K, 3) neighborhoods (centroid 0 and RMS radius 1
+    over the points in ``use``, 0 at the others) to ``out`` (3, B, K).
+
+    Returns the (B, 4, 4) transform T mapping input coordinates to standard ones (x' = T x)
+    and the (B, 3) centroids in input coordinates.
+    """
+    unused = ~use
     safe_count = np.maximum(count, 1)
-    magnitude = np.max(np.abs(pts), axis=(1, 2), initial=0.0)
+    centered = pts.copy()
+    centered[unused] = 0.0
+    magnitude = np.max(np.abs(centered), axis=(1, 2), initial=0.0)
     magnitude = np.where(magnitude > 0, magnitude, 1.0)
-    scaled = pts / magnitude[:, None, None]
-    centroid = np.einsum("bk,bki->bi", weights, scaled) / safe_count[:, None]
-    centered = (scaled - centroid[:, None, :]) * weights[:, :, None]
+    centered /= magnitude[:, None, None]
+    centroid = np.einsum("bk,bki->bi", use.astype(np.float64), centered) / safe_count[:, None]
+    centered -= centroid[:, None, :]
+    centered[unused] = 0.0
     rms = np.sqrt(np.einsum("bki,bki->b", centered, centered) / safe_count)
     rms = np.where(rms > 0, rms, 1.0)
-    standard = centered / rms[:, None, None]
+    np.divide(centered.transpose(2, 0, 1), rms[:, None], out=out)
     scale = 1.0 / (magnitude * rms)
     transform = np.zeros((len(pts), 4, 4))
     transform[:, [0, 1, 2], [0, 1, 2]] = scale[:, None]
     transform[:, :3, 3] = -centroid / rms[:, None]
     transform[:, 3, 3] = 1.0
-    return standard, transform, centroid * magnitude[:, None]
+    return transform, centroid * magnitude[:, None]
 
 
-def _spread(standard: np.ndarray, count: np.ndarray) -> np.ndarray:
-    """(B, 3) ascending eigenvalues of the standardized covariance (they sum to 1)."""
-    cov = np.matmul(np.swapaxes(standard, 1, 2), standard) / np.maximum(count, 1)[:, None, None]
+def _unit_normals(nrm: np.ndarray, use: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """Write the (B, K, 3) normals, made unit, to ``out`` (3, B, K) (0 at points not in ``use``
+    and where a normal's length is 0 in floating point); return where there is a normal."""
+    length = np.sqrt(np.einsum("bki,bki->bk", nrm, nrm))
+    has_normal = use & (length > 0)
+    np.copyto(out, nrm.transpose(2, 0, 1))
+    out[:, ~use] = 0.0
+    out /= np.where(has_normal, length, np.inf)
+    return has_normal
+
+
+def _point_sums(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(B, F, G) sums Σ_k a_k b_kᵀ over each neighborhood's points of the per-point rows
+    a (F, B, K) and b (G, B, K), one BLAS product per neighborhood."""
+    return np.matmul(a.transpose(1, 0, 2), b.transpose(1, 2, 0))
+
+
+def _normal_second_moments(gram: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """(B, 4, 4) second moments Σ w_n p̃ p̃ᵀ over the points with a normal: the Gram matrices'
+    Σ p̃ p̃ᵀ block where every used point has one."""
+    w_n = phi[_NORMAL_WEIGHT]
+    if np.array_equal(w_n, phi[_ONE]):
+        return gram[:, _X : _X + 4, _X : _X + 4]
+    # Per-point rows (B, K, 4): BLAS then sums in the Gram block's order, to the last bit.
+    homogeneous = np.ascontiguousarray(phi[_X : _X + 4].transpose(1, 2, 0))
+    weighted = homogeneous * w_n[:, :, None]
+    return np.matmul(weighted.transpose(0, 2, 1), homogeneous)
+
+
+_COVARIANCE_ROUNDOFF = 1e-14
+"""Bound on the round-off of e2 and det computed from a covariance of trace 1 (entries at most
+1 in magnitude)."""
+
+
+def _flatness(gram: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(collinear, coplanar): whether the second smallest / smallest eigenvalue of each
+    standardized covariance (its eigenvalues sum to 1) is not above FLAT_TOL.
+
+    The eigenvalues λ0 ≤ λ1 ≤ λ2 are only computed where cheap lower bounds (less
+    ``_COVARIANCE_ROUNDOFF``) do not already put both above 10 FLAT_TOL, far enough that
+    computing them could not flag the neighborhood: with e2 = λ0λ1 + λ0λ2 + λ1λ2 (between
+    λ1λ2 and 3 λ1λ2) and det = λ0λ1λ2, λ1 ≥ e2 / (3 trace) and λ0 ≥ det / e2.
+    """
+    cov = gram[:, _X : _X + 3, _X : _X + 3] / np.maximum(count, 1)[:, None, None]
     cov = np.where(np.isfinite(cov), cov, 0.0)
-    return np.linalg.eigvalsh(cov)
+    (a, d, e), (_, b, f), (_, _, c) = cov.transpose(1, 2, 0)
+    minor_a = b * c - f * f
+    e2 = minor_a + (a * c - e * e) + (a * b - d * d)
+    det = a * minor_a - d * (d * c - e * f) + e * (d * f - b * e)
+    bound, error = 10 * FLAT_TOL, _COVARIANCE_ROUNDOFF
+    clear = (e2 - error > 3 * bound * (a + b + c)) & (det - error > bound * (e2 + error))
+    smallest = np.full((len(cov), 2), np.inf)
+    smallest[~clear] = np.linalg.eigvalsh(cov[~clear])[:, :2]
+    return ~(smallest[:, 1] > FLAT_TOL), ~(smallest[:, 0] > FLAT_TOL)
 
 
-def _monomials(p: np.ndarray) -> np.ndarray:
-    """(B, K, 10) rows v(p) with f(p) = v(p) · [A..J]."""
-    x, y, z = p[..., 0], p[..., 1], p[..., 2]
-    v = np.empty(p.shape[:-1] + (10,))
-    np.multiply(x, x, out=v[..., 0])
-    np.multiply(y, y, out=v[..., 1])
-    np.multiply(z, z, out=v[..., 2])
-    np.multiply(2 * x, y, out=v[..., 3])
-    np.multiply(2 * x, z, out=v[..., 4])
-    np.multiply(2 * y, z, out=v[..., 5])
-    np.multiply(2, p, out=v[..., 6:9])
-    v[..., 9] = 1.0
-    return v
-
-
-def _normal_rows(p: np.ndarray, n: np.ndarray) -> np.ndarray:
-    """(B, K, 10) rows r(p) = G(p)ᵀ n with nᵀ∇f(p) = r(p) · [A..J]."""
-    x, y, z = p[..., 0], p[..., 1], p[..., 2]
-    nx, ny, nz = n[..., 0], n[..., 1], n[..., 2]
-    r = np.empty(p.shape[:-1] + (10,))
-    np.multiply(2 * x, nx, out=r[..., 0])
-    np.multiply(2 * y, ny, out=r[..., 1])
-    np.multiply(2 * z, nz, out=r[..., 2])
-    r[..., 3] = 2 * (y * nx + x * ny)
-    r[..., 4] = 2 * (z * nx + x * nz)
-    r[..., 5] = 2 * (z * ny + y * nz)
-    np.multiply(2, n, out=r[..., 6:9])
-    r[..., 9] = 0.0
-    return r
+def _algebraic_matrix(gram: np.ndarray) -> np.ndarray:
+    """M = Σ w v vᵀ (B, 10, 10) with f(p) = v(p) · [A..J]."""
+    return gram[:, :10, :10] * (_MONOMIAL_SCALE[:, None] * _MONOMIAL_SCALE)
 
 
 # ∂f/∂x_d = 2 Σ_a p̃_a c[_GRAD_INDEX[d, a]] with p̃ = [x, y, z, 1] (G(p) = ∂(∇f)/∂c).
@@ -353,44 +422,44 @@ def _gradient_operators() -> tuple[np.ndarray, np.ndarray]:
 _TO_NORMAL, _TO_RHS = _gradient_operators()
 
 
-def _homogeneous(p: np.ndarray) -> np.ndarray:
-    return np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1)
+def _gradient_matrix(second_moments: np.ndarray) -> np.ndarray:
+    """N = Σ w_g GᵀG (B, 10, 10) from the (B, 4, 4) second moments S = Σ w_g p̃ p̃ᵀ."""
+    return (second_moments.reshape(-1, 16) @ _TO_NORMAL).reshape(-1, 10, 10)
 
 
-def _moments(
-    p: np.ndarray, w: np.ndarray, w_grad: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M = Σ w v vᵀ (B,10,10), N = Σ w_g GᵀG (B,10,10) and the weighted p̃ w_g (B,K,4)."""
-    v = _monomials(p) * np.sqrt(w)[:, :, None]
-    M = np.matmul(np.swapaxes(v, 1, 2), v)
-    ph = _homogeneous(p)
-    ph_weighted = ph * w_grad[:, :, None]
-    S = np.matmul(np.swapaxes(ph_weighted, 1, 2), ph)
-    N = (S.reshape(-1, 16) @ _TO_NORMAL).reshape(-1, 10, 10)
-    return M, N, ph_weighted
+def _normal_rows(phi: np.ndarray) -> np.ndarray:
+    """(10, B, K) rows r(p) = G(p)ᵀ n (nᵀ∇f(p) = r(p) · [A..J]) of the standard coordinates
+    and unit normals in the features ``phi`` (r = 0 where there is no normal)."""
+    x, y, z = phi[_X : _X + 3]
+    n = phi[_NORMAL : _NORMAL + 3]
+    nx, ny, nz = n
+    r = np.empty((10,) + x.shape)
+    np.multiply(2 * x, nx, out=r[0])
+    np.multiply(2 * y, ny, out=r[1])
+    np.multiply(2 * z, nz, out=r[2])
+    r[3] = 2 * (y * nx + x * ny)
+    r[4] = 2 * (z * nx + x * nz)
+    r[5] = 2 * (z * ny + y * nz)
+    np.multiply(2, n, out=r[6:9])
+    r[9] = 0.0
+    return r
 
 
-def _birdal(
-    p: np.ndarray,
-    n: np.ndarray,
-    w: np.ndarray,
-    w_grad: np.ndarray,
-    weight: float,
-    magnitude_weight: float,
+def _birdal_system(
+    gram: np.ndarray, phi: np.ndarray, weight: float, magnitude_weight: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Normal equations of Σ (v·c)² + w Σ |P_t G c|² + w m Σ (nᵀG c - 1)² (P_t = I - n nᵀ).
+    """Normal equations A c = rhs, (B, 10, 10) and (B, 10), of
+    Σ (v·c)² + w Σ |P_t G c|² + w m Σ (nᵀG c - 1)² (P_t = I - n nᵀ).
 
     With r_p = Gᵀn: Σ |P_t G c|² = cᵀ(N - Σ r rᵀ)c and Σ (nᵀGc - 1)² = cᵀ(Σ r rᵀ)c - 2 cᵀΣ r + K,
-    so for m = 1 (plain ∇f = n) the Σ r rᵀ terms cancel.
+    so for m = 1 (plain ∇f = n) the Σ r rᵀ terms cancel. Σ r = Σ Gᵀn is linear in Σ p̃ nᵀ.
     """
-    M, N, ph_weighted = _moments(p, w, w_grad)
-    A = M + weight * N
+    A = _algebraic_matrix(gram) + weight * _gradient_matrix(_normal_second_moments(gram, phi))
     if magnitude_weight != 1.0:
-        r = _normal_rows(p, n) * np.sqrt(w_grad)[:, :, None]
-        A += weight * (magnitude_weight - 1) * np.matmul(np.swapaxes(r, 1, 2), r)
-    C = np.matmul(np.swapaxes(ph_weighted, 1, 2), n)
-    rhs = weight * magnitude_weight * (C.reshape(-1, 12) @ _TO_RHS)
-    return _solve_spd(A, rhs)
+        r = _normal_rows(phi)
+        A += weight * (magnitude_weight - 1) * _point_sums(r, r)
+    C = _point_sums(phi[_X : _X + 4], phi[_NORMAL : _NORMAL + 3])  # Σ p̃ nᵀ
+    return A, weight * magnitude_weight * (C.reshape(-1, 12) @ _TO_RHS)
 
 
 def _solve_spd(A: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -407,9 +476,9 @@ def _solve_spd(A: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     factor = _batched_cholesky(A_eq, ok)
     pivots = np.einsum("bii->bi", factor) ** 2
     ok &= np.min(pivots, axis=1) * CONDITION_LIMIT > 1.0
-    A_eq[~ok] = np.eye(A.shape[1])
-    solution = d * np.linalg.solve(A_eq, (d * rhs)[:, :, None])[:, :, 0]
-    return solution, ok
+    # Batch last, so that the substitution steps run over contiguous rows.
+    solution = _cholesky_solve(np.ascontiguousarray(factor.transpose(1, 2, 0)), (d * rhs).T)
+    return d * solution.T, ok
 
 
 def _batched_cholesky(A: np.ndarray, ok: np.ndarray) -> np.ndarray:
@@ -427,6 +496,19 @@ def _batched_cholesky(A: np.ndarray, ok: np.ndarray) -> np.ndarray:
         return factor
 
 
+def _cholesky_solve(L: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve L Lᵀ x = rhs for batch-last lower-triangular L (n, n, B) and rhs (n, B)."""
+    x = rhs.copy()
+    n = len(L)
+    for j in range(n):
+        x[j] /= L[j, j]
+        x[j + 1 :] -= L[j + 1 :, j] * x[j]
+    for j in range(n - 1, -1, -1):
+        x[j] /= L[j, j]
+        x[:j] -= L[j, :j] * x[j]
+    return x
+
+
 def _smallest_eigenvector(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit eigenvector of the smallest eigenvalue of each symmetric matrix, and whether it is
     well separated from the second smallest (a unique solution)."""
@@ -438,13 +520,13 @@ def _smallest_eigenvector(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return vec[:, :, 0], ok
 
 
-def _algebraic(p: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    M = np.matmul(np.swapaxes(_monomials(p) * w[:, :, None], 1, 2), _monomials(p))
-    return _smallest_eigenvector(M)
+def _algebraic(gram: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return _smallest_eigenvector(_algebraic_matrix(gram))
 
 
-def _taubin(p: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    M, N, _ = _moments(p, w, w)
+def _taubin(gram: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    M = _algebraic_matrix(gram)
+    N = _gradient_matrix(gram[:, _X : _X + 4, _X : _X + 4])  # from Σ w p̃ p̃ᵀ
     m12, m22 = M[:, :9, 9], M[:, 9, 9]
     reduced = M[:, :9, :9] - m12[:, :, None] * m12[:, None, :] / m22[:, None, None]
     lam_n, vec_n = np.linalg.eigh(N[:, :9, :9])
