@@ -73,7 +73,7 @@ class QuadricDetectorConfig:
     prefer_central: bool = True
     """Weight handle scores by closeness to the cloud's centroid (grasps near the center of
     mass lift with less torque): exp(-(d / centrality_length)^2), d in meters."""
-    centrality_length: float = 0.07
+    centrality_length: float = 0.06
     """Distance (m) from the centroid at which a handle's centrality weight is 1/e. Absolute,
     not relative to the object's size: the weight's torque grows with the distance itself."""
     prefer_clearance: bool = True
