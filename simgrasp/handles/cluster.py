@@ -33,8 +33,7 @@ def cluster_handles(
         object_center, centrality_length: the cloud's centroid and a length (m). When given,
             a handle's score is weighted by its centrality exp(-(d / length)^2), d being the
             distance from the handle center to the centroid: the torque of the object's
-            weight about the grasp grows with d (an absolute distance, so the handle of a
-            compact object such as a mug is not penalized for being off its center).
+            weight about the grasp grows with d (the detector's config sets the length).
         max_opening: the gripper's maximum opening (m). When given, a handle's score is
             weighted by its jaw clearance min(1, (max_opening - width) / (max_opening / 2)):
             a part barely narrower than the open jaws (a mug's body) leaves no room for

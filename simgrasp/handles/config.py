@@ -72,10 +72,12 @@ class QuadricDetectorConfig:
     """A handle hypothesis needs at least this many candidates."""
     prefer_central: bool = True
     """Weight handle scores by closeness to the cloud's centroid (grasps near the center of
-    mass lift with less torque): exp(-(d / centrality_length)^2), d in meters."""
-    centrality_length: float = 0.06
-    """Distance (m) from the centroid at which a handle's centrality weight is 1/e. Absolute,
-    not relative to the object's size: the weight's torque grows with the distance itself."""
+    mass lift with less torque): exp(-(d / L)^2), d in meters, with the length
+    L = max(centrality_min_length, centrality_scale x the cloud's RMS radius)."""
+    centrality_scale: float = 0.7
+    centrality_min_length: float = 0.06
+    """Floor of L (m): on a compact object (a mug) every part is near the center, so an
+    off-center handle is not penalized against the body."""
     prefer_clearance: bool = True
     """Weight handle scores by the jaw clearance min(1, (opening - width) / (opening / 2)), so
     a part barely narrower than the open jaws (a mug's body) ranks below a slim handle."""
@@ -92,7 +94,8 @@ class QuadricDetectorConfig:
             "center_tolerance",
             "shell_thickness",
             "shell_half_length",
-            "centrality_length",
+            "centrality_scale",
+            "centrality_min_length",
             "cluster_distance",
         )
         for name in positive:

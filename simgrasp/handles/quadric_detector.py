@@ -123,7 +123,11 @@ def detect_quadric_handles(
             distance=config.cluster_distance,
             min_support=config.min_support,
             object_center=centroid if config.prefer_central else None,
-            centrality_length=config.centrality_length,
+            centrality_length=max(
+                config.centrality_min_length,
+                config.centrality_scale
+                * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
+            ),
             max_opening=config.gripper_max_opening if config.prefer_clearance else None,
             min_relative_score=config.min_relative_score,
         )
