@@ -35,6 +35,17 @@ def test_good_box_loads_watertight_with_own_volume(tmp_path: Path) -> None:
     assert solid.volume == pytest.approx(0.1 * 0.05 * 0.02)
 
 
+def test_inside_out_box_is_turned_outward(tmp_path: Path) -> None:
+    box = trimesh.creation.box(extents=(0.1, 0.05, 0.02))
+    box.invert()
+    assert box.volume < 0
+    box.export(tmp_path / "inverted.obj")
+    mesh = load_mesh_file(tmp_path / "inverted.obj", "box")
+    assert mesh.volume == pytest.approx(0.1 * 0.05 * 0.02)
+    # Outward faces: each face normal points away from the box center.
+    assert np.all(np.einsum("ij,ij->i", mesh.face_normals, mesh.triangles_center) > 0)
+
+
 def test_missing_file_names_object_and_file(tmp_path: Path) -> None:
     path = tmp_path / "nope" / "textured.obj"
     with pytest.raises(MeshError, match=r"'mugx'.*nope/textured\.obj.*does not exist"):
@@ -133,3 +144,6 @@ def test_chips_can_scan_is_imperfect_but_loads(ycb_dir: str) -> None:
     solid, _ = mass_properties_solid(mesh)
     # A can of about 7.5 cm diameter and 25 cm height: ~1.1 l.
     assert 0.8e-3 < solid.volume < 1.4e-3
+    # The scan is wound inside out; loading turns it outward (else a renderer culling back
+    # faces shows the far inner wall and the camera cloud's normals point into the can).
+    assert mesh.volume > 0.8e-3

@@ -175,4 +175,13 @@ def load_mesh_file(path: Path | str, object_name: str) -> trimesh.Trimesh:
     faces = np.asarray(loaded.faces, dtype=np.int64)
     raw = trimesh.Trimesh(vertices, faces, process=False)
     validate_mesh(raw, object_name, path)
-    return trimesh.Trimesh(vertices, faces, process=True)
+    return outward(trimesh.Trimesh(vertices, faces, process=True))
+
+
+def outward(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """``mesh`` with its faces turned outward: a consistently wound surface whose signed
+    volume is negative is inside out (the YCB chips-can Poisson scan), which renderers that
+    cull back faces draw as the far inner wall; its faces are flipped in place."""
+    if mesh.is_winding_consistent and mesh.volume < 0:
+        mesh.invert()
+    return mesh
