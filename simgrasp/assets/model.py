@@ -7,6 +7,7 @@ added to any number of ``mujoco.MjSpec`` scenes. Everything is in the object's o
 
 from __future__ import annotations
 
+import functools
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -166,27 +167,36 @@ def _add_texture(
     spec: mujoco.MjSpec, name: str, texture_file: Path, files_dir: Path | None
 ) -> None:
     try:
-        image = Image.open(texture_file).convert("RGB")
+        stat = texture_file.stat()
+        width, height, rgb = _texture_rgb(str(texture_file), stat.st_mtime_ns, stat.st_size)
     except OSError as exc:
         raise ValueError(f"object {name!r}: cannot read texture {texture_file}: {exc}") from exc
     texture_name = f"{name}_texture"
     if files_dir is None:
-        pixels = np.asarray(image)
         texture = spec.add_texture(
             name=texture_name,
             type=mujoco.mjtTexture.mjTEXTURE_2D,
-            width=pixels.shape[1],
-            height=pixels.shape[0],
+            width=width,
+            height=height,
             nchannel=3,
         )
-        texture.data = pixels.tobytes()
+        texture.data = rgb
     else:
-        image.save(files_dir / f"{texture_name}.png")
+        Image.frombytes("RGB", (width, height), rgb).save(files_dir / f"{texture_name}.png")
         spec.add_texture(
             name=texture_name, type=mujoco.mjtTexture.mjTEXTURE_2D, file=f"{texture_name}.png"
         )
     material = spec.add_material(name=f"{name}_material")
     material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = texture_name
+
+
+@functools.lru_cache(maxsize=8)
+def _texture_rgb(path: str, mtime_ns: int, size: int) -> tuple[int, int, bytes]:
+    """(width, height, RGB bytes) of an image file, decoded once per process and file version
+    (a YCB texture takes ~0.25 s to decode; every scene of a sweep needs it)."""
+    with Image.open(path) as image:
+        rgb = image.convert("RGB")
+    return rgb.width, rgb.height, rgb.tobytes()
 
 
 def _quat_wxyz(rotation: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -7,6 +7,7 @@ footprint (x/y bounding box) centered on x = y = 0.
 
 from __future__ import annotations
 
+import hashlib
 from typing import NamedTuple
 
 import numpy as np
@@ -57,6 +58,29 @@ def stable_poses(
     the object's center of mass (from the model's inertia, or the watertight mesh).
     """
     support, com_object = _support_and_com(asset_or_model)
+    key = hashlib.sha1(
+        b"".join(
+            (
+                np.ascontiguousarray(support.vertices, dtype=np.float64).tobytes(),
+                np.ascontiguousarray(support.faces, dtype=np.int64).tobytes(),
+                np.ascontiguousarray(com_object, dtype=np.float64).tobytes(),
+                repr(min_probability).encode(),
+            )
+        )
+    ).hexdigest()
+    if key not in _POSES:
+        _POSES[key] = _compute_stable_poses(support, com_object, min_probability)
+    return list(_POSES[key])
+
+
+_POSES: dict[str, list[StablePose]] = {}
+"""Stable poses already computed in this process, by content of the support hull and center of
+mass (trimesh's analysis takes ~0.5 s for a YCB object; every scene of a sweep needs them)."""
+
+
+def _compute_stable_poses(
+    support: trimesh.Trimesh, com_object: NDArray[np.float64], min_probability: float
+) -> list[StablePose]:
     transforms, probabilities = trimesh.poses.compute_stable_poses(
         support, center_mass=com_object, sigma=0.0, n_samples=1, threshold=0.0
     )
