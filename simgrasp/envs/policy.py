@@ -32,8 +32,8 @@ from simgrasp.grasping.chain import (
     gripper_geometry,
     plan_grasps,
 )
-from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.planner import GripperGeometry, PlannerConfig, table_margin
+from simgrasp.grasping.grasp import Grasp
+from simgrasp.grasping.planner import GripperGeometry, PlannerConfig, top_down_above_table
 from simgrasp.scenes.gripper import GripperName, make_gripper
 
 FALLBACK_SOURCE = "fallback"
@@ -104,7 +104,7 @@ class DetectorPolicy:
         center = (
             points_world.mean(axis=0) if len(points_world) else np.array([0, 0, self.table_top_z])
         )
-        world_T_tcp = tcp_pose(center, closing=(0.0, 1.0, 0.0), approach=(0.0, 0.0, -1.0))
-        margin = table_margin(world_T_tcp, self.geometry, self.table_top_z, self.planner)
-        world_T_tcp[2, 3] -= min(margin, 0.0)
+        world_T_tcp = top_down_above_table(
+            center, (0.0, 1.0, 0.0), self.geometry, self.table_top_z, self.planner
+        )
         return Grasp(world_T_tcp, self.geometry.max_opening, score=0.0, source=FALLBACK_SOURCE)

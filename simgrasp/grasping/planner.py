@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.handles.detection import Handle
@@ -194,6 +194,20 @@ def grasps_from_handles(
     return sorted(grasps, key=lambda g: -g.score)
 
 
+def top_down_above_table(
+    position_world: ArrayLike,
+    closing_world: ArrayLike,
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig,
+) -> NDArray[np.float64]:
+    """``world_T_tcp`` approaching straight down (world -z) at ``position_world``, jaws along
+    ``closing_world``, raised (never lowered) until the open gripper clears the table."""
+    pose = tcp_pose(position_world, closing_world, (0.0, 0.0, -1.0))
+    pose[2, 3] -= min(table_margin(pose, geometry, table_z, config), 0.0)
+    return pose
+
+
 def centroid_grasps(
     points_world: NDArray[np.float64],
     geometry: GripperGeometry,
@@ -211,9 +225,7 @@ def centroid_grasps(
     for step in range(6):
         angle = np.radians(30 * step)
         closing = np.cos(angle) * narrow + np.sin(angle) * np.cross(down, narrow)
-        pose = tcp_pose(centroid, closing, down)
-        margin = table_margin(pose, geometry, table_z, config)
-        pose[2, 3] -= min(margin, 0.0)
+        pose = top_down_above_table(centroid, closing, geometry, table_z, config)
         if collides(pose, points_world, geometry, config.max_colliding_points):
             continue
         grasps.append(
