@@ -6,8 +6,6 @@ returns a (B,) boolean mask of neighborhoods that pass.
 
 from __future__ import annotations
 
-from itertools import chain
-
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
@@ -97,22 +95,22 @@ def shell_clear(
     the shell holds at most ``max_fraction`` of the points with ρ inside the shell's outer
     radius (i.e. the fingers would close around the handle without hitting other parts).
 
-    The candidates' cloud points come from one ball query on ``tree`` (a ``cKDTree`` of the
-    cloud); only those within ``half_length`` along the axis get their ρ computed.
+    The candidates' cloud points come from one dual-tree query against ``tree`` (a ``cKDTree``
+    of the cloud) within the largest shell's reach; only those within ``half_length`` along
+    the axis get their ρ computed.
     """
     shell_out = outer_radius + gap + thickness
-    reach = np.sqrt(shell_out**2 + half_length**2)
-    neighbor_lists = tree.query_ball_point(points_on_axis, reach, return_sorted=False)
-    counts = np.fromiter(map(len, neighbor_lists), dtype=np.int64, count=len(neighbor_lists))
+    reach = float(np.sqrt(np.max(shell_out) ** 2 + half_length**2))
+    pairs = cKDTree(points_on_axis).sparse_distance_matrix(tree, reach, output_type="ndarray")
     passed = np.ones(len(points_on_axis), dtype=bool)
-    if counts.sum() == 0:
+    if len(pairs) == 0:
         return passed
-    index = np.fromiter(chain.from_iterable(neighbor_lists), dtype=np.int64, count=counts.sum())
-    offsets = tree.data.take(index, axis=0) - np.repeat(points_on_axis, counts, axis=0)
-    pair_axes = np.repeat(axes, counts, axis=0)
+    candidate, index = pairs["i"], pairs["j"]
+    offsets = tree.data.take(index, axis=0) - points_on_axis.take(candidate, axis=0)
+    pair_axes = axes.take(candidate, axis=0)
     along = np.einsum("ni,ni->n", offsets, pair_axes)
     slab = np.flatnonzero(np.abs(along) <= half_length)
-    owner = np.repeat(np.arange(len(points_on_axis)), counts)[slab]
+    owner = candidate[slab]
     across = offsets.take(slab, axis=0) - along[slab, None] * pair_axes.take(slab, axis=0)
     radial = np.linalg.norm(across, axis=1)
     within = radial <= shell_out[owner]

@@ -8,7 +8,6 @@ voxelised at 3 mm (about 5000 voxels) gets about 500 neighbourhoods.
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 from typing import Literal
@@ -88,7 +87,7 @@ def gather_neighborhoods(
     rng: np.random.Generator | None = None,
     tree: cKDTree | None = None,
 ) -> Neighborhoods:
-    """Collect the cloud points around each centre (scipy ``cKDTree.query_ball_point``).
+    """Collect the cloud points around each centre (scipy ``cKDTree``, one dual-tree query).
 
     Args:
         points, normals: (N, 3) cloud and its unit normals, meters.
@@ -113,16 +112,14 @@ def gather_neighborhoods(
     if min_points > max_points:
         raise ValueError(f"min_points ({min_points}) exceeds max_points ({max_points})")
 
-    norm = np.inf if shape == "cube" else 2.0
-    found = kd_tree(pts, tree).query_ball_point(
-        centers, radius, p=norm, return_sorted=False, workers=-1
-    )
-    sizes = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
+    owner, flat = _pairs_within(kd_tree(pts, tree), centers, radius, shape)
+    sizes = np.bincount(owner, minlength=len(centers))
     keep = np.flatnonzero(sizes >= min_points)
+    if len(keep) < len(centers):
+        kept = np.zeros(len(centers), dtype=bool)
+        kept[keep] = True
+        flat = flat[kept[owner]]
     sizes = sizes[keep]
-    flat = np.fromiter(
-        itertools.chain.from_iterable(found[i] for i in keep), dtype=np.int64, count=sizes.sum()
-    )
     if (sizes > max_points).any() and rng is None:
         raise ValueError("gather_neighborhoods needs rng to subsample large neighbourhoods")
     offsets = _chosen_offsets(sizes, max_points, rng)
@@ -135,6 +132,20 @@ def gather_neighborhoods(
     hood_normals = np.concatenate([nrm, padding]).take(index, axis=0)
     counts = np.minimum(sizes, max_points)
     return Neighborhoods(hood_points, hood_normals, mask, counts, centers[keep], keep)
+
+
+def _pairs_within(
+    tree: cKDTree, centers: NDArray[np.float64], radius: float, shape: NeighborhoodShape
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """All (centre, point) index pairs within ``radius`` (Chebyshev for a cube, Euclidean for
+    a ball), grouped by centre in increasing order; within a centre the points keep the
+    deterministic order of scipy's dual-tree traversal (one ``sparse_distance_matrix`` call
+    between a tree of the centres and ``tree``: no per-centre Python lists)."""
+    norm = np.inf if shape == "cube" else 2.0
+    pairs = cKDTree(centers).sparse_distance_matrix(tree, radius, p=norm, output_type="ndarray")
+    owner = pairs["i"]
+    order = np.argsort(owner.astype(np.min_scalar_type(len(centers))), kind="stable")
+    return owner[order], pairs["j"][order]
 
 
 def _chosen_offsets(

@@ -43,7 +43,7 @@ a single larger grid gets a group of its own)."""
 
 
 def point_spacing(
-    points: NDArray[np.float64], sample: int = 4000, tree: cKDTree | None = None
+    points: NDArray[np.float64], sample: int = 1000, tree: cKDTree | None = None
 ) -> float:
     """Median distance (m) from a point to its nearest other point (on at most ``sample``
     evenly strided points, for speed). Zero only if the points coincide. ``tree`` is an
