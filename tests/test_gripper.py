@@ -40,6 +40,17 @@ def test_tcp_starts_at_the_commanded_pose_between_the_pads(name: str) -> None:
 
 
 @pytest.mark.parametrize("name", GRIPPERS)
+def test_pad_contacts_resist_twisting(name: str) -> None:
+    """Pad contacts carry torsional friction (condim >= 4): with point contacts alone a long
+    tool held off its center of mass swings about the line between the pads and drops."""
+    model, _, gripper, _ = bare_scene(name)
+    for pads in gripper.pad_geoms:
+        for pad in pads:
+            assert model.geom_condim[pad] >= 4
+            assert model.geom_friction[pad, 1] > 0
+
+
+@pytest.mark.parametrize("name", GRIPPERS)
 @pytest.mark.parametrize("width", [0.02, 0.05, 0.08])
 def test_set_opening_reaches_the_commanded_gap(name: str, width: float) -> None:
     model, data, gripper, _ = bare_scene(name)

@@ -118,9 +118,9 @@ def gripper_geometry(gripper: Gripper) -> GripperGeometry:
     """The planner's collision boxes for ``gripper`` (documented approximations).
 
     The boxes are those of the open gripper (pre-grasp and approach). The Robotiq's pads swing
-    forward as they close (tips 9.5 mm past the TCP open, 23 mm closed), so near the table its
-    closing fingertips sweep along the table top, pushing the compliant gripper up a little,
-    as a real one does when picking a flat object; the trial simulates that.
+    forward as they close (tips 9.5 mm past the TCP open, 21-23 mm once closed on a handle
+    narrower than 4 cm), so its grasps keep the closed fingertips above the table: closing
+    tips that hit the table top stall the jaws before they squeeze the handle.
     """
     if gripper.name == "robotiq_2f85":
         from simgrasp.scenes.robotiq import OPEN_FINGER_REACH
@@ -128,6 +128,7 @@ def gripper_geometry(gripper: Gripper) -> GripperGeometry:
         return GripperGeometry(
             max_opening=gripper.max_opening,
             pad_reach=OPEN_FINGER_REACH,
+            closed_pad_reach=gripper.finger_reach,
             finger_length=0.06,
             finger_width=0.025,
             palm_size=(0.07, 0.14, 0.06),

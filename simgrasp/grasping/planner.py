@@ -27,7 +27,10 @@ class GripperGeometry:
 
     Each finger is a box ``finger_thickness`` (y) x ``finger_width`` (x) x ``finger_length``
     (z, from the TCP back toward the palm, plus ``pad_reach`` past the TCP); the palm is a box
-    ``palm_size`` (x, y, z) just behind the fingers.
+    ``palm_size`` (x, y, z) just behind the fingers. ``closed_pad_reach`` is how far the
+    fingertips reach past the TCP once the jaws have closed, for fingers that swing forward as
+    they close (the Robotiq's four-bar linkage); the table check at the grasp pose uses the
+    larger of it and ``pad_reach``, so closing fingertips do not jam against the table.
     """
 
     max_opening: float
@@ -36,6 +39,7 @@ class GripperGeometry:
     finger_width: float = 0.022
     pad_reach: float = 0.012
     palm_size: tuple[float, float, float] = (0.05, 0.12, 0.04)
+    closed_pad_reach: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -45,14 +49,18 @@ class PlannerConfig:
     approaches_per_handle: int = 16
     max_handles: int = 3
     table_clearance: float = 0.008
-    """Gripper boxes must stay this far above the table top (m), also at the pre-grasp."""
+    """The open gripper's boxes stay this far above the table top (m), at the grasp and at
+    the pre-grasp."""
+    closed_tip_clearance: float = 0.003
+    """Fingertips that swing forward as they close (``GripperGeometry.closed_pad_reach``) stay
+    this far above the table top (m) once closed."""
     pregrasp_distance: float = 0.10
     max_colliding_points: int = 0
     view_weight: float = 0.3
     """Rank bonus for approaching from the camera's side (cosine with the view direction)."""
     top_weight: float = 0.3
     """Rank bonus for approaching from above (cosine with world -z)."""
-    max_tcp_shift: float = 0.025
+    max_tcp_shift: float = 0.03
     """A grasp whose fingertips would reach below the table is backed off along its approach by
     up to this much (m), so objects lying flat can still be held above the table."""
     shift_weight: float = 1.0
@@ -79,10 +87,14 @@ def _downward_basis(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDA
     return u, np.cross(axis, u)
 
 
-def _gripper_boxes(geometry: GripperGeometry, opening: float) -> list[tuple[NDArray, NDArray]]:
-    """(center, half extents) of the fingers and palm in the TCP frame."""
-    half_len = (geometry.finger_length + geometry.pad_reach) / 2
-    z_finger = geometry.pad_reach - half_len
+def _gripper_boxes(
+    geometry: GripperGeometry, opening: float, reach: float | None = None
+) -> list[tuple[NDArray, NDArray]]:
+    """(center, half extents) of the fingers and palm in the TCP frame; the fingertips reach
+    ``reach`` (m, default ``geometry.pad_reach``) past the TCP."""
+    reach = geometry.pad_reach if reach is None else reach
+    half_len = (geometry.finger_length + reach) / 2
+    z_finger = reach - half_len
     y_finger = opening / 2 + geometry.finger_thickness / 2
     finger_half = np.array([geometry.finger_width / 2, geometry.finger_thickness / 2, half_len])
     palm_half = np.asarray(geometry.palm_size) / 2
@@ -109,16 +121,23 @@ def collides(
 def table_margin(
     world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
 ) -> float:
-    """Lowest gripper box corner above the table plus clearance (m), at the grasp and at the
-    pre-grasp; negative when the gripper would touch the table."""
+    """Least height (m) of the gripper boxes above the table beyond the required clearance:
+    the open gripper at the grasp and at the pre-grasp keeps ``table_clearance``, the closed
+    fingertips at the grasp ``closed_tip_clearance``; negative when one would be too low."""
     signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
-    lowest = np.inf
-    for back in (0.0, config.pregrasp_distance):
-        for center, half in _gripper_boxes(geometry, geometry.max_opening):
+    closed_reach = max(geometry.pad_reach, geometry.closed_pad_reach)
+    checks = (
+        (0.0, geometry.pad_reach, config.table_clearance),
+        (0.0, closed_reach, config.closed_tip_clearance),
+        (config.pregrasp_distance, geometry.pad_reach, config.table_clearance),
+    )
+    margin = np.inf
+    for back, reach, clearance in checks:
+        for center, half in _gripper_boxes(geometry, geometry.max_opening, reach):
             corners_tcp = center + signs * half - np.array([0.0, 0.0, back])
             corners_world = corners_tcp @ world_T_tcp[:3, :3].T + world_T_tcp[:3, 3]
-            lowest = min(lowest, float(corners_world[:, 2].min()))
-    return lowest - table_z - config.table_clearance
+            margin = min(margin, float(corners_world[:, 2].min()) - table_z - clearance)
+    return margin
 
 
 def above_table(

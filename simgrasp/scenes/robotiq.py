@@ -6,6 +6,12 @@ simgrasp. A ``tcp`` site is added to its ``base`` body at the center of the fing
 frame: +z toward the fingertips, +y the jaw direction, so the TCP convention holds as is).
 Its actuator takes 0 (open, 0.085 m) .. 255 (closed) and drives a four-bar linkage, so the
 control for a given opening comes from a calibration of the bare gripper (cached per process).
+
+The Menagerie pad boxes have contact priority, so their parameters decide every pad contact,
+and they come with ``condim=3``: point contacts without torsional friction, so a held object
+turns freely about the line between the two pads (a long tool held off its center of mass
+swings down, which a real silicone pad's contact area resists). The pads get ``condim=4``
+with ``PAD_TORSIONAL_FRICTION``, like the built-in gripper's.
 """
 
 from __future__ import annotations
@@ -53,9 +59,19 @@ def menagerie_mjcf() -> Path:
     return path
 
 
+PAD_GEOMS = ("left_pad1", "left_pad2", "right_pad1", "right_pad2")
+
+PAD_TORSIONAL_FRICTION = 0.01
+"""Torsional friction (m) given to the pad boxes, as on the built-in gripper's pads."""
+
+
 def _load_spec() -> mujoco.MjSpec:
     spec = mujoco.MjSpec.from_file(str(menagerie_mjcf()))
     spec.body("base").add_site(name="tcp", pos=[0.0, 0.0, TCP_HEIGHT], size=[0.004])
+    for name in PAD_GEOMS:
+        pad = spec.geom(name)
+        pad.condim = 4
+        pad.friction[1] = PAD_TORSIONAL_FRICTION
     return spec
 
 
