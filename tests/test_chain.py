@@ -44,7 +44,7 @@ def test_handle_grasps_close_across_the_handle_and_clear_the_table() -> None:
 def test_fingertips_that_swing_forward_stay_above_the_table_once_closed() -> None:
     """A handle lying on the table: a top-down grasp of a gripper whose fingertips reach 23 mm
     past the TCP once closed (9.5 mm open) sits high enough for the closed tips to clear the
-    table by ``closed_tip_clearance``, higher than the open gripper alone would need."""
+    table by ``grasp_table_clearance``, higher than the open gripper alone would need."""
     handle = _handle([0.0, 0.0, 0.01], [1.0, 0.0, 0.0])
     open_only = GripperGeometry(max_opening=0.085, pad_reach=0.0095)
     swinging = GripperGeometry(max_opening=0.085, pad_reach=0.0095, closed_pad_reach=0.023)
@@ -57,8 +57,8 @@ def test_fingertips_that_swing_forward_stay_above_the_table_once_closed() -> Non
         top_down = max(grasps, key=lambda g: -g.approach_world[2])
         assert top_down.approach_world[2] == pytest.approx(-1.0)
         heights.append(top_down.world_T_tcp[2, 3])
-    assert heights[0] == pytest.approx(0.0095 + config.table_clearance, abs=2e-4)
-    assert heights[1] == pytest.approx(0.023 + config.closed_tip_clearance, abs=2e-4)
+    assert heights[0] == pytest.approx(0.0095 + config.grasp_table_clearance, abs=2e-4)
+    assert heights[1] == pytest.approx(0.023 + config.grasp_table_clearance, abs=2e-4)
 
 
 def test_a_cloud_point_inside_a_finger_rejects_the_grasp() -> None:

@@ -49,11 +49,11 @@ class PlannerConfig:
     approaches_per_handle: int = 16
     max_handles: int = 3
     table_clearance: float = 0.008
-    """The open gripper's boxes stay this far above the table top (m), at the grasp and at
-    the pre-grasp."""
-    closed_tip_clearance: float = 0.003
-    """Fingertips that swing forward as they close (``GripperGeometry.closed_pad_reach``) stay
-    this far above the table top (m) once closed."""
+    """The open gripper's boxes stay this far above the table top at the pre-grasp (m)."""
+    grasp_table_clearance: float = 0.003
+    """At the grasp, the open gripper's boxes and the closed fingertips
+    (``GripperGeometry.closed_pad_reach``) stay this far above the table top (m): close enough
+    that the pads reach down the sides of a tool lying flat."""
     pregrasp_distance: float = 0.10
     max_colliding_points: int = 0
     view_weight: float = 0.3
@@ -122,13 +122,14 @@ def table_margin(
     world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
 ) -> float:
     """Least height (m) of the gripper boxes above the table beyond the required clearance:
-    the open gripper at the grasp and at the pre-grasp keeps ``table_clearance``, the closed
-    fingertips at the grasp ``closed_tip_clearance``; negative when one would be too low."""
+    the open gripper at the pre-grasp keeps ``table_clearance``, the open gripper and the
+    closed fingertips at the grasp ``grasp_table_clearance``; negative when one would be too
+    low."""
     signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
     closed_reach = max(geometry.pad_reach, geometry.closed_pad_reach)
     checks = (
-        (0.0, geometry.pad_reach, config.table_clearance),
-        (0.0, closed_reach, config.closed_tip_clearance),
+        (0.0, geometry.pad_reach, config.grasp_table_clearance),
+        (0.0, closed_reach, config.grasp_table_clearance),
         (config.pregrasp_distance, geometry.pad_reach, config.table_clearance),
     )
     margin = np.inf
