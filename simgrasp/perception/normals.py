@@ -145,10 +145,9 @@ def _view_frames(count: int) -> NDArray[np.float64]:
 
 
 def _project(vectors: NDArray[np.float64], axes: NDArray[np.float64]) -> NDArray[np.float64]:
-    """(V, N) components of the (N, 3) ``vectors`` along each of the (V, 3) ``axes``: one
-    matrix-vector product per axis, so each view gets exactly the values it gets projected
-    alone (a single (N, 3) x (3, V) product rounds differently)."""
-    return np.stack([vectors @ axis for axis in axes])
+    """(V, N) components of the (N, 3) ``vectors`` along each of the (V, 3) ``axes`` (one
+    matrix product)."""
+    return axes @ vectors.T
 
 
 def _front_layer(
@@ -202,10 +201,7 @@ def _outward_flips(
     frames = _view_frames(_VIEW_COUNT)
     cosine = _project(normals, frames[:, 2])
     counted = _front_layer(points, frames, spacing) & (np.abs(cosine) >= _MIN_VIEW_COSINE)
-    vote = np.zeros(len(points))
-    for view_votes in np.where(counted, cosine, 0.0):
-        vote += view_votes  # view by view, in order: the same sums as voting per view
-    sign = np.sign(vote)
+    sign = np.sign(np.where(counted, cosine, 0.0).sum(axis=0))
     sign = _propagate_signs(points, normals, sign, tree)
     return sign < 0
 
