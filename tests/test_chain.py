@@ -21,7 +21,7 @@ GEOMETRY = GripperGeometry(max_opening=0.085)
 
 def _handle(center, axis) -> Handle:
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    return Handle(np.asarray(center, float), axis, 0.03, 1.0, 10, 0.05)
+    return Handle(np.asarray(center, float), axis, 0.03, 1.0, 10, (-0.05, 0.05))
 
 
 def test_handle_grasps_close_across_the_handle_and_clear_the_table() -> None:
@@ -59,6 +59,23 @@ def test_fingertips_that_swing_forward_stay_above_the_table_once_closed() -> Non
         heights.append(top_down.world_T_tcp[2, 3])
     assert heights[0] == pytest.approx(0.0095 + config.grasp_table_clearance, abs=2e-4)
     assert heights[1] == pytest.approx(0.023 + config.grasp_table_clearance, abs=2e-4)
+
+
+def test_the_best_grasp_holds_the_handle_nearest_the_centroid_with_the_pads_on_it() -> None:
+    """A handle covered from x = -0.05 to 0.05 with the cloud's centroid far along +x: the best
+    grasp moves toward the centroid but stops half a finger width inside the covered stretch."""
+    handle = Handle(
+        np.array([0.0, 0.0, 0.05]), np.array([1.0, 0.0, 0.0]), 0.03, 1.0, 10, (-0.05, 0.05)
+    )
+    heavy_end = np.array([[0.30, 0.0, 0.05], [0.32, 0.0, 0.05]])  # pulls the centroid to +x
+    cameras = np.array([[0.5, 0.0, 0.5]])
+    grasps = grasps_from_handles(
+        [handle], heavy_end, cameras, GEOMETRY, 0.0, np.random.default_rng(0)
+    )
+    best_x = grasps[0].world_T_tcp[0, 3]
+    assert best_x == pytest.approx(0.05 - GEOMETRY.finger_width / 2, abs=1e-9)
+    xs = {round(g.world_T_tcp[0, 3], 9) for g in grasps}
+    assert xs == {0.0, round(best_x, 9)}, "the handle's center stays a fallback grasp point"
 
 
 def test_a_cloud_point_inside_a_finger_rejects_the_grasp() -> None:

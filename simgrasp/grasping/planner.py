@@ -66,6 +66,9 @@ class PlannerConfig:
     shift_weight: float = 1.0
     """Rank penalty per ``max_tcp_shift`` of back-off: a grasp backed off the handle holds it
     with the pad edges only, so the least backed-off grasp of a flat handle comes first."""
+    lever_weight: float = 0.5
+    """Rank penalty per 10 cm between the grasp point and the cloud centroid along the handle
+    (a stand-in for the center of mass: the weight's torque about the grasp grows with it)."""
     antipodal_samples: int = 400
     antipodal_cos: float = 0.9
 
@@ -165,6 +168,25 @@ def _rank(approach: NDArray, position: NDArray, cameras: NDArray, config: Planne
     )
 
 
+def _grasp_offsets(
+    handle: Handle, centroid: NDArray[np.float64] | None, geometry: GripperGeometry
+) -> list[tuple[float, float]]:
+    """``(offset, lever)`` pairs: grasp points as offsets (m) along the handle axis from its
+    center, with their distance (m) along the axis from the centroid's projection. The center,
+    and the point of the handle nearest the centroid that keeps the pads (half a finger width)
+    on the stretch the candidates cover."""
+    if centroid is None:
+        return [(0.0, 0.0)]
+    target = float((centroid - handle.center) @ handle.axis)
+    margin = geometry.finger_width / 2
+    low, high = handle.span[0] + margin, handle.span[1] - margin
+    nearest = float(np.clip(target, low, high)) if low <= high else 0.5 * sum(handle.span)
+    offsets = [(0.0, abs(target))]
+    if abs(nearest) > 0.005:
+        offsets.append((nearest, abs(target - nearest)))
+    return offsets
+
+
 def grasps_from_handles(
     handles: Sequence[Handle],
     points_world: NDArray[np.float64],
@@ -177,40 +199,44 @@ def grasps_from_handles(
 ) -> list[Grasp]:
     """Grasps closing across each handle, best first.
 
-    Approaches are sampled around each handle's axis: the steepest downward approach first
-    (exactly, so a handle lying flat on the table keeps its one feasible top-down grasp), then
-    evenly spaced ones turned by a seeded jitter. A grasp's score is the handle's score relative
-    to the best handle's (1 for the best) plus bonuses for approaching from the camera's side
-    and from above, less a penalty for backing off the handle to clear the table.
+    Grasp points are the handle's center and the point of the handle nearest the cloud's
+    centroid (pads kept on the detected stretch). Approaches are sampled around the axis: the
+    steepest downward approach first (exactly, so a handle lying flat on the table keeps its
+    one feasible top-down grasp), then evenly spaced ones turned by a seeded jitter. A grasp's
+    score is the handle's score relative to the best handle's (1 for the best) plus bonuses
+    for approaching from the camera's side and from above, less penalties for backing off the
+    handle to clear the table and for the lever arm to the centroid along the handle.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     handles = list(handles)[: config.max_handles]
     best_score = max((h.score for h in handles), default=1.0) or 1.0
+    centroid = points_world.mean(axis=0) if len(points_world) else None
     grasps = []
     for handle in handles:
         u, v = _downward_basis(handle.axis)
         step = 2 * np.pi / config.approaches_per_handle
         angles = np.arange(config.approaches_per_handle) * step
         angles[1:] += rng.uniform(-step / 2, step / 2)
-        for angle in angles:
-            approach = np.cos(angle) * u + np.sin(angle) * v
-            closing = np.cross(approach, handle.axis)
-            pose = above_table(
-                tcp_pose(handle.center, closing, approach), geometry, table_z, config
-            )
-            if pose is None:
-                continue
-            if collides(pose, points_world, geometry, config.max_colliding_points):
-                continue
-            shift = float(np.linalg.norm(pose[:3, 3] - handle.center))
-            score = (
-                handle.score / best_score
-                + _rank(approach, handle.center, cameras, config)
-                - config.shift_weight * shift / config.max_tcp_shift
-            )
-            grasps.append(
-                Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
-            )
+        for offset, lever in _grasp_offsets(handle, centroid, geometry):
+            position = handle.center + offset * handle.axis
+            for angle in angles:
+                approach = np.cos(angle) * u + np.sin(angle) * v
+                closing = np.cross(approach, handle.axis)
+                pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
+                if pose is None:
+                    continue
+                if collides(pose, points_world, geometry, config.max_colliding_points):
+                    continue
+                shift = float(np.linalg.norm(pose[:3, 3] - position))
+                score = (
+                    handle.score / best_score
+                    + _rank(approach, position, cameras, config)
+                    - config.shift_weight * shift / config.max_tcp_shift
+                    - config.lever_weight * lever / 0.1
+                )
+                grasps.append(
+                    Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
+                )
     return sorted(grasps, key=lambda g: -g.score)
 
 

@@ -78,7 +78,7 @@ def cluster_handles(
 
 
 def _rescored(handle: Handle, score: float) -> Handle:
-    return Handle(handle.center, handle.axis, handle.width, score, handle.support, handle.extent)
+    return Handle(handle.center, handle.axis, handle.width, score, handle.support, handle.span)
 
 
 def _handle_from_members(
@@ -98,5 +98,5 @@ def _handle_from_members(
         width=float(np.median(widths)),
         score=float(len(points) / total * coherence),
         support=len(points),
-        extent=float(max(along.max(), -along.min())),
+        span=(float(along.min()), float(along.max())),
     )

@@ -57,7 +57,8 @@ class Handle:
         width: grasp width across the handle (m, median of its candidates).
         score: in [0, 1]; support share of all candidates weighted by axis agreement.
         support: number of candidates in the cluster.
-        extent: half length of the handle along ``axis`` covered by candidates (m).
+        span: ``(low, high)``, the stretch of the axis its candidates cover, as offsets (m)
+            along ``axis`` from ``center`` (``low <= 0 <= high``).
     """
 
     center: NDArray[np.float64]
@@ -65,7 +66,12 @@ class Handle:
     width: float
     score: float
     support: int
-    extent: float
+    span: tuple[float, float]
+
+    @property
+    def extent(self) -> float:
+        """Half length (m) of the longest stretch from ``center`` covered by candidates."""
+        return max(-self.span[0], self.span[1])
 
     def to_json(self) -> dict[str, Any]:
         return {

@@ -248,5 +248,5 @@ def _handle_from_shells(
         width=float(np.median(2 * radii)),
         score=float(np.clip(len(axes) / total * eigenvalues[-1], 0.0, 1.0)),
         support=len(axes),
-        extent=float(np.max(np.abs(along - middle))),
+        span=(float(np.min(along - middle)), float(np.max(along - middle))),
     )
