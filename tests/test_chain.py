@@ -63,7 +63,7 @@ def test_fingertips_that_swing_forward_stay_above_the_table_once_closed() -> Non
 
 def test_the_best_grasp_holds_the_handle_nearest_the_centroid_with_the_pads_on_it() -> None:
     """A handle covered from x = -0.05 to 0.05 with the cloud's centroid far along +x: the best
-    grasp moves toward the centroid but stops half a finger width inside the covered stretch."""
+    grasp moves toward the centroid but stops a finger width inside the covered stretch."""
     handle = Handle(
         np.array([0.0, 0.0, 0.05]), np.array([1.0, 0.0, 0.0]), 0.03, 1.0, 10, (-0.05, 0.05)
     )
@@ -73,7 +73,7 @@ def test_the_best_grasp_holds_the_handle_nearest_the_centroid_with_the_pads_on_i
         [handle], heavy_end, cameras, GEOMETRY, 0.0, np.random.default_rng(0)
     )
     best_x = grasps[0].world_T_tcp[0, 3]
-    assert best_x == pytest.approx(0.05 - GEOMETRY.finger_width / 2, abs=1e-9)
+    assert best_x == pytest.approx(0.05 - GEOMETRY.finger_width, abs=1e-9)
     xs = {round(g.world_T_tcp[0, 3], 9) for g in grasps}
     assert xs == {0.0, round(best_x, 9)}, "the handle's center stays a fallback grasp point"
 

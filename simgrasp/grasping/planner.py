@@ -173,12 +173,13 @@ def _grasp_offsets(
 ) -> list[tuple[float, float]]:
     """``(offset, lever)`` pairs: grasp points as offsets (m) along the handle axis from its
     center, with their distance (m) along the axis from the centroid's projection. The center,
-    and the point of the handle nearest the centroid that keeps the pads (half a finger width)
-    on the stretch the candidates cover."""
+    and the point of the handle nearest the centroid that keeps the pads on the stretch the
+    candidates cover, with a pad width to spare (the stretch's ends are its least certain
+    part)."""
     if centroid is None:
         return [(0.0, 0.0)]
     target = float((centroid - handle.center) @ handle.axis)
-    margin = geometry.finger_width / 2
+    margin = geometry.finger_width
     low, high = handle.span[0] + margin, handle.span[1] - margin
     nearest = float(np.clip(target, low, high)) if low <= high else 0.5 * sum(handle.span)
     offsets = [(0.0, abs(target))]
@@ -200,12 +201,13 @@ def grasps_from_handles(
     """Grasps closing across each handle, best first.
 
     Grasp points are the handle's center and the point of the handle nearest the cloud's
-    centroid (pads kept on the detected stretch). Approaches are sampled around the axis: the
-    steepest downward approach first (exactly, so a handle lying flat on the table keeps its
-    one feasible top-down grasp), then evenly spaced ones turned by a seeded jitter. A grasp's
-    score is the handle's score relative to the best handle's (1 for the best) plus bonuses
-    for approaching from the camera's side and from above, less penalties for backing off the
-    handle to clear the table and for the lever arm to the centroid along the handle.
+    centroid (pads kept a pad width inside the detected stretch). Approaches are sampled
+    around the axis: the steepest downward approach first (exactly, so a handle lying flat on
+    the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
+    seeded jitter. A grasp's score is the handle's score relative to the best handle's (1 for
+    the best) plus bonuses for approaching from the camera's side and from above, less
+    penalties for backing off the handle to clear the table and for the lever arm to the
+    centroid along the handle.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     handles = list(handles)[: config.max_handles]
