@@ -10,16 +10,16 @@ from __future__ import annotations
 
 import functools
 import itertools
-import multiprocessing
 import os
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, wait
 from contextlib import closing
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Literal
 
 from simgrasp.evaluation.trial_log import NOISE_DIGITS, TrialKey, TrialLog, trial_key
+from simgrasp.process_pool import spawn_pool
 
 Backend = Literal["local", "ray"]
 TRIALS_FILE = "trials.jsonl"
@@ -91,7 +91,7 @@ def run_local(
             prepare_object(name, ycb_dir)
         yield from (run_spec(spec, ycb_dir) for spec in specs)
         return
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    pool = spawn_pool(workers)
     try:
         list(pool.map(prepare_object, objects, itertools.repeat(ycb_dir)))
         pending = {pool.submit(run_spec, spec, ycb_dir) for spec in specs}

@@ -9,10 +9,8 @@ detector without normals (the detector estimates them, oriented outward).
 from __future__ import annotations
 
 import csv
-import multiprocessing
 import time
 from collections.abc import Iterable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
@@ -22,6 +20,7 @@ from simgrasp.assets.registry import load_object
 from simgrasp.handles import DetectorName, default_config, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
 from simgrasp.perception import multiplicative_noise, sample_surface
+from simgrasp.process_pool import spawn_pool
 from simgrasp.seeding import rng_for
 
 PAPER_OBJECTS = (
@@ -156,8 +155,7 @@ def run_evaluation(
             records.extend(_evaluate_task(task))
             bar.update()
     else:
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(workers, mp_context=context) as pool:
+        with spawn_pool(workers) as pool:
             for result in pool.map(_evaluate_task, tasks):
                 records.extend(result)
                 bar.update()
