@@ -125,13 +125,12 @@ def table_margin(
     world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
 ) -> float:
     """Least height (m) of the gripper boxes above the table beyond the required clearance:
-    the open gripper at the pre-grasp keeps ``table_clearance``, the open gripper and the
-    closed fingertips at the grasp ``grasp_table_clearance``; negative when one would be too
-    low."""
+    the open gripper at the pre-grasp keeps ``table_clearance``; at the grasp the gripper with
+    its fingertips at their closed reach (which contains the open fingers) keeps
+    ``grasp_table_clearance``. Negative when one would be too low."""
     signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
     closed_reach = max(geometry.pad_reach, geometry.closed_pad_reach)
     checks = (
-        (0.0, geometry.pad_reach, config.grasp_table_clearance),
         (0.0, closed_reach, config.grasp_table_clearance),
         (config.pregrasp_distance, geometry.pad_reach, config.table_clearance),
     )

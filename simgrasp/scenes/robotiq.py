@@ -59,16 +59,17 @@ def menagerie_mjcf() -> Path:
     return path
 
 
-PAD_GEOMS = ("left_pad1", "left_pad2", "right_pad1", "right_pad2")
+PADS = (("left_pad1", "left_pad2"), ("right_pad1", "right_pad2"))
+"""The pad box geoms of the left and right finger."""
 
 PAD_TORSIONAL_FRICTION = 0.01
-"""Torsional friction (m) given to the pad boxes, as on the built-in gripper's pads."""
+"""Torsional friction (m) given to the pad boxes (the objects' own torsional friction)."""
 
 
 def _load_spec() -> mujoco.MjSpec:
     spec = mujoco.MjSpec.from_file(str(menagerie_mjcf()))
     spec.body("base").add_site(name="tcp", pos=[0.0, 0.0, TCP_HEIGHT], size=[0.004])
-    for name in PAD_GEOMS:
+    for name in PADS[0] + PADS[1]:
         pad = spec.geom(name)
         pad.condim = 4
         pad.friction[1] = PAD_TORSIONAL_FRICTION
@@ -113,7 +114,7 @@ def robotiq_2f85() -> Gripper:
         root_body="base_mount",
         tcp_site="tcp",
         fingers=(("left_driver", "left_spring_link"), ("right_driver", "right_spring_link")),
-        pads=(("left_pad1", "left_pad2"), ("right_pad1", "right_pad2")),
+        pads=PADS,
         actuator="fingers_actuator",
         ctrl_for_opening=_ctrl_for_opening,
         ctrl_closed=CTRL_CLOSED,
