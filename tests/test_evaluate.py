@@ -18,7 +18,7 @@ import sys
 import tempfile
 import time
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +26,8 @@ import pytest
 
 from simgrasp.assets.registry import default_objects
 from simgrasp.cli import main
+from simgrasp.evaluation.sweep import plan_trials
+from simgrasp.evaluation.trial_log import trial_key
 
 pytestmark = pytest.mark.xdist_group("evaluate")
 
@@ -326,3 +328,13 @@ def test_demo_prints_the_report_and_writes_it(tmp_path: Path) -> None:
     assert len(read_log(out)) == trials
     for name in REPORT_FILES:
         assert (out / name).exists(), name
+
+
+def test_placement_is_part_of_a_trials_identity(reference: Path) -> None:
+    assert {r["placement"] for r in read_log(reference)} == {"stable"}
+    stable = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2))
+    upright = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2), "upright")
+    assert not {s.key for s in stable} & {s.key for s in upright}
+    # Logs written before placements existed hold stable-placement trials.
+    old = {field: value for field, value in asdict(stable[0]).items() if field != "placement"}
+    assert trial_key(old) == stable[0].key

@@ -9,7 +9,7 @@ import pytest
 from simgrasp.assets.generated import GENERATED_KINDS
 from simgrasp.assets.model import COLLISION_GROUP, VISUAL_GROUP, ObjectModel, build_object_model
 from simgrasp.assets.registry import load_object
-from simgrasp.assets.stable import sample_rest_pose, stable_poses
+from simgrasp.assets.stable import StablePose, sample_rest_pose, stable_poses, upright_poses
 from simgrasp.seeding import rng_for
 
 DROP_HEIGHT = 0.004  # m
@@ -111,3 +111,21 @@ def test_stable_poses_rest_on_the_plane() -> None:
     a = sample_rest_pose(model, rng_for(5, "t"))
     b = sample_rest_pose(model, rng_for(5, "t"))
     assert np.array_equal(a, b)
+
+
+def test_upright_poses_keep_the_standing_ones_renormalized() -> None:
+    model = build_object_model(load_object("gen_can", seed=2))
+    poses = stable_poses(model)
+    upright = upright_poses(poses, "gen_can")
+    assert 0 < len(upright) < len(poses)
+    assert sum(p.probability for p in upright) == pytest.approx(1.0)
+    assert all(p.rest_T_object[2, 2] == pytest.approx(1.0, abs=1e-6) for p in upright)
+    pose = sample_rest_pose(model, rng_for(5, "t"), placement="upright")
+    assert pose[2, 2] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_an_object_that_never_stands_upright_is_a_clear_error() -> None:
+    on_its_side = np.eye(4)
+    on_its_side[:3, :3] = [[1, 0, 0], [0, 0, -1], [0, 1, 0]]  # object +z along world -y
+    with pytest.raises(ValueError, match="'gen_thing' has no stable pose with its \\+z axis up"):
+        upright_poses([StablePose(on_its_side, 1.0)], "gen_thing")

@@ -54,6 +54,26 @@ def test_rest_pose_is_seeded(mug_model) -> None:
     assert not np.allclose(first[:3, :3], other[:3, :3])
 
 
+def test_upright_placement_stands_the_mug_on_its_base(mug_model) -> None:
+    gripper = make_gripper("builtin")
+    upright = SceneConfig(placement="upright")
+    stable_ups, upright_ups = [], []
+    for seed in range(6):
+        stable_ups.append(build_scene(mug_model, gripper, seed=seed).world_T_object[2, 2])
+        scene = build_scene(mug_model, gripper, upright, seed=seed)
+        upright_ups.append(scene.world_T_object[2, 2])
+        mujoco.mj_step(scene.model, scene.data, 250)  # 0.5 s: it stays standing
+        assert scene.object_pose()[2, 2] > 0.99
+    # Drop probabilities lay this mug on its side in most seeds; upright never does.
+    assert min(stable_ups) < 0.5
+    assert min(upright_ups) > 0.99
+
+
+def test_unknown_placement_is_a_clear_error() -> None:
+    with pytest.raises(ValueError, match="placement must be one of stable, upright"):
+        SceneConfig(placement="sideways")
+
+
 def test_scene_exports_to_loadable_xml(mug_model, tmp_path) -> None:
     scene = build_scene(mug_model, make_gripper("builtin"), seed=0)
     path = scene.export_xml(tmp_path / "scene.xml")

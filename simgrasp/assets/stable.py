@@ -8,7 +8,7 @@ footprint (x/y bounding box) centered on x = y = 0.
 from __future__ import annotations
 
 import hashlib
-from typing import NamedTuple
+from typing import Literal, NamedTuple
 
 import numpy as np
 import trimesh
@@ -18,6 +18,12 @@ from simgrasp.assets.model import ObjectModel, inertial_properties
 from simgrasp.assets.object import ObjectAsset
 
 MIN_PROBABILITY = 1e-3  # poses less likely than this (knife-edge balances) are dropped
+
+Placement = Literal["stable", "upright"]
+PLACEMENTS: tuple[str, ...] = ("stable", "upright")
+UPRIGHT_COSINE = 0.9
+"""``placement="upright"`` keeps the stable poses whose object +z axis is within
+arccos(0.9) = 26 degrees of world up."""
 
 
 class StablePose(NamedTuple):
@@ -98,11 +104,36 @@ def _compute_stable_poses(
     return sorted(poses, key=lambda pose: -pose.probability)
 
 
-def sample_rest_pose(model: ObjectModel, rng: np.random.Generator) -> NDArray[np.float64]:
+def upright_poses(poses: list[StablePose], object_name: str) -> list[StablePose]:
+    """The poses standing the object on its own base: its +z axis (the mesh frame's up; YCB
+    objects are scanned standing as they are placed) within 26 degrees of world up,
+    probabilities renormalized. ValueError naming the object if none does."""
+    upright = [pose for pose in poses if pose.rest_T_object[2, 2] >= UPRIGHT_COSINE]
+    if not upright:
+        raise ValueError(
+            f"object {object_name!r} has no stable pose with its +z axis up; "
+            "place it with placement='stable'"
+        )
+    total = sum(pose.probability for pose in upright)
+    return [StablePose(pose.rest_T_object, pose.probability / total) for pose in upright]
+
+
+def sample_rest_pose(
+    model: ObjectModel, rng: np.random.Generator, placement: Placement = "stable"
+) -> NDArray[np.float64]:
     """``world_T_object`` (4 x 4): a stable pose drawn by probability, a uniform random yaw
     about world z, the object resting on the plane z = 0 with its footprint centered at
-    x = y = 0."""
+    x = y = 0.
+
+    ``placement="stable"`` draws among all stable poses (where a random drop lands it: a mug
+    often ends on its side); ``"upright"`` only among those standing it on its own base, as a
+    person sets a mug or a pitcher down (:func:`upright_poses`).
+    """
+    if placement not in PLACEMENTS:
+        raise ValueError(f"placement must be one of {', '.join(PLACEMENTS)}, got {placement!r}")
     poses = stable_poses(model)
+    if placement == "upright":
+        poses = upright_poses(poses, model.asset.name)
     index = int(rng.choice(len(poses), p=[pose.probability for pose in poses]))
     yaw = float(rng.uniform(0.0, 2 * np.pi))
     world_T_rest = trimesh.transformations.rotation_matrix(yaw, [0.0, 0.0, 1.0])

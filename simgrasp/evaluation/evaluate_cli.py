@@ -83,6 +83,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--gripper", type=comma_list, default=("builtin",), help="builtin and/or robotiq_2f85"
     )
+    parser.add_argument(
+        "--placement",
+        choices=("stable", "upright"),
+        default="stable",
+        help="object rest poses: any stable pose by drop probability, or only upright ones "
+        "(standing on its own base, as a person sets a mug down)",
+    )
     parser.add_argument("--workers", type=int, default=2, help="parallel worker processes")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--backend", choices=("local", "ray"), default="local")
@@ -111,7 +118,9 @@ def run(args: argparse.Namespace) -> int:
     ycb_dir = args.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
     objects = expand_objects(args.objects)
     check_plan(objects, args.detector, args.gripper, args.noise, ycb_dir)
-    specs = plan_trials(objects, args.detector, args.gripper, args.noise, range(args.seeds))
+    specs = plan_trials(
+        objects, args.detector, args.gripper, args.noise, range(args.seeds), args.placement
+    )
     start = time.perf_counter()
     records = run_sweep(
         specs,
@@ -122,7 +131,8 @@ def run(args: argparse.Namespace) -> int:
         address=args.address,
         progress=not args.no_progress,
     )
-    report = write_report(records, args.out)
+    title = "Grasp sweep" + (", objects placed upright" if args.placement == "upright" else "")
+    report = write_report(records, args.out, title)
     print(report)
     print(
         f"{len(records)} trials in {time.perf_counter() - start:.0f} s; log, summary.csv, "

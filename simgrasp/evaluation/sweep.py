@@ -18,7 +18,13 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from simgrasp.evaluation.trial_log import NOISE_DIGITS, TrialKey, TrialLog, trial_key
+from simgrasp.evaluation.trial_log import (
+    DEFAULT_PLACEMENT,
+    NOISE_DIGITS,
+    TrialKey,
+    TrialLog,
+    trial_key,
+)
 from simgrasp.process_pool import spawn_pool
 
 Backend = Literal["local", "ray"]
@@ -27,13 +33,15 @@ TRIALS_FILE = "trials.jsonl"
 
 @dataclass(frozen=True, order=True)
 class TrialSpec:
-    """One trial of a sweep; ``noise`` is the chain's multiplicative cloud-noise sigma."""
+    """One trial of a sweep; ``noise`` is the chain's multiplicative cloud-noise sigma,
+    ``placement`` the scene's (:class:`simgrasp.scenes.scene.SceneConfig`)."""
 
     object: str
     detector: str
     gripper: str
     noise: float
     seed: int
+    placement: str = DEFAULT_PLACEMENT
 
     @property
     def key(self) -> TrialKey:
@@ -46,10 +54,12 @@ def plan_trials(
     grippers: Sequence[str],
     noises: Sequence[float],
     seeds: Iterable[int],
+    placement: str = DEFAULT_PLACEMENT,
 ) -> list[TrialSpec]:
-    """Every combination, object-major (so workers share decomposed models early)."""
+    """Every combination, object-major (so workers share decomposed models early), each
+    object placed by ``placement``."""
     return [
-        TrialSpec(obj, det, grip, round(float(noise), NOISE_DIGITS), int(seed))
+        TrialSpec(obj, det, grip, round(float(noise), NOISE_DIGITS), int(seed), placement)
         for obj, det, grip, noise, seed in itertools.product(
             objects, detectors, grippers, noises, list(seeds)
         )
@@ -70,10 +80,12 @@ def prepare_object(name: str, ycb_dir: str | None) -> str:
 
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
-    """Run one full-chain trial; the flat chain record with the spec's five key fields."""
+    """Run one full-chain trial; the flat chain record with the spec's key fields."""
     from simgrasp.grasping.chain import ChainConfig, run_chain
 
-    config = ChainConfig(detector=spec.detector, gripper=spec.gripper, noise=spec.noise)
+    config = ChainConfig(
+        detector=spec.detector, gripper=spec.gripper, noise=spec.noise
+    ).with_placement(spec.placement)
     record = run_chain(_object_model(spec.object, ycb_dir), config, spec.seed).to_json()
     record["object_asset"] = record["object"]
     record.update(asdict(spec))

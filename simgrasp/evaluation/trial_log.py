@@ -14,15 +14,17 @@ import os
 from pathlib import Path
 from typing import Any
 
-TrialKey = tuple[str, str, str, float, int]
+TrialKey = tuple[str, str, str, float, int, str]
 KEY_FIELDS = ("object", "detector", "gripper", "noise", "seed")
+DEFAULT_PLACEMENT = "stable"
+"""A record without a ``placement`` field (logs written before it existed) was placed so."""
 
 NOISE_DIGITS = 9
 """Noise levels are compared after rounding to this many decimals."""
 
 
 def trial_key(record: Any) -> TrialKey:
-    """The identity of a trial: (object, detector, gripper, noise, seed)."""
+    """The identity of a trial: (object, detector, gripper, noise, seed, placement)."""
     if not isinstance(record, dict):
         raise ValueError(f"a trial record is a JSON object, not {type(record).__name__}")
     missing = [name for name in KEY_FIELDS if name not in record]
@@ -35,6 +37,7 @@ def trial_key(record: Any) -> TrialKey:
             str(record["gripper"]),
             round(float(record["noise"]), NOISE_DIGITS),
             int(record["seed"]),
+            str(record.get("placement", DEFAULT_PLACEMENT)),
         )
     except (TypeError, ValueError):
         raise ValueError(

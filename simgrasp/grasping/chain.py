@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -64,6 +64,10 @@ class ChainConfig:
             )
         if not 0 <= self.noise < 1:
             raise ValueError(f"noise sigma must be in [0, 1), got {self.noise}")
+
+    def with_placement(self, placement: str) -> ChainConfig:
+        """This config with the scene's object ``placement`` (``"stable"`` or ``"upright"``)."""
+        return replace(self, scene=replace(self.scene, placement=placement))
 
 
 @dataclass(frozen=True)
@@ -254,8 +258,6 @@ def _detection_scores(
 
 def _moved(detection: Detection, a_T_b: NDArray[np.float64]) -> Detection:
     """The detection's candidate and handle centers mapped by ``a_T_b`` (for label checks)."""
-    from dataclasses import replace
-
     rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
     candidates = tuple(
         replace(c, center=rotation @ c.center + translation) for c in detection.candidates

@@ -47,6 +47,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--width", type=float, default=None, help="jaw opening before closing (m; default max)"
     )
     parser.add_argument("--seed", type=int, default=0, help="seed for the object and the scene")
+    parser.add_argument(
+        "--placement",
+        choices=("stable", "upright"),
+        default="stable",
+        help="object rest pose: a stable pose by drop probability, or only upright ones",
+    )
     parser.add_argument("--ycb-dir", default=None, help="YCB root (default $SIMGRASP_YCB_DIR)")
     parser.add_argument("--json", action="store_true", help="print the trial record as JSON")
     parser.add_argument(
@@ -85,11 +91,11 @@ def _manual_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> 
     from simgrasp.grasping.grasp import Grasp, matrix_from_pose7
     from simgrasp.grasping.trial import run_trial
     from simgrasp.scenes.gripper import make_gripper
-    from simgrasp.scenes.scene import build_scene
+    from simgrasp.scenes.scene import SceneConfig, build_scene
 
     gripper = make_gripper(args.gripper)
     object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
-    scene = build_scene(object_model, gripper, seed=args.seed)
+    scene = build_scene(object_model, gripper, SceneConfig(placement=args.placement), args.seed)
     width = gripper.max_opening if args.width is None else args.width
     if not 0 < width <= gripper.max_opening:
         raise ValueError(
@@ -110,7 +116,9 @@ def _chain_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> d
     from simgrasp.assets.registry import load_object
     from simgrasp.grasping.chain import ChainConfig, run_chain
 
-    config = ChainConfig(detector=args.detector, gripper=args.gripper, noise=args.noise)
+    config = ChainConfig(
+        detector=args.detector, gripper=args.gripper, noise=args.noise
+    ).with_placement(args.placement)
     object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
     return run_chain(object_model, config, args.seed, on_phase=recorder).to_json()
 

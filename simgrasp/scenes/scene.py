@@ -1,7 +1,8 @@
 """Grasp scenes: a table, one object resting on it, lights, depth cameras and a floating gripper.
 
 World frame: z up, the table top is the plane ``z = config.table_top_z`` (default 0), centered
-on the world origin; the object rests near the origin at a seeded stable pose and yaw. The
+on the world origin; the object rests near the origin at a seeded stable pose (any, or only
+upright ones: ``SceneConfig.placement``) and yaw. The
 gripper is parked ``config.park_height`` above the table, jaws down, out of the cameras' views.
 """
 
@@ -17,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simgrasp.assets.stable import PLACEMENTS, Placement, sample_rest_pose
 from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
 from simgrasp.scenes.gripper import BoundGripper, Gripper
 from simgrasp.seeding import rng_for
@@ -42,6 +44,9 @@ class SceneConfig:
             (640x480, 58 deg vertical FoV) looking at the object.
         num_views: number of default viewpoints when ``cameras`` is empty.
         random_yaw: rotate the object's rest pose by a seeded random yaw about world z.
+        placement: ``"stable"``, a rest pose drawn among all stable poses by the probability
+            of landing in it from a random drop, or ``"upright"``, only among the poses that
+            stand the object on its own base (+z up), as a person places a mug.
     """
 
     table_top_z: float = 0.0
@@ -51,8 +56,13 @@ class SceneConfig:
     cameras: tuple[CameraSpec, ...] = ()
     num_views: int = 1
     random_yaw: bool = True
+    placement: Placement = "stable"
 
     def __post_init__(self) -> None:
+        if self.placement not in PLACEMENTS:
+            raise ValueError(
+                f"placement must be one of {', '.join(PLACEMENTS)}, got {self.placement!r}"
+            )
         if not all(h > 0 for h in self.table_half_size):
             raise ValueError(f"table_half_size must be positive, got {self.table_half_size}")
         if not self.park_height > 0.3:
@@ -123,8 +133,6 @@ def build_scene(
     The rest pose comes from ``sample_rest_pose`` (seeded by ``seed``), then a seeded yaw about
     world z; the object's footprint is centered on the table origin.
     """
-    from simgrasp.assets.stable import sample_rest_pose
-
     config = config or SceneConfig()
     spec = mujoco.MjSpec()
     spec.modelname = f"scene_{object_model.asset.name}"
@@ -190,10 +198,11 @@ def _rest_pose(
     object_model: ObjectModel,
     config: SceneConfig,
     seed: int,
-    sampler: Callable[[ObjectModel, np.random.Generator], NDArray[np.float64]],
+    sampler: Callable[[ObjectModel, np.random.Generator, Placement], NDArray[np.float64]],
 ) -> NDArray[np.float64]:
     """Seeded stable pose on the table top, turned by a seeded yaw about its own center."""
-    world_T_object = np.asarray(sampler(object_model, rng_for(seed, "scene", "rest_pose")))
+    rng = rng_for(seed, "scene", "rest_pose")
+    world_T_object = np.asarray(sampler(object_model, rng, config.placement))
     world_T_object = world_T_object.copy()
     if config.random_yaw:
         yaw = rng_for(seed, "scene", "yaw").uniform(-np.pi, np.pi)
