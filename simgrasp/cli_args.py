@@ -6,6 +6,8 @@ import argparse
 
 import numpy as np
 
+from simgrasp.assets.placement import PLACEMENTS
+
 
 def float_range(text: str) -> tuple[float, ...]:
     """Parse ``START:STOP:STEP`` (inclusive of STOP) or a comma list, e.g. ``0:0.1:0.02``."""
@@ -30,3 +32,15 @@ def comma_list(text: str) -> tuple[str, ...]:
     if not items:
         raise argparse.ArgumentTypeError(f"expected a comma-separated list, got {text!r}")
     return items
+
+
+def add_placement_argument(parser: argparse.ArgumentParser) -> None:
+    """``--placement stable|upright``: how the scene rests its object on the table."""
+    parser.add_argument(
+        "--placement",
+        choices=PLACEMENTS,
+        default="stable",
+        help="object rest pose: a stable pose by the probability of landing in it from a random "
+        "drop (a mug often lies on its side), or only upright ones (standing on its own base, "
+        "as a person sets a mug down)",
+    )

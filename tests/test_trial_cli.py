@@ -82,3 +82,19 @@ def test_trial_rejects_bad_render_suffix(capsys: pytest.CaptureFixture[str]) -> 
     pose = ["0", "0", "0.02", "0", "1", "0", "0"]
     assert main(["trial", "gen_hammer", "--grasp", *pose, "--render", "x.gif"]) == 2
     assert ".png or .mp4" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("placement", ["stable", "upright"])
+def test_placement_sets_how_the_mug_rests(placement: str, capsys) -> None:
+    """Seed 0's generated mug lies on its side when dropped; upright it stands on its base."""
+    away = ["0.3", "0.3", "0.2", "0", "1", "0", "0"]  # a top-down grasp far from the mug
+    argv = ["trial", "gen_mug", "--seed", "0", "--placement", placement, "--grasp", *away]
+    assert main([*argv, "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["failure"] == "missed"
+    qw, qx, qy, qz = record["object_pose"][3:]
+    object_z_up = 1 - 2 * (qx**2 + qy**2)  # world z component of the object's +z axis
+    if placement == "upright":
+        assert object_z_up > 0.99
+    else:
+        assert abs(object_z_up) < 0.5

@@ -8,7 +8,7 @@ footprint (x/y bounding box) centered on x = y = 0.
 from __future__ import annotations
 
 import hashlib
-from typing import Literal, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 import trimesh
@@ -16,11 +16,10 @@ from numpy.typing import NDArray
 
 from simgrasp.assets.model import ObjectModel, inertial_properties
 from simgrasp.assets.object import ObjectAsset
+from simgrasp.assets.placement import PLACEMENTS, Placement
 
 MIN_PROBABILITY = 1e-3  # poses less likely than this (knife-edge balances) are dropped
 
-Placement = Literal["stable", "upright"]
-PLACEMENTS: tuple[str, ...] = ("stable", "upright")
 UPRIGHT_COSINE = 0.9
 """``placement="upright"`` keeps the stable poses whose object +z axis is within
 arccos(0.9) = 26 degrees of world up."""

@@ -12,7 +12,7 @@ import os
 import time
 from pathlib import Path
 
-from simgrasp.cli_args import comma_list, float_range
+from simgrasp.cli_args import add_placement_argument, comma_list, float_range
 
 OBJECT_SETS = ("generated", "paper", "all")
 
@@ -83,13 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--gripper", type=comma_list, default=("builtin",), help="builtin and/or robotiq_2f85"
     )
-    parser.add_argument(
-        "--placement",
-        choices=("stable", "upright"),
-        default="stable",
-        help="object rest poses: any stable pose by drop probability, or only upright ones "
-        "(standing on its own base, as a person sets a mug down)",
-    )
+    add_placement_argument(parser)
     parser.add_argument("--workers", type=int, default=2, help="parallel worker processes")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--backend", choices=("local", "ray"), default="local")

@@ -18,6 +18,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from simgrasp.assets.placement import Placement
 from simgrasp.evaluation.trial_log import (
     DEFAULT_PLACEMENT,
     NOISE_DIGITS,
@@ -41,7 +42,7 @@ class TrialSpec:
     gripper: str
     noise: float
     seed: int
-    placement: str = DEFAULT_PLACEMENT
+    placement: Placement = DEFAULT_PLACEMENT
 
     @property
     def key(self) -> TrialKey:
@@ -54,7 +55,7 @@ def plan_trials(
     grippers: Sequence[str],
     noises: Sequence[float],
     seeds: Iterable[int],
-    placement: str = DEFAULT_PLACEMENT,
+    placement: Placement = DEFAULT_PLACEMENT,
 ) -> list[TrialSpec]:
     """Every combination, object-major (so workers share decomposed models early), each
     object placed by ``placement``."""

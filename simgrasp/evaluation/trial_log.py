@@ -12,11 +12,11 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import Any
+from typing import Any, Final
 
 TrialKey = tuple[str, str, str, float, int, str]
 KEY_FIELDS = ("object", "detector", "gripper", "noise", "seed")
-DEFAULT_PLACEMENT = "stable"
+DEFAULT_PLACEMENT: Final = "stable"
 """A record without a ``placement`` field (logs written before it existed) was placed so."""
 
 NOISE_DIGITS = 9

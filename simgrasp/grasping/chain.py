@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.assets.model import ObjectModel, build_object_model
+from simgrasp.assets.placement import Placement
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.planner import (
@@ -65,7 +66,7 @@ class ChainConfig:
         if not 0 <= self.noise < 1:
             raise ValueError(f"noise sigma must be in [0, 1), got {self.noise}")
 
-    def with_placement(self, placement: str) -> ChainConfig:
+    def with_placement(self, placement: Placement) -> ChainConfig:
         """This config with the scene's object ``placement`` (``"stable"`` or ``"upright"``)."""
         return replace(self, scene=replace(self.scene, placement=placement))
 

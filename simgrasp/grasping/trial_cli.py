@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from simgrasp.cli_args import add_placement_argument
+
 RENDER_SIZE = (640, 480)
 FRAME_SECONDS = 1.0
 """How long each key frame is shown in an mp4."""
@@ -47,12 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--width", type=float, default=None, help="jaw opening before closing (m; default max)"
     )
     parser.add_argument("--seed", type=int, default=0, help="seed for the object and the scene")
-    parser.add_argument(
-        "--placement",
-        choices=("stable", "upright"),
-        default="stable",
-        help="object rest pose: a stable pose by drop probability, or only upright ones",
-    )
+    add_placement_argument(parser)
     parser.add_argument("--ycb-dir", default=None, help="YCB root (default $SIMGRASP_YCB_DIR)")
     parser.add_argument("--json", action="store_true", help="print the trial record as JSON")
     parser.add_argument(

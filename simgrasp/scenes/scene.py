@@ -18,7 +18,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from simgrasp.assets.stable import PLACEMENTS, Placement, sample_rest_pose
+from simgrasp.assets.placement import PLACEMENTS, Placement
+from simgrasp.assets.stable import sample_rest_pose
 from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
 from simgrasp.scenes.gripper import BoundGripper, Gripper
 from simgrasp.seeding import rng_for
