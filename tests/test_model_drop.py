@@ -7,7 +7,13 @@ import numpy as np
 import pytest
 
 from simgrasp.assets.generated import GENERATED_KINDS
-from simgrasp.assets.model import COLLISION_GROUP, VISUAL_GROUP, ObjectModel, build_object_model
+from simgrasp.assets.model import (
+    COLLISION_GROUP,
+    MIN_RADIUS_OF_GYRATION,
+    VISUAL_GROUP,
+    ObjectModel,
+    build_object_model,
+)
 from simgrasp.assets.registry import load_object
 from simgrasp.assets.stable import StablePose, sample_rest_pose, stable_poses, upright_poses
 from simgrasp.seeding import rng_for
@@ -129,3 +135,14 @@ def test_an_object_that_never_stands_upright_is_a_clear_error() -> None:
     on_its_side[:3, :3] = [[1, 0, 0], [0, 0, -1], [0, 1, 0]]  # object +z along world -y
     with pytest.raises(ValueError, match="'gen_thing' has no stable pose with its \\+z axis up"):
         upright_poses([StablePose(on_its_side, 1.0)], "gen_thing")
+
+
+def test_thin_tools_get_the_inertia_floor_and_thick_ones_keep_theirs(ycb_dir: str) -> None:
+    floor = MIN_RADIUS_OF_GYRATION**2
+    fork = build_object_model(load_object("030_fork", ycb_dir))
+    moments = np.linalg.eigvalsh(fork.inertial.inertia_com) / fork.inertial.mass
+    assert moments.min() == pytest.approx(floor, rel=1e-9)  # raised: about the long axis
+    assert moments.max() > 10 * floor  # end over end it is the fork's own
+    hammer = build_object_model(load_object("048_hammer", ycb_dir))
+    moments = np.linalg.eigvalsh(hammer.inertial.inertia_com) / hammer.inertial.mass
+    assert moments.min() > 2 * floor  # well above the floor: its own, untouched

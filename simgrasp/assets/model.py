@@ -208,7 +208,8 @@ def inertial_properties(asset: ObjectAsset, hulls: tuple[trimesh.Trimesh, ...]) 
     """Uniform-density mass properties scaled to ``asset.mass``.
 
     From the mesh when it is watertight, else from the union of the convex hulls (their
-    overlaps counted twice, a small error for CoACD hulls).
+    overlaps counted twice, a small error for CoACD hulls). Principal moments are raised to
+    at least mass x ``MIN_RADIUS_OF_GYRATION``² (see there).
     """
     solid_mesh = asset.mesh.is_watertight and asset.mesh.volume > 0
     solids = [asset.mesh] if solid_mesh else list(hulls)
@@ -224,7 +225,24 @@ def inertial_properties(asset: ObjectAsset, hulls: tuple[trimesh.Trimesh, ...]) 
         inertia += density * solid.moment_inertia + density * volume * (
             offset @ offset * np.eye(3) - np.outer(offset, offset)
         )
-    return Inertial(float(asset.mass), np.asarray(com, dtype=float), inertia)
+    return Inertial(float(asset.mass), np.asarray(com, dtype=float), _floored(inertia, asset.mass))
+
+
+MIN_RADIUS_OF_GYRATION = 0.01
+"""m. A thin tool's moment about its long axis is tiny (a fork: mass x (6 mm)², 1e-6 kg m²);
+when such a tool squirts out of the pads, MuJoCo's 2 ms steps turn the pads' stored contact
+energy (~0.03 J) into tumbling at over 100 rad/s (~0.7 J), a divergence. No moment below
+mass x (1 cm)² keeps the release physical while changing no grasp outcome measurably."""
+
+
+def _floored(inertia: NDArray[np.float64], mass: float) -> NDArray[np.float64]:
+    """``inertia`` (3 x 3, kg m²) with its principal moments raised to at least
+    ``mass`` x ``MIN_RADIUS_OF_GYRATION``² about the same principal axes."""
+    moments, axes = np.linalg.eigh(inertia)
+    floor = mass * MIN_RADIUS_OF_GYRATION**2
+    if moments.min() >= floor:
+        return inertia
+    return axes @ np.diag(np.maximum(moments, floor)) @ axes.T
 
 
 def default_decomposition(asset: ObjectAsset) -> DecompositionConfig:
