@@ -16,6 +16,10 @@ Phases (world frame, meters, seconds; the gripper follows a mocap target through
    mass along each of ``perturb_directions`` in turn (as GraspDataGen does); unless it is still
    held afterwards, ``dropped_in_perturbation``.
 
+From the close on, an object that has touched no part of the gripper for ``release_time`` has
+been let go: the phase ends there with its failure (its fall onto the table, where a thin hull
+can tunnel deep enough to look like a divergence, is not simulated).
+
 Divergence (non-finite state, MuJoCo's bad-qacc warning, penetration or speed beyond the
 limits) ends the trial as ``sim_unstable`` with ``success = None``: neither success nor failure.
 The simulation is deterministic: the same scene, grasp and config give an identical record.
@@ -87,6 +91,10 @@ class TrialConfig:
     """TCP more than this far from its target after the approach: ``approach_collision``."""
     approach_push_limit: float = 0.03
     """Object moved more than this during the approach: ``approach_collision``."""
+    release_time: float = 0.1
+    """After the close, an object touching no gripper part for this long (s) has been let go
+    and the trial ends with the phase's failure (``slipped_in_lift``,
+    ``dropped_in_perturbation``); in 0.1 s it falls 5 cm, clear of the fingers."""
     max_penetration: float = 0.02
     max_speed: float = 100.0
     """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
@@ -101,6 +109,7 @@ class TrialConfig:
             "lift_height",
             "lift_speed",
             "perturb_time",
+            "release_time",
             "max_penetration",
             "max_speed",
         )
@@ -158,6 +167,10 @@ class _Diverged(Exception):
     """The simulation left its stability limits."""
 
 
+class _Released(Exception):
+    """The object has touched no gripper part for ``TrialConfig.release_time``."""
+
+
 @dataclass
 class _Runner:
     """The control loop of one trial: precomputed ids, mocap interpolation, divergence checks."""
@@ -165,6 +178,9 @@ class _Runner:
     scene: Scene
     config: TrialConfig
     steps: int = 0
+    watch_release: bool = False
+    """Set once the jaws hold the object: from then on :meth:`check` raises ``_Released``."""
+    free_time: float = 0.0
 
     def __post_init__(self) -> None:
         model = self.scene.model
@@ -172,6 +188,8 @@ class _Runner:
         self.nstep = self.config.control_steps
         self.bad_qacc = int(mujoco.mjtWarning.mjWARN_BADQACC)
         self.mocap = self.scene.gripper.mocap_id
+        self.gripper_geoms = np.asarray(self.scene.gripper.geom_ids)
+        self.object_geoms = np.flatnonzero(model.geom_bodyid == self.scene.object_body)
 
     def advance(
         self, duration: float, mocap_from: NDArray | None = None, to: NDArray | None = None
@@ -194,6 +212,23 @@ class _Runner:
             raise _Diverged
         if data.ncon and data.contact.dist.min() < -self.config.max_penetration:
             raise _Diverged
+        if self.watch_release:
+            held = self._object_in_gripper()
+            self.free_time = 0.0 if held else self.free_time + self.config.control_dt
+            if self.free_time >= self.config.release_time - 1e-9:
+                raise _Released
+
+    def _object_in_gripper(self) -> bool:
+        """Whether any object geom touches any gripper geom."""
+        contacts = self.data.contact
+        first, second = contacts.geom1, contacts.geom2
+        gripper, obj = self.gripper_geoms, self.object_geoms
+        return bool(
+            np.any(
+                (np.isin(first, gripper) & np.isin(second, obj))
+                | (np.isin(first, obj) & np.isin(second, gripper))
+            )
+        )
 
 
 def run_trial(
@@ -257,8 +292,7 @@ def _execute(
     """Run the phases; fill ``timings`` and ``record``; return the failure mode or None."""
     data, gripper = scene.data, scene.gripper
     left, right = (np.asarray(g) for g in gripper.finger_geoms)
-    gripper_geoms = np.asarray(gripper.geom_ids)
-    object_geoms = np.flatnonzero(scene.model.geom_bodyid == scene.object_body)
+    gripper_geoms, object_geoms = runner.gripper_geoms, runner.object_geoms
 
     def held() -> tuple[bool, Any]:
         contacts = finger_contacts(data, left, right, object_geoms)
@@ -314,10 +348,16 @@ def _execute(
     object_z_closed = scene.object_pose()[2, 3]
 
     # 5. lift and hold
+    runner.watch_release = True
     lift_start = data.mocap_pos[gripper.mocap_id].copy()
     lift_goal = lift_start + np.array([0.0, 0.0, config.lift_height])
-    runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
-    runner.advance(config.hold_time)
+    try:
+        runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
+        runner.advance(config.hold_time)
+    except _Released:
+        lap("lift_hold")
+        record["lift_height"] = float(scene.object_pose()[2, 3] - object_z_closed)
+        return "slipped_in_lift"
     lap("lift_hold")
     if on_phase:
         on_phase("lifted", scene)
@@ -340,12 +380,17 @@ def _execute(
     weight = scene.model.body_subtreemass[scene.object_body] * np.linalg.norm(
         scene.model.opt.gravity
     )
-    for direction in np.asarray(config.perturb_directions, dtype=float).reshape(-1, 3):
-        force = config.perturb_force_scale * weight * direction / np.linalg.norm(direction)
-        data.xfrc_applied[scene.object_body, :3] = force
-        runner.advance(config.perturb_time)
+    try:
+        for direction in np.asarray(config.perturb_directions, dtype=float).reshape(-1, 3):
+            force = config.perturb_force_scale * weight * direction / np.linalg.norm(direction)
+            data.xfrc_applied[scene.object_body, :3] = force
+            runner.advance(config.perturb_time)
+            data.xfrc_applied[scene.object_body, :3] = 0.0
+            runner.advance(config.perturb_time)
+    except _Released:
         data.xfrc_applied[scene.object_body, :3] = 0.0
-        runner.advance(config.perturb_time)
+        lap("perturb")
+        return "dropped_in_perturbation"
     lap("perturb")
     if on_phase:
         on_phase("perturbed", scene)
