@@ -171,8 +171,8 @@ def test_divergence_is_sim_unstable_not_scored(hammer_scene: Scene) -> None:
 def test_an_object_torn_from_the_jaws_ends_the_trial_as_dropped(
     hammer_scene: Scene, handle_result
 ) -> None:
-    """Tugs far beyond the grip tear the hammer out; the trial stops once it has been free of
-    the gripper for release_time, without simulating its fall onto the table."""
+    """Tugs far beyond the grip tear the hammer out; the trial stops once it has left the jaws
+    (release_gap), without simulating its fall onto the table."""
     config = dataclasses.replace(TrialConfig(), perturb_force_scale=30.0)
     result = run_trial(hammer_scene, handle_grasp(hammer_scene), config)
     assert result.failure == "dropped_in_perturbation"

@@ -16,9 +16,9 @@ Phases (world frame, meters, seconds; the gripper follows a mocap target through
    mass along each of ``perturb_directions`` in turn (as GraspDataGen does); unless it is still
    held afterwards, ``dropped_in_perturbation``.
 
-From the close on, an object that has touched no part of the gripper for ``release_time`` has
-been let go: the phase ends there with its failure (its fall onto the table, where a thin hull
-can tunnel deep enough to look like a divergence, is not simulated).
+From the close on, an object that is ``release_gap`` or more from every part of the gripper
+has been let go: the phase ends there with its failure (its fall onto the table, where a thin
+hull can tunnel deep enough to look like a divergence, is not simulated).
 
 Divergence (non-finite state, MuJoCo's bad-qacc warning, penetration or speed beyond the
 limits) ends the trial as ``sim_unstable`` with ``success = None``: neither success nor failure.
@@ -91,10 +91,11 @@ class TrialConfig:
     """TCP more than this far from its target after the approach: ``approach_collision``."""
     approach_push_limit: float = 0.03
     """Object moved more than this during the approach: ``approach_collision``."""
-    release_time: float = 0.1
-    """After the close, an object touching no gripper part for this long (s) has been let go
-    and the trial ends with the phase's failure (``slipped_in_lift``,
-    ``dropped_in_perturbation``); in 0.1 s it falls 5 cm, clear of the fingers."""
+    release_gap: float = 0.01
+    """After the close, an object at least this far (m) from every gripper geom has been let
+    go, and the trial ends with the phase's failure (``slipped_in_lift``,
+    ``dropped_in_perturbation``). A gap, not a lost contact, decides it: a tool rattling in
+    the jaws under a tug has no contact at some control steps."""
     max_penetration: float = 0.02
     max_speed: float = 100.0
     """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
@@ -109,7 +110,7 @@ class TrialConfig:
             "lift_height",
             "lift_speed",
             "perturb_time",
-            "release_time",
+            "release_gap",
             "max_penetration",
             "max_speed",
         )
@@ -168,7 +169,7 @@ class _Diverged(Exception):
 
 
 class _Released(Exception):
-    """The object has touched no gripper part for ``TrialConfig.release_time``."""
+    """The object has left the jaws (see ``TrialConfig.release_gap``)."""
 
 
 @dataclass
@@ -179,8 +180,8 @@ class _Runner:
     config: TrialConfig
     steps: int = 0
     watch_release: bool = False
-    """Set once the jaws hold the object: from then on :meth:`check` raises ``_Released``."""
-    free_time: float = 0.0
+    """Set once the jaws hold the object: from then on :meth:`check` raises ``_Released`` when
+    the object has left them."""
 
     def __post_init__(self) -> None:
         model = self.scene.model
@@ -190,6 +191,9 @@ class _Runner:
         self.mocap = self.scene.gripper.mocap_id
         self.gripper_geoms = np.asarray(self.scene.gripper.geom_ids)
         self.object_geoms = np.flatnonzero(model.geom_bodyid == self.scene.object_body)
+        colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
+        self.gripper_colliders = [int(g) for g in self.gripper_geoms if colliding[g]]
+        self.object_colliders = [int(g) for g in self.object_geoms if colliding[g]]
 
     def advance(
         self, duration: float, mocap_from: NDArray | None = None, to: NDArray | None = None
@@ -212,11 +216,18 @@ class _Runner:
             raise _Diverged
         if data.ncon and data.contact.dist.min() < -self.config.max_penetration:
             raise _Diverged
-        if self.watch_release:
-            held = self._object_in_gripper()
-            self.free_time = 0.0 if held else self.free_time + self.config.control_dt
-            if self.free_time >= self.config.release_time - 1e-9:
-                raise _Released
+        if self.watch_release and not self._object_in_gripper() and self._object_clear():
+            raise _Released
+
+    def _object_clear(self) -> bool:
+        """Whether every colliding object geom is ``release_gap`` or more from every colliding
+        gripper geom (``mj_geomDistance``; only called when they are not in contact)."""
+        gap = self.config.release_gap
+        return all(
+            mujoco.mj_geomDistance(self.model, self.data, g, o, gap, None) >= gap
+            for g in self.gripper_colliders
+            for o in self.object_colliders
+        )
 
     def _object_in_gripper(self) -> bool:
         """Whether any object geom touches any gripper geom."""
