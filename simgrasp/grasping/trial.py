@@ -168,6 +168,11 @@ class _Diverged(Exception):
     """The simulation left its stability limits."""
 
 
+_GRIPPER, _OBJECT = 2, 3
+"""Codes of :attr:`_Runner.geom_part` (others 0): a contact joins the object and the gripper
+exactly when the product of its two geoms' codes is 6."""
+
+
 class _Released(Exception):
     """The object has left the jaws (see ``TrialConfig.release_gap``)."""
 
@@ -191,6 +196,9 @@ class _Runner:
         self.mocap = self.scene.gripper.mocap_id
         self.gripper_geoms = np.asarray(self.scene.gripper.geom_ids)
         self.object_geoms = np.flatnonzero(model.geom_bodyid == self.scene.object_body)
+        self.geom_part = np.zeros(model.ngeom, dtype=np.int8)
+        self.geom_part[self.gripper_geoms] = _GRIPPER
+        self.geom_part[self.object_geoms] = _OBJECT
         colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
         self.gripper_colliders = [int(g) for g in self.gripper_geoms if colliding[g]]
         self.object_colliders = [int(g) for g in self.object_geoms if colliding[g]]
@@ -230,16 +238,13 @@ class _Runner:
         )
 
     def _object_in_gripper(self) -> bool:
-        """Whether any object geom touches any gripper geom."""
+        """Whether any object geom touches any gripper geom (a lookup by geom id per contact:
+        this runs at every control step)."""
+        if self.data.ncon == 0:
+            return False
         contacts = self.data.contact
-        first, second = contacts.geom1, contacts.geom2
-        gripper, obj = self.gripper_geoms, self.object_geoms
-        return bool(
-            np.any(
-                (np.isin(first, gripper) & np.isin(second, obj))
-                | (np.isin(first, obj) & np.isin(second, gripper))
-            )
-        )
+        first, second = self.geom_part[contacts.geom1], self.geom_part[contacts.geom2]
+        return bool(np.any(first * second == _GRIPPER * _OBJECT))
 
 
 def run_trial(
