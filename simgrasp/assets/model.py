@@ -231,8 +231,9 @@ def inertial_properties(asset: ObjectAsset, hulls: tuple[trimesh.Trimesh, ...]) 
 MIN_RADIUS_OF_GYRATION = 0.01
 """m. A thin tool's moment about its long axis is tiny (a fork: mass x (6 mm)², 1e-6 kg m²);
 when such a tool squirts out of the pads, MuJoCo's 2 ms steps turn the pads' stored contact
-energy (~0.03 J) into tumbling at over 100 rad/s (~0.7 J), a divergence. No moment below
-mass x (1 cm)² keeps the release physical while changing no grasp outcome measurably."""
+energy (~0.03 J) into tumbling at over 100 rad/s (~0.7 J), a divergence. With no moment below
+mass x (1 cm)² the release stays physical. Of the YCB set only the fork, spoon and knife are
+raised; in the paper-object sweep none of the fork's 90 trials diverges any more (18 did)."""
 
 
 def _floored(inertia: NDArray[np.float64], mass: float) -> NDArray[np.float64]:
