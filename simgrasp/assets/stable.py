@@ -86,13 +86,18 @@ mass (trimesh's analysis takes ~0.5 s for a YCB object; every scene of a sweep n
 def _compute_stable_poses(
     support: trimesh.Trimesh, com_object: NDArray[np.float64], min_probability: float
 ) -> list[StablePose]:
-    transforms, probabilities = trimesh.poses.compute_stable_poses(
-        support, center_mass=com_object, sigma=0.0, n_samples=1, threshold=0.0
-    )
-    keep = np.asarray(probabilities) >= min_probability
+    # trimesh's spherical-triangle area takes the square root of a rounding-negative product on
+    # sliver facets (a RuntimeWarning, e.g. for gen_hammer). The probabilities it returns stayed
+    # finite for every object here; a NaN one would count as a pose never landed in.
+    with np.errstate(invalid="ignore"):
+        transforms, probabilities = trimesh.poses.compute_stable_poses(
+            support, center_mass=com_object, sigma=0.0, n_samples=1, threshold=0.0
+        )
+    probabilities = np.nan_to_num(np.asarray(probabilities, dtype=float), nan=0.0)
+    keep = probabilities >= min_probability
     if not np.any(keep):
-        keep = np.asarray(probabilities) == np.max(probabilities)
-    total = float(np.sum(np.asarray(probabilities)[keep]))
+        keep = probabilities == np.max(probabilities)
+    total = float(np.sum(probabilities[keep]))
     poses = [
         StablePose(
             _on_plane_centered(np.asarray(t, dtype=float), support.vertices), float(p) / total
