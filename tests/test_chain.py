@@ -103,6 +103,14 @@ def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_model) -> N
     assert result.success and result.on_handle, result.to_json()["failure"]
 
 
+@pytest.mark.parametrize("gripper", ["builtin", "robotiq_2f85"])
+def test_full_chain_holds_an_upright_mug_by_its_handle(gripper: str) -> None:
+    config = ChainConfig(detector="quadric", gripper=gripper).with_placement("upright")
+    result = run_chain(model_for("gen_mug"), config, seed=0)
+    assert result.detection_accuracy >= 0.9 and result.handle_recall
+    assert result.success and result.on_handle, result.to_json()["failure"]
+
+
 def test_full_chain_is_reproducible(hammer_model) -> None:
     first = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=3).to_json()
     second = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=3).to_json()
