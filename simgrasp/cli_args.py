@@ -6,7 +6,7 @@ import argparse
 
 import numpy as np
 
-from simgrasp.assets.placement import PLACEMENTS
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, PLACEMENTS
 
 
 def float_range(text: str) -> tuple[float, ...]:
@@ -39,7 +39,7 @@ def add_placement_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--placement",
         choices=PLACEMENTS,
-        default="stable",
+        default=DEFAULT_PLACEMENT,
         help="object rest pose: a stable pose by the probability of landing in it from a random "
         "drop (a mug often lies on its side), or only upright ones (standing on its own base, "
         "as a person sets a mug down)",

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from simgrasp.assets.model import ObjectModel, inertial_properties
 from simgrasp.assets.object import ObjectAsset
-from simgrasp.assets.placement import PLACEMENTS, Placement
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
 
 MIN_PROBABILITY = 1e-3  # poses less likely than this (knife-edge balances) are dropped
 
@@ -123,7 +123,7 @@ def upright_poses(poses: list[StablePose], object_name: str) -> list[StablePose]
 
 
 def sample_rest_pose(
-    model: ObjectModel, rng: np.random.Generator, placement: Placement = "stable"
+    model: ObjectModel, rng: np.random.Generator, placement: Placement = DEFAULT_PLACEMENT
 ) -> NDArray[np.float64]:
     """``world_T_object`` (4 x 4): a stable pose drawn by probability, a uniform random yaw
     about world z, the object resting on the plane z = 0 with its footprint centered at
@@ -133,10 +133,8 @@ def sample_rest_pose(
     often ends on its side); ``"upright"`` only among those standing it on its own base, as a
     person sets a mug or a pitcher down (:func:`upright_poses`).
     """
-    if placement not in PLACEMENTS:
-        raise ValueError(f"placement must be one of {', '.join(PLACEMENTS)}, got {placement!r}")
     poses = stable_poses(model)
-    if placement == "upright":
+    if check_placement(placement) == "upright":
         poses = upright_poses(poses, model.asset.name)
     index = int(rng.choice(len(poses), p=[pose.probability for pose in poses]))
     yaw = float(rng.uniform(0.0, 2 * np.pi))

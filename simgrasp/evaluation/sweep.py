@@ -18,14 +18,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from simgrasp.assets.placement import Placement
-from simgrasp.evaluation.trial_log import (
-    DEFAULT_PLACEMENT,
-    NOISE_DIGITS,
-    TrialKey,
-    TrialLog,
-    trial_key,
-)
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
+from simgrasp.evaluation.trial_log import NOISE_DIGITS, TrialKey, TrialLog, trial_key
 from simgrasp.process_pool import spawn_pool
 
 Backend = Literal["local", "ray"]

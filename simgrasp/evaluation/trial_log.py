@@ -12,12 +12,12 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import Any, Final
+from typing import Any
+
+from simgrasp.assets.placement import DEFAULT_PLACEMENT
 
 TrialKey = tuple[str, str, str, float, int, str]
 KEY_FIELDS = ("object", "detector", "gripper", "noise", "seed")
-DEFAULT_PLACEMENT: Final = "stable"
-"""A record without a ``placement`` field (logs written before it existed) was placed so."""
 
 NOISE_DIGITS = 9
 """Noise levels are compared after rounding to this many decimals."""

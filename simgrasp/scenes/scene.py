@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from simgrasp.assets.placement import PLACEMENTS, Placement
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
 from simgrasp.assets.stable import sample_rest_pose
 from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
 from simgrasp.scenes.gripper import BoundGripper, Gripper
@@ -57,13 +57,10 @@ class SceneConfig:
     cameras: tuple[CameraSpec, ...] = ()
     num_views: int = 1
     random_yaw: bool = True
-    placement: Placement = "stable"
+    placement: Placement = DEFAULT_PLACEMENT
 
     def __post_init__(self) -> None:
-        if self.placement not in PLACEMENTS:
-            raise ValueError(
-                f"placement must be one of {', '.join(PLACEMENTS)}, got {self.placement!r}"
-            )
+        check_placement(self.placement)
         if not all(h > 0 for h in self.table_half_size):
             raise ValueError(f"table_half_size must be positive, got {self.table_half_size}")
         if not self.park_height > 0.3:
