@@ -2,7 +2,8 @@
 
 Handle grasps come from each object's shipped handle label (midpoint and axis of its longest
 region); the far grasp is placed 10 cm beyond the object's footprint; the hammer's head is the
-part of the mesh beyond the end of its labeled handle.
+part of the mesh beyond the end of its labeled handle; the mug stands upright and is pinched
+across its strap.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.trial import TrialConfig, run_trial
 from simgrasp.scenes.gripper import make_gripper
-from simgrasp.scenes.scene import Scene, build_scene
+from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
 
 OBJECTS = ("048_hammer", "033_spatula")
 GRIPPERS = ("builtin", "robotiq_2f85")
@@ -116,3 +117,32 @@ def test_ycb_hammer_too_wide_head_is_not_lifted(ycb_hammer_scene: Scene) -> None
     assert result.success is False
     assert result.failure in ("approach_collision", "missed", "slipped_in_lift")
     assert result.lift_height < 0.05
+
+
+def strap_pinch(asset: ObjectAsset) -> np.ndarray:
+    """Object-frame pinch across the YCB mug's handle strap: at mid-height of its label, the
+    strap's outer vertical bar (the label's vertices within 9 mm of its outermost x), the jaws
+    closing across the bar's 14 mm width (y) and approaching toward the mug's axis (-x)."""
+    vertices = asset.mesh.vertices[asset.handle.contains(asset.mesh.vertices)]
+    mid = vertices[np.abs(vertices[:, 2] - np.median(vertices[:, 2])) < 0.004]
+    bar = mid[mid[:, 0] > mid[:, 0].max() - 0.009]
+    center = (bar.min(axis=0) + bar.max(axis=0)) / 2
+    assert 0.010 < np.ptp(bar[:, 1]) < 0.016, "the strap should be about 14 mm wide"
+    object_T_tcp = np.eye(4)
+    object_T_tcp[:3, :3] = np.column_stack([(0.0, 0.0, 1.0), (0.0, 1.0, 0.0), (-1.0, 0.0, 0.0)])
+    object_T_tcp[:3, 3] = center
+    return object_T_tcp
+
+
+@pytest.mark.parametrize("gripper", GRIPPERS)
+def test_upright_mug_is_held_by_its_strap(gripper: str, ycb_dir: str) -> None:
+    """A pinch across the standing mug's thin strap lifts the mug and survives the tugs: the
+    built-in gripper's pads must settle on a part only 14 mm wide rather than bounce on it."""
+    model = build_object_model(load_object("025_mug", ycb_dir))
+    scene = build_scene(model, make_gripper(gripper), SceneConfig(placement="upright"), seed=0)
+    grasp = Grasp.from_object_frame(
+        strap_pinch(model.asset), scene.world_T_object, scene.gripper.gripper.max_opening
+    )
+    result = run_trial(scene, grasp)
+    assert result.success is True, result.failure
+    assert result.on_handle
