@@ -61,6 +61,41 @@ def test_fingertips_that_swing_forward_stay_above_the_table_once_closed() -> Non
     assert heights[1] == pytest.approx(0.023 + config.grasp_table_clearance, abs=2e-4)
 
 
+def test_a_standing_handle_is_approached_from_above_its_side() -> None:
+    """A mug's strap standing 4.2 cm above the table beside its body (a 4.5 cm radius cylinder
+    of points), the strap's axis sloping 5 degrees away from the body as detected. Approaches
+    perpendicular to the axis that miss the body come from outside and rise with the slope,
+    which puts a Robotiq-sized palm into the table at the pre-grasp: only approaches tilted
+    down about the closing direction remain, and they still close across the strap."""
+    handle = _handle([0.0, 0.0, 0.042], [0.09, 0.0, 0.99])
+    angles, heights = np.meshgrid(np.linspace(0, 2 * np.pi, 90), np.linspace(0, 0.09, 30))
+    body = np.column_stack(
+        [-0.065 + 0.045 * np.cos(angles.ravel()), 0.045 * np.sin(angles.ravel()), heights.ravel()]
+    )
+    robotiq_like = GripperGeometry(
+        max_opening=0.085,
+        pad_reach=0.0095,
+        closed_pad_reach=0.023,
+        finger_length=0.06,
+        finger_width=0.025,
+        palm_size=(0.07, 0.14, 0.06),
+    )
+    cameras = np.array([[0.5, 0.0, 0.5]])
+
+    def plan(config: PlannerConfig) -> list:
+        rng = np.random.default_rng(0)
+        return grasps_from_handles([handle], body, cameras, robotiq_like, 0.0, rng, config)
+
+    assert plan(PlannerConfig(approach_pitches=(0.0,))) == []
+    grasps = plan(PlannerConfig())
+    assert grasps
+    for grasp in grasps:
+        assert abs(grasp.world_T_tcp[:3, 1] @ handle.axis) < 1e-9, "jaws close across it"
+        assert grasp.approach_world[0] < -0.5, "from outside, toward the body"
+        assert grasp.approach_world[2] < -0.1, "tilted down"
+        assert table_margin(grasp.world_T_tcp, robotiq_like, 0.0, PlannerConfig()) >= -1e-9
+
+
 def test_the_best_grasp_holds_the_handle_nearest_the_centroid_with_the_pads_on_it() -> None:
     """A handle covered from x = -0.05 to 0.05 with the cloud's centroid far along +x: the best
     grasp moves toward the centroid but stops a finger width inside the covered stretch."""

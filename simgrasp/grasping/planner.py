@@ -47,6 +47,12 @@ class PlannerConfig:
     """Grasp sampling and ranking parameters."""
 
     approaches_per_handle: int = 16
+    approach_pitches: tuple[float, ...] = (0.0, np.pi / 12, np.pi / 6)
+    """Each approach around a handle's axis is also tried tilted down by these angles (rad),
+    turned about the jaws' closing direction toward the axis's lower end, so the pads still
+    close across the handle: a handle standing upright (a mug's) is then also approached from
+    above its side, which keeps the palm off the table (a level approach to a handle 4 cm up
+    puts a Robotiq palm at the table top)."""
     max_handles: int = 3
     table_clearance: float = 0.008
     """The open gripper's boxes stay this far above the table top at the pre-grasp (m)."""
@@ -159,6 +165,18 @@ def above_table(
     return shifted
 
 
+def _pitched(
+    approach: NDArray[np.float64], axis: NDArray[np.float64], pitches: Sequence[float]
+) -> list[NDArray[np.float64]]:
+    """``approach`` (perpendicular to the handle ``axis``) turned about the closing direction
+    by each pitch (rad) so that it descends: toward the axis's lower end. A level axis has no
+    lower end; its approaches are not tilted."""
+    if abs(axis[2]) < 1e-3:
+        return [approach]
+    down_axis = -np.sign(axis[2]) * axis
+    return [np.cos(pitch) * approach + np.sin(pitch) * down_axis for pitch in pitches]
+
+
 def _rank(approach: NDArray, position: NDArray, cameras: NDArray, config: PlannerConfig) -> float:
     view = position - cameras
     view /= np.linalg.norm(view, axis=1, keepdims=True)
@@ -203,7 +221,8 @@ def grasps_from_handles(
     centroid (pads kept a pad width inside the detected stretch). Approaches are sampled
     around the axis: the steepest downward approach first (exactly, so a handle lying flat on
     the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
-    seeded jitter. A grasp's score is the handle's score relative to the best handle's (1 for
+    seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
+    a sloping axis. A grasp's score is the handle's score relative to the best handle's (1 for
     the best) plus bonuses for approaching from the camera's side and from above, less
     penalties for backing off the handle to clear the table and for the lever arm to the
     centroid along the handle.
@@ -221,23 +240,30 @@ def grasps_from_handles(
         for offset, lever in _grasp_offsets(handle, centroid, geometry):
             position = handle.center + offset * handle.axis
             for angle in angles:
-                approach = np.cos(angle) * u + np.sin(angle) * v
-                closing = np.cross(approach, handle.axis)
-                pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
-                if pose is None:
-                    continue
-                if collides(pose, points_world, geometry, config.max_colliding_points):
-                    continue
-                shift = float(np.linalg.norm(pose[:3, 3] - position))
-                score = (
-                    handle.score / best_score
-                    + _rank(approach, position, cameras, config)
-                    - config.shift_weight * shift / config.max_tcp_shift
-                    - config.lever_weight * lever / 0.1
-                )
-                grasps.append(
-                    Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
-                )
+                around = np.cos(angle) * u + np.sin(angle) * v
+                closing = np.cross(around, handle.axis)
+                for approach in _pitched(around, handle.axis, config.approach_pitches):
+                    pose = tcp_pose(position, closing, approach)
+                    pose = above_table(pose, geometry, table_z, config)
+                    if pose is None:
+                        continue
+                    if collides(pose, points_world, geometry, config.max_colliding_points):
+                        continue
+                    shift = float(np.linalg.norm(pose[:3, 3] - position))
+                    score = (
+                        handle.score / best_score
+                        + _rank(approach, position, cameras, config)
+                        - config.shift_weight * shift / config.max_tcp_shift
+                        - config.lever_weight * lever / 0.1
+                    )
+                    grasps.append(
+                        Grasp(
+                            world_T_tcp=pose,
+                            width=geometry.max_opening,
+                            score=score,
+                            source=source,
+                        )
+                    )
     return sorted(grasps, key=lambda g: -g.score)
 
 
