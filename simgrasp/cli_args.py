@@ -34,6 +34,21 @@ def comma_list(text: str) -> tuple[str, ...]:
     return items
 
 
+def add_views_argument(parser: argparse.ArgumentParser) -> None:
+    """``--views N``: how many default cameras the full chain renders and fuses."""
+    from simgrasp.scenes.views import CHAIN_VIEWS, MAX_VIEWS
+
+    parser.add_argument(
+        "--views",
+        type=int,
+        choices=range(1, MAX_VIEWS + 1),
+        default=CHAIN_VIEWS,
+        metavar="N",
+        help=f"depth cameras spread around the table whose object pixels are fused into the "
+        f"cloud, 1..{MAX_VIEWS} (default {CHAIN_VIEWS})",
+    )
+
+
 def add_placement_argument(parser: argparse.ArgumentParser) -> None:
     """``--placement stable|upright``: how the scene rests its object on the table."""
     parser.add_argument(

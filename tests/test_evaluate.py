@@ -28,6 +28,7 @@ from simgrasp.assets.registry import default_objects
 from simgrasp.cli import main
 from simgrasp.evaluation.sweep import plan_trials
 from simgrasp.evaluation.trial_log import trial_key
+from simgrasp.scenes.views import CHAIN_VIEWS
 
 pytestmark = pytest.mark.xdist_group("evaluate")
 
@@ -338,3 +339,13 @@ def test_placement_is_part_of_a_trials_identity(reference: Path) -> None:
     # Logs written before placements existed hold stable-placement trials.
     old = {field: value for field, value in asdict(stable[0]).items() if field != "placement"}
     assert trial_key(old) == stable[0].key
+
+
+def test_camera_views_are_part_of_a_trials_identity(reference: Path) -> None:
+    assert {r["views"] for r in read_log(reference)} == {CHAIN_VIEWS}
+    four = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2))
+    two = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2), views=2)
+    assert not {s.key for s in four} & {s.key for s in two}
+    # Logs written before views were recorded hold two-camera trials.
+    old = {field: value for field, value in asdict(two[0]).items() if field != "views"}
+    assert trial_key(old) == two[0].key

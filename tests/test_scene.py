@@ -74,6 +74,12 @@ def test_unknown_placement_is_a_clear_error() -> None:
         SceneConfig(placement="sideways")
 
 
+@pytest.mark.parametrize("views", [0, 5, 2.0])
+def test_bad_number_of_views_is_a_clear_error(views) -> None:
+    with pytest.raises(ValueError, match="number of camera views must be 1..4"):
+        SceneConfig(num_views=views)
+
+
 def test_scene_exports_to_loadable_xml(mug_model, tmp_path) -> None:
     scene = build_scene(mug_model, make_gripper("builtin"), seed=0)
     path = scene.export_xml(tmp_path / "scene.xml")

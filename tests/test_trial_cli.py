@@ -78,6 +78,12 @@ def test_unknown_object_and_bad_width_are_clear_errors(capsys: pytest.CaptureFix
     assert "--width must be in (0, 0.085]" in capsys.readouterr().err
 
 
+def test_trial_rejects_a_fifth_camera(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["trial", "gen_mug", "--views", "5"])
+    assert "--views: invalid choice: 5" in capsys.readouterr().err
+
+
 def test_trial_rejects_bad_render_suffix(capsys: pytest.CaptureFixture[str]) -> None:
     pose = ["0", "0", "0.02", "0", "1", "0", "0"]
     assert main(["trial", "gen_hammer", "--grasp", *pose, "--render", "x.gif"]) == 2

@@ -40,6 +40,7 @@ from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
 from simgrasp.scenes.gripper import GripperName, make_gripper
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
+from simgrasp.scenes.views import CHAIN_VIEWS, check_views
 from simgrasp.seeding import rng_for
 
 RewardKind = Literal["on_handle", "lift"]
@@ -60,7 +61,8 @@ class HandleGraspConfig:
             default: the generated tools. Models are built on first use.
         gripper: ``"builtin"`` or ``"robotiq_2f85"``.
         noise: multiplicative noise sigma on the cloud, as ``ChainConfig.noise``.
-        num_views: default scene cameras (1..4); replaces ``scene.num_views``. Explicit
+        num_views: default scene cameras (1..4, default the chain's 4); replaces
+            ``scene.num_views``. Explicit
             ``scene.cameras`` take precedence (V = their number; they must share one size).
         max_points: N, the cloud size of the observation (zero-padded; larger clouds are
             subsampled with the episode seed).
@@ -74,7 +76,7 @@ class HandleGraspConfig:
     objects: tuple[str, ...] = field(default_factory=lambda: tuple(default_objects()))
     gripper: GripperName = "builtin"
     noise: float = 0.0
-    num_views: int = 2
+    num_views: int = CHAIN_VIEWS
     max_points: int = 8192
     reward: RewardKind = "on_handle"
     ycb_dir: str | None = None
@@ -90,8 +92,7 @@ class HandleGraspConfig:
             raise ValueError(f"unknown gripper {self.gripper!r}; use 'builtin' or 'robotiq_2f85'")
         if not 0 <= self.noise < 1:
             raise ValueError(f"noise sigma must be in [0, 1), got {self.noise}")
-        if not 1 <= self.num_views <= 4:
-            raise ValueError(f"num_views must be 1..4, got {self.num_views}")
+        check_views(self.num_views)
         if self.max_points < 1:
             raise ValueError(f"max_points must be >= 1, got {self.max_points}")
         if self.reward not in get_args(RewardKind):

@@ -12,7 +12,12 @@ import os
 import time
 from pathlib import Path
 
-from simgrasp.cli_args import add_placement_argument, comma_list, float_range
+from simgrasp.cli_args import (
+    add_placement_argument,
+    add_views_argument,
+    comma_list,
+    float_range,
+)
 
 OBJECT_SETS = ("generated", "paper", "all")
 
@@ -84,6 +89,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--gripper", type=comma_list, default=("builtin",), help="builtin and/or robotiq_2f85"
     )
     add_placement_argument(parser)
+    add_views_argument(parser)
     parser.add_argument("--workers", type=int, default=2, help="parallel worker processes")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--backend", choices=("local", "ray"), default="local")
@@ -113,7 +119,13 @@ def run(args: argparse.Namespace) -> int:
     objects = expand_objects(args.objects)
     check_plan(objects, args.detector, args.gripper, args.noise, ycb_dir)
     specs = plan_trials(
-        objects, args.detector, args.gripper, args.noise, range(args.seeds), args.placement
+        objects,
+        args.detector,
+        args.gripper,
+        args.noise,
+        range(args.seeds),
+        args.placement,
+        args.views,
     )
     start = time.perf_counter()
     records = run_sweep(

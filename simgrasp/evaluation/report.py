@@ -18,6 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
+
 Record = dict[str, Any]
 SUMMARY_FIELDS = (
     "object",
@@ -219,13 +221,15 @@ def report_markdown(records: Sequence[Record], title: str = "Grasp sweep") -> st
     objects = list(dict.fromkeys(r["object"] for r in records))
     noises = sorted({r["noise"] for r in records})
     seeds = sorted({r["seed"] for r in records})
+    views = sorted({int(r.get("views", VIEWS_BEFORE_RECORDED)) for r in records})
     lines = [
         f"# {title}",
         "",
         f"{len(records)} trials: {len(objects)} objects, detectors "
         f"{', '.join(dict.fromkeys(r['detector'] for r in records))}, grippers "
         f"{', '.join(dict.fromkeys(r['gripper'] for r in records))}, noise σ "
-        f"{', '.join(f'{n:g}' for n in noises)}, {len(seeds)} seeds.",
+        f"{', '.join(f'{n:g}' for n in noises)}, {len(seeds)} seeds, "
+        f"{' or '.join(map(str, views))} camera views.",
         "",
         "## Detection accuracy (share of candidates inside the handle label)",
         "",

@@ -21,6 +21,7 @@ from typing import Any, Literal
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.evaluation.trial_log import NOISE_DIGITS, TrialKey, TrialLog, trial_key
 from simgrasp.process_pool import spawn_pool
+from simgrasp.scenes.views import CHAIN_VIEWS
 
 Backend = Literal["local", "ray"]
 TRIALS_FILE = "trials.jsonl"
@@ -29,7 +30,8 @@ TRIALS_FILE = "trials.jsonl"
 @dataclass(frozen=True, order=True)
 class TrialSpec:
     """One trial of a sweep; ``noise`` is the chain's multiplicative cloud-noise sigma,
-    ``placement`` the scene's (:class:`simgrasp.scenes.scene.SceneConfig`)."""
+    ``placement`` the scene's (:class:`simgrasp.scenes.scene.SceneConfig`) and ``views`` its
+    number of cameras."""
 
     object: str
     detector: str
@@ -37,6 +39,7 @@ class TrialSpec:
     noise: float
     seed: int
     placement: Placement = DEFAULT_PLACEMENT
+    views: int = CHAIN_VIEWS
 
     @property
     def key(self) -> TrialKey:
@@ -50,11 +53,12 @@ def plan_trials(
     noises: Sequence[float],
     seeds: Iterable[int],
     placement: Placement = DEFAULT_PLACEMENT,
+    views: int = CHAIN_VIEWS,
 ) -> list[TrialSpec]:
     """Every combination, object-major (so workers share decomposed models early), each
-    object placed by ``placement``."""
+    object placed by ``placement`` and seen by ``views`` cameras."""
     return [
-        TrialSpec(obj, det, grip, round(float(noise), NOISE_DIGITS), int(seed), placement)
+        TrialSpec(obj, det, grip, round(float(noise), NOISE_DIGITS), int(seed), placement, views)
         for obj, det, grip, noise, seed in itertools.product(
             objects, detectors, grippers, noises, list(seeds)
         )
@@ -78,9 +82,11 @@ def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's key fields."""
     from simgrasp.grasping.chain import ChainConfig, run_chain
 
-    config = ChainConfig(
-        detector=spec.detector, gripper=spec.gripper, noise=spec.noise
-    ).with_placement(spec.placement)
+    config = (
+        ChainConfig(detector=spec.detector, gripper=spec.gripper, noise=spec.noise)
+        .with_placement(spec.placement)
+        .with_views(spec.views)
+    )
     record = run_chain(_object_model(spec.object, ycb_dir), config, spec.seed).to_json()
     record["object_asset"] = record["object"]
     record.update(asdict(spec))

@@ -15,8 +15,9 @@ from pathlib import Path
 from typing import Any
 
 from simgrasp.assets.placement import DEFAULT_PLACEMENT
+from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
-TrialKey = tuple[str, str, str, float, int, str]
+TrialKey = tuple[str, str, str, float, int, str, int]
 KEY_FIELDS = ("object", "detector", "gripper", "noise", "seed")
 
 NOISE_DIGITS = 9
@@ -24,7 +25,9 @@ NOISE_DIGITS = 9
 
 
 def trial_key(record: Any) -> TrialKey:
-    """The identity of a trial: (object, detector, gripper, noise, seed, placement)."""
+    """The identity of a trial: (object, detector, gripper, noise, seed, placement, views).
+    Records written before placements or views were recorded read as placed ``"stable"`` and
+    seen by two cameras, as they were."""
     if not isinstance(record, dict):
         raise ValueError(f"a trial record is a JSON object, not {type(record).__name__}")
     missing = [name for name in KEY_FIELDS if name not in record]
@@ -38,6 +41,7 @@ def trial_key(record: Any) -> TrialKey:
             round(float(record["noise"]), NOISE_DIGITS),
             int(record["seed"]),
             str(record.get("placement", DEFAULT_PLACEMENT)),
+            int(record.get("views", VIEWS_BEFORE_RECORDED)),
         )
     except (TypeError, ValueError):
         raise ValueError(

@@ -34,6 +34,7 @@ from simgrasp.scenes.gripper import Gripper, make_gripper
 from simgrasp.scenes.observe import ObjectCloud, object_cloud
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
+from simgrasp.scenes.views import CHAIN_VIEWS
 from simgrasp.seeding import rng_for
 
 ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
@@ -54,7 +55,7 @@ class ChainConfig:
     detector: ChainDetector = "quadric"
     gripper: str = "builtin"
     noise: float = 0.0
-    scene: SceneConfig = field(default_factory=lambda: SceneConfig(num_views=2))
+    scene: SceneConfig = field(default_factory=lambda: SceneConfig(num_views=CHAIN_VIEWS))
     trial: TrialConfig = field(default_factory=TrialConfig)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
 
@@ -69,6 +70,10 @@ class ChainConfig:
     def with_placement(self, placement: Placement) -> ChainConfig:
         """This config with the scene's object ``placement`` (``"stable"`` or ``"upright"``)."""
         return replace(self, scene=replace(self.scene, placement=placement))
+
+    def with_views(self, views: int) -> ChainConfig:
+        """This config with ``views`` default cameras (1..4) fused into the object's cloud."""
+        return replace(self, scene=replace(self.scene, num_views=views))
 
 
 @dataclass(frozen=True)

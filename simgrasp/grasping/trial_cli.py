@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from simgrasp.cli_args import add_placement_argument
+from simgrasp.cli_args import add_placement_argument, add_views_argument
 
 RENDER_SIZE = (640, 480)
 FRAME_SECONDS = 1.0
@@ -50,6 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed for the object and the scene")
     add_placement_argument(parser)
+    add_views_argument(parser)
     parser.add_argument("--ycb-dir", default=None, help="YCB root (default $SIMGRASP_YCB_DIR)")
     parser.add_argument("--json", action="store_true", help="print the trial record as JSON")
     parser.add_argument(
@@ -113,9 +114,11 @@ def _chain_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> d
     from simgrasp.assets.registry import load_object
     from simgrasp.grasping.chain import ChainConfig, run_chain
 
-    config = ChainConfig(
-        detector=args.detector, gripper=args.gripper, noise=args.noise
-    ).with_placement(args.placement)
+    config = (
+        ChainConfig(detector=args.detector, gripper=args.gripper, noise=args.noise)
+        .with_placement(args.placement)
+        .with_views(args.views)
+    )
     object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
     return run_chain(object_model, config, args.seed, on_phase=recorder).to_json()
 

@@ -22,6 +22,7 @@ from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placem
 from simgrasp.assets.stable import sample_rest_pose
 from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
 from simgrasp.scenes.gripper import BoundGripper, Gripper
+from simgrasp.scenes.views import check_views
 from simgrasp.seeding import rng_for
 
 if TYPE_CHECKING:
@@ -43,7 +44,7 @@ class SceneConfig:
         park_height: TCP height of the parked gripper above the table top.
         cameras: explicit cameras; empty means ``num_views`` default tabletop viewpoints
             (640x480, 58 deg vertical FoV) looking at the object.
-        num_views: number of default viewpoints when ``cameras`` is empty.
+        num_views: number of default viewpoints (1..4) when ``cameras`` is empty.
         random_yaw: rotate the object's rest pose by a seeded random yaw about world z.
         placement: ``"stable"``, a rest pose drawn among all stable poses by the probability
             of landing in it from a random drop, or ``"upright"``, only among the poses that
@@ -61,6 +62,7 @@ class SceneConfig:
 
     def __post_init__(self) -> None:
         check_placement(self.placement)
+        check_views(self.num_views)
         if not all(h > 0 for h in self.table_half_size):
             raise ValueError(f"table_half_size must be positive, got {self.table_half_size}")
         if not self.park_height > 0.3:
