@@ -61,17 +61,42 @@ def test_fingertips_that_swing_forward_stay_above_the_table_once_closed() -> Non
     assert heights[1] == pytest.approx(0.023 + config.grasp_table_clearance, abs=2e-4)
 
 
+def _standing_strap_and_mug_body() -> tuple[Handle, np.ndarray]:
+    """A strap standing 4.2 cm above the table at the origin, its axis sloping 5 degrees toward
+    +x, and the points of a mug body beside it: a 4.5 cm radius cylinder whose axis is 6.5 cm
+    away along -x."""
+    handle = _handle([0.0, 0.0, 0.042], [0.09, 0.0, 0.99])
+    angles, heights = np.meshgrid(np.linspace(0, 2 * np.pi, 90), np.linspace(0, 0.09, 30))
+    body = np.column_stack(
+        [-0.065 + 0.045 * np.cos(angles.ravel()), 0.045 * np.sin(angles.ravel()), heights.ravel()]
+    )
+    return handle, body
+
+
+def test_the_best_grasp_is_centered_in_the_gap_around_a_handle() -> None:
+    """With a camera off to one side, the view bonus alone turns the best approach to the
+    strap 24 degrees off the line through the mug's axis, one finger passing close to the body;
+    the clearance bonus brings it back to within a few degrees of that line."""
+    handle, body = _standing_strap_and_mug_body()
+    cameras = np.array([[0.3, 0.4, 0.5]])
+
+    def best_azimuth(config: PlannerConfig) -> float:
+        rng = np.random.default_rng(0)
+        best = grasps_from_handles([handle], body, cameras, GEOMETRY, 0.0, rng, config)[0]
+        approach = best.approach_world
+        return float(np.degrees(np.arctan2(approach[1], -approach[0])))
+
+    assert abs(best_azimuth(PlannerConfig(clearance_weight=0.0))) > 15
+    assert abs(best_azimuth(PlannerConfig())) < 5
+
+
 def test_a_standing_handle_is_approached_from_above_its_side() -> None:
     """A mug's strap standing 4.2 cm above the table beside its body (a 4.5 cm radius cylinder
     of points), the strap's axis sloping 5 degrees away from the body as detected. Approaches
     perpendicular to the axis that miss the body come from outside and rise with the slope,
     which puts a Robotiq-sized palm into the table at the pre-grasp: only approaches tilted
     down about the closing direction remain, and they still close across the strap."""
-    handle = _handle([0.0, 0.0, 0.042], [0.09, 0.0, 0.99])
-    angles, heights = np.meshgrid(np.linspace(0, 2 * np.pi, 90), np.linspace(0, 0.09, 30))
-    body = np.column_stack(
-        [-0.065 + 0.045 * np.cos(angles.ravel()), 0.045 * np.sin(angles.ravel()), heights.ravel()]
-    )
+    handle, body = _standing_strap_and_mug_body()
     robotiq_like = GripperGeometry(
         max_opening=0.085,
         pad_reach=0.0095,

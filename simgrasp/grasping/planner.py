@@ -73,6 +73,11 @@ class PlannerConfig:
     """Rank penalty per ``max_tcp_shift`` of back-off: a grasp backed off the handle holds it
     with the pad edges only, so the least backed-off grasp of a flat handle comes first."""
     lever_weight: float = 0.5
+    clearance_weight: float = 0.5
+    """Rank bonus for the open gripper's clearance, its distance to the nearest cloud point up
+    to ``clearance_cap``, as a fraction of the cap: it centers an approach in the gap around a
+    handle (a mug's strap, between the mug's body on either side of it)."""
+    clearance_cap: float = 0.02
     """Rank penalty per 10 cm between the grasp point and the cloud centroid along the handle
     (a stand-in for the center of mass: the weight's torque about the grasp grows with it)."""
     antipodal_samples: int = 400
@@ -115,16 +120,29 @@ def _gripper_boxes(
     ]
 
 
+def gripper_distances(
+    world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry
+) -> NDArray[np.float64]:
+    """(N,) distance (m) from each cloud point to the nearest box of the open gripper at
+    ``world_T_tcp`` (0 inside one)."""
+    tcp_T_world = np.linalg.inv(world_T_tcp)
+    points_tcp = points_world @ tcp_T_world[:3, :3].T + tcp_T_world[:3, 3]
+    distances = np.full(len(points_tcp), np.inf)
+    for center, half in _gripper_boxes(geometry, geometry.max_opening):
+        outside = np.maximum(np.abs(points_tcp - center) - half, 0.0)
+        np.minimum(distances, np.linalg.norm(outside, axis=1), out=distances)
+    return distances
+
+
 def collides(
     world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry, limit: int
 ) -> bool:
     """Whether more than ``limit`` cloud points fall inside the open gripper's boxes."""
-    tcp_T_world = np.linalg.inv(world_T_tcp)
-    points_tcp = points_world @ tcp_T_world[:3, :3].T + tcp_T_world[:3, 3]
-    hits = 0
-    for center, half in _gripper_boxes(geometry, geometry.max_opening):
-        hits += int(np.all(np.abs(points_tcp - center) <= half, axis=1).sum())
-    return hits > limit
+    return _inside_count(gripper_distances(world_T_tcp, points_world, geometry)) > limit
+
+
+def _inside_count(distances: NDArray[np.float64]) -> int:
+    return int(np.count_nonzero(distances == 0.0))
 
 
 def table_margin(
@@ -223,7 +241,8 @@ def grasps_from_handles(
     the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
     seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
     a sloping axis. A grasp's score is the handle's score relative to the best handle's (1 for
-    the best) plus bonuses for approaching from the camera's side and from above, less
+    the best) plus bonuses for approaching from the camera's side, from above and with the
+    open gripper clear of the cloud, less
     penalties for backing off the handle to clear the table and for the lever arm to the
     centroid along the handle.
     """
@@ -247,12 +266,15 @@ def grasps_from_handles(
                     pose = above_table(pose, geometry, table_z, config)
                     if pose is None:
                         continue
-                    if collides(pose, points_world, geometry, config.max_colliding_points):
+                    distances = gripper_distances(pose, points_world, geometry)
+                    if _inside_count(distances) > config.max_colliding_points:
                         continue
+                    clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
                     shift = float(np.linalg.norm(pose[:3, 3] - position))
                     score = (
                         handle.score / best_score
                         + _rank(approach, position, cameras, config)
+                        + config.clearance_weight * clearance / config.clearance_cap
                         - config.shift_weight * shift / config.max_tcp_shift
                         - config.lever_weight * lever / 0.1
                     )
