@@ -62,8 +62,8 @@ class HandleGraspConfig:
         gripper: ``"builtin"`` or ``"robotiq_2f85"``.
         noise: multiplicative noise sigma on the cloud, as ``ChainConfig.noise``.
         num_views: default scene cameras (1..4, default the chain's 4); replaces
-            ``scene.num_views``. Explicit
-            ``scene.cameras`` take precedence (V = their number; they must share one size).
+            ``scene.num_views``. Explicit ``scene.cameras`` take precedence (V = their
+            number; they must share one size).
         max_points: N, the cloud size of the observation (zero-padded; larger clouds are
             subsampled with the episode seed).
         reward: ``"on_handle"``: 1.0 when the trial succeeds holding the labeled handle;

@@ -53,6 +53,10 @@ class PlannerConfig:
     close across the handle: a handle standing upright (a mug's) is then also approached from
     above its side, which keeps the palm off the table (a level approach to a handle 4 cm up
     puts a Robotiq palm at the table top)."""
+    pitch_min_slope: float = np.pi / 12
+    """Approaches are tilted only around axes sloping at least this much from level (rad):
+    along a flatter axis (a tool lying on the table) a tilt turns the approach sideways more
+    than down."""
     max_handles: int = 3
     table_clearance: float = 0.008
     """The open gripper's boxes stay this far above the table top at the pre-grasp (m)."""
@@ -73,13 +77,14 @@ class PlannerConfig:
     """Rank penalty per ``max_tcp_shift`` of back-off: a grasp backed off the handle holds it
     with the pad edges only, so the least backed-off grasp of a flat handle comes first."""
     lever_weight: float = 0.5
+    """Rank penalty per 10 cm between the grasp point and the cloud centroid along the handle
+    (a stand-in for the center of mass: the weight's torque about the grasp grows with it)."""
     clearance_weight: float = 0.5
     """Rank bonus for the open gripper's clearance, its distance to the nearest cloud point up
     to ``clearance_cap``, as a fraction of the cap: it centers an approach in the gap around a
     handle (a mug's strap, between the mug's body on either side of it)."""
     clearance_cap: float = 0.02
-    """Rank penalty per 10 cm between the grasp point and the cloud centroid along the handle
-    (a stand-in for the center of mass: the weight's torque about the grasp grows with it)."""
+    """Clearances beyond this (m) earn no more bonus."""
     antipodal_samples: int = 400
     antipodal_cos: float = 0.9
 
@@ -184,14 +189,15 @@ def above_table(
 
 
 def _pitched(
-    approach: NDArray[np.float64], axis: NDArray[np.float64], pitches: Sequence[float]
+    approach: NDArray[np.float64], axis: NDArray[np.float64], config: PlannerConfig
 ) -> list[NDArray[np.float64]]:
     """``approach`` (perpendicular to the handle ``axis``) turned about the closing direction
-    by each pitch (rad) so that it descends: toward the axis's lower end. A level axis has no
-    lower end; its approaches are not tilted."""
-    if abs(axis[2]) < 1e-3:
+    by each of ``config.approach_pitches`` (rad) so that it descends: toward the axis's lower
+    end. Not tilted around an axis sloping less than ``config.pitch_min_slope``."""
+    if abs(axis[2]) < np.sin(config.pitch_min_slope):
         return [approach]
     down_axis = -np.sign(axis[2]) * axis
+    pitches = config.approach_pitches
     return [np.cos(pitch) * approach + np.sin(pitch) * down_axis for pitch in pitches]
 
 
@@ -242,9 +248,8 @@ def grasps_from_handles(
     seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
     a sloping axis. A grasp's score is the handle's score relative to the best handle's (1 for
     the best) plus bonuses for approaching from the camera's side, from above and with the
-    open gripper clear of the cloud, less
-    penalties for backing off the handle to clear the table and for the lever arm to the
-    centroid along the handle.
+    open gripper clear of the cloud, less penalties for backing off the handle to clear the
+    table and for the lever arm to the centroid along the handle.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     handles = list(handles)[: config.max_handles]
@@ -261,7 +266,7 @@ def grasps_from_handles(
             for angle in angles:
                 around = np.cos(angle) * u + np.sin(angle) * v
                 closing = np.cross(around, handle.axis)
-                for approach in _pitched(around, handle.axis, config.approach_pitches):
+                for approach in _pitched(around, handle.axis, config):
                     pose = tcp_pose(position, closing, approach)
                     pose = above_table(pose, geometry, table_z, config)
                     if pose is None:

@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from simgrasp.perception.camera import CameraIntrinsics, cv_T_mujoco
-from simgrasp.scenes.views import MAX_VIEWS
+from simgrasp.scenes.views import check_views
 
 _WORLD_UP = np.array([0.0, 0.0, 1.0])
 
@@ -112,8 +112,7 @@ def default_viewpoints(
     target = np.asarray(target_world, dtype=np.float64)
     if target.shape != (3,) or not np.all(np.isfinite(target)):
         raise ValueError(f"target_world must be 3 finite numbers, got {target_world!r}")
-    if not 1 <= n <= MAX_VIEWS:
-        raise ValueError(f"n (number of viewpoints) must be 1..{MAX_VIEWS}, got {n}")
+    check_views(n)
     if not distance > 0:
         raise ValueError(f"distance must be positive, got {distance}")
     if not 0.0 < elevation_deg < 90.0:
