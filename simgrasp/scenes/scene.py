@@ -2,8 +2,8 @@
 
 World frame: z up, the table top is the plane ``z = config.table_top_z`` (default 0), centered
 on the world origin; the object rests near the origin at a seeded stable pose (any, or only
-upright ones: ``SceneConfig.placement``) and yaw. The
-gripper is parked ``config.park_height`` above the table, jaws down, out of the cameras' views.
+upright ones: ``SceneConfig.placement``) and yaw. The gripper is parked ``config.park_height``
+above the table, jaws down, out of the cameras' views.
 """
 
 from __future__ import annotations
