@@ -269,6 +269,30 @@ def test_invalid_coefficients_are_rejected_clearly(coefficients: object, message
         Quadric.from_coefficients(coefficients)
 
 
+def test_batch_matches_one_quadric_per_row_and_rejects_a_bad_row_by_number() -> None:
+    rows = np.stack(
+        [
+            canonical_form(QuadricKind.REAL_ELLIPSOID, 1, 2, 3).coefficients,
+            canonical_form(QuadricKind.REAL_ELLIPTIC_CYLINDER, 1, 2, 3).coefficients,
+        ]
+    )
+    references = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 4.0]])
+    batch = Quadric.batch(rows, rtol=1e-3, reference_points=references)
+    for quadric, row, reference in zip(batch, rows, references, strict=True):
+        single = Quadric(row, rtol=1e-3, reference_point=reference)
+        assert quadric.kind == single.kind and quadric.rtol == single.rtol
+        np.testing.assert_array_equal(quadric.center, single.center)
+        assert not quadric.coefficients.flags.writeable
+    rows[1, 9] = np.nan
+    with pytest.raises(ValueError, match="row 1: .*finite"):
+        Quadric.batch(rows)
+    with pytest.raises(ValueError, match="row 0: .*rtol"):
+        Quadric.batch(rows[:1], rtol=2.0)
+    with pytest.raises(ValueError, match=r"reference_points must have shape \(2, 3\)"):
+        Quadric.batch(rows, reference_points=references[:1])
+    assert Quadric.batch(np.zeros((0, 10))) == ()
+
+
 def test_invalid_arguments_are_rejected_clearly() -> None:
     quadric = Quadric(canonical_form(QuadricKind.REAL_CONE, 1, 2, 3).coefficients)
     with pytest.raises(ValueError, match="rigid"):

@@ -132,18 +132,19 @@ def detect_quadric_handles(
             min_relative_score=config.min_relative_score,
         )
         supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
+        quadrics = Quadric.batch(
+            fit.coefficients[supporting], config.kind_rtol, fit.centroids[supporting]
+        )
         candidates = tuple(
             Candidate(
                 center=hood_centers[i],
-                quadric=Quadric(
-                    fit.coefficients[i], rtol=config.kind_rtol, reference_point=fit.centroids[i]
-                ),
+                quadric=quadric,
                 kind=analysis.kinds[i].value,
                 axis=analysis.handle_axes[i],
                 width=float(2 * analysis.transverse_semi_axes[i, 0]),
                 handle_point=on_axis[i],
             )
-            for i in supporting
+            for i, quadric in zip(supporting, quadrics, strict=True)
         )
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
 

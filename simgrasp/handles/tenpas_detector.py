@@ -120,13 +120,15 @@ def detect_tenpas_handles(
         candidates = tuple(
             Candidate(
                 center=hoods.centers[i],
-                quadric=Quadric(fit.coefficients[i], rtol=config.kind_rtol),
+                quadric=quadric,
                 kind=KIND,
                 axis=shells.axes[i],
                 width=float(2 * shells.radii[i]),
                 handle_point=shells.axis_points[i],
             )
-            for i in index
+            for i, quadric in zip(
+                index, Quadric.batch(fit.coefficients[index], config.kind_rtol), strict=True
+            )
         )
         handles = align_shells(
             shells.axis_points[index], shells.axes[index], shells.radii[index], config

@@ -14,7 +14,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.quadric.analysis import DEFAULT_RTOL, QuadricAnalysis, analyze_quadrics
-from simgrasp.quadric.coefficients import coefficients_to_matrix, matrix_to_coefficients
+from simgrasp.quadric.coefficients import (
+    coefficients_to_matrix,
+    matrix_to_coefficients,
+    validate_coefficient_rows,
+)
 from simgrasp.quadric.kinds import CYLINDER_KINDS, HANDLE_KINDS, QuadricKind
 
 RIGID_TOLERANCE = 1e-6
@@ -74,6 +78,47 @@ class Quadric:
         """Validated quadric from ``[A..J]`` (ValueError on wrong count, non-finite values or an
         all-zero quadratic part)."""
         return cls(np.asarray(coefficients), rtol=rtol, reference_point=reference_point)
+
+    @classmethod
+    def batch(
+        cls,
+        coefficients: ArrayLike,
+        rtol: float = DEFAULT_RTOL,
+        reference_points: ArrayLike | None = None,
+    ) -> tuple[Quadric, ...]:
+        """One quadric per row of (B, 10) ``coefficients``, with the (B, 3)
+        ``reference_points`` if given: the constructor's checks run once on the whole batch
+        (ValueError naming the first bad row), so a detector's hundreds of fits cost no more
+        than one array copy each."""
+        rows = validate_coefficient_rows(coefficients).copy()
+        references = None
+        if reference_points is not None:
+            references = np.array(reference_points, dtype=np.float64)
+            if references.shape != (len(rows), 3):
+                raise ValueError(
+                    f"reference_points must have shape ({len(rows)}, 3), got {references.shape}"
+                )
+            references.setflags(write=False)
+        bad = ~np.isfinite(rows).all(axis=1) | ~rows[:, :6].any(axis=1)
+        if references is not None:
+            bad |= ~np.isfinite(references).all(axis=1)
+        if len(rows):
+            first = int(np.argmax(bad))  # the first bad row, or row 0 (then only rtol is checked)
+            try:
+                cls(rows[first], rtol, None if references is None else references[first])
+            except ValueError as error:
+                raise ValueError(f"row {first}: {error}") from None
+        rows.setflags(write=False)
+        quadrics = []
+        for row in range(len(rows)):
+            quadric = object.__new__(cls)
+            object.__setattr__(quadric, "coefficients", rows[row])
+            object.__setattr__(quadric, "rtol", rtol)
+            object.__setattr__(
+                quadric, "reference_point", None if references is None else references[row]
+            )
+            quadrics.append(quadric)
+        return tuple(quadrics)
 
     @classmethod
     def from_matrix(
