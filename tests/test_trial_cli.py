@@ -14,7 +14,9 @@ from test_trial import handle_grasp
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.cli import main
+from simgrasp.grasping.chain import ChainResult
 from simgrasp.grasping.grasp import pose7_from_matrix
+from simgrasp.grasping.trial_cli import _print_summary, _write_frames
 from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import build_scene
 
@@ -104,3 +106,32 @@ def test_placement_sets_how_the_mug_rests(placement: str, capsys) -> None:
         assert object_z_up > 0.99
     else:
         assert abs(object_z_up) < 0.5
+
+
+def test_a_chain_without_a_grasp_is_reported_not_a_crash(tmp_path, capsys) -> None:
+    """The chain's record when it finds no collision-free grasp (no trial ran): the summary
+    shows the detection instead of trial fields, and --render writes nothing."""
+    result = ChainResult(
+        object="gen_mug",
+        detector="quadric",
+        gripper="builtin",
+        noise=0.0,
+        seed=3,
+        cloud_points=4632,
+        candidates=36,
+        handles=1,
+        detection_accuracy=1.0,
+        handle_recall=True,
+        grasp_candidates=0,
+        trial=None,
+        timings_s={},
+    )
+    record = result.to_json()
+    record["render"] = _write_frames([], tmp_path / "frames.png")
+    assert record["render"] is None and not (tmp_path / "frames.png").exists()
+    _print_summary(record)
+    out = capsys.readouterr().out
+    assert "failed (no_grasp)" in out
+    assert "1 handle(s) from 36 candidates on 4632 cloud points; 0 collision-free" in out
+    assert "none: no grasp was executed" in out
+    assert "lift height" not in out

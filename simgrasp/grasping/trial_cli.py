@@ -73,8 +73,7 @@ def run(args: argparse.Namespace) -> int:
         if recorder is not None:
             recorder.close()
     if args.render is not None:
-        _write_frames(frames, args.render)
-        record["render"] = str(args.render)
+        record["render"] = _write_frames(frames, args.render)
     if args.json:
         print(json.dumps(record))
     else:
@@ -163,13 +162,15 @@ class _FrameRecorder:
             self._renderer.close()
 
 
-def _write_frames(frames: list[np.ndarray], path: Path) -> None:
+def _write_frames(frames: list[np.ndarray], path: Path) -> str | None:
+    """Write the key frames to ``path``; None, and nothing written, when the chain found no
+    grasp to execute (so no key frame was taken)."""
     if not frames:
-        raise ValueError(f"no frames were rendered for {path}")
+        return None
     path.parent.mkdir(parents=True, exist_ok=True)
     if path.suffix.lower() == ".mp4":
         _write_mp4(frames, path)
-        return
+        return str(path)
     from PIL import Image
 
     height, width = frames[0].shape[:2]
@@ -180,6 +181,7 @@ def _write_frames(frames: list[np.ndarray], path: Path) -> None:
         r, c = divmod(k, columns)
         grid[r * height : (r + 1) * height, c * width : (c + 1) * width] = frame
     Image.fromarray(grid).save(path)
+    return str(path)
 
 
 def _write_mp4(frames: list[np.ndarray], path: Path) -> None:
@@ -196,14 +198,26 @@ def _write_mp4(frames: list[np.ndarray], path: Path) -> None:
 
 
 def _print_summary(record: dict[str, Any]) -> None:
+    """A few lines for a person: the chain's detection (full chain only) and, when a grasp
+    was executed, how it went."""
     outcome = {True: "success", False: f"failed ({record['failure']})", None: "sim unstable"}
     lines = [
         f"object       {record['object']}  (gripper {record['gripper']}, seed {record['seed']})",
         f"outcome      {outcome[record['success']]}",
-        f"on handle    {record['on_handle']}  (share of contacts {record['handle_fraction']:.2f})",
-        f"lift height  {record['lift_height']:.3f} m",
-        f"sim time     {record['sim_time']:.2f} s in {record['timings_s']['total']:.2f} s wall",
     ]
+    if "handles" in record:
+        lines.append(
+            f"detection    {record['handles']} handle(s) from {record['candidates']} "
+            f"candidates on {record['cloud_points']} cloud points; "
+            f"{record['grasp_candidates']} collision-free grasp(s)"
+        )
+    if record["failure"] != "no_grasp":
+        handle_share = f"share of contacts {record['handle_fraction']:.2f}"
+        lines += [
+            f"on handle    {record['on_handle']}  ({handle_share})",
+            f"lift height  {record['lift_height']:.3f} m",
+            f"sim time     {record['sim_time']:.2f} s in {record['timings_s']['total']:.2f} s wall",
+        ]
     if "render" in record:
-        lines.append(f"frames       {record['render']}")
+        lines.append(f"frames       {record['render'] or 'none: no grasp was executed'}")
     sys.stdout.write("\n".join(lines) + "\n")
