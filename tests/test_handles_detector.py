@@ -3,6 +3,9 @@ on degenerate input."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -92,3 +95,15 @@ def test_tiny_planar_and_huge_clouds_do_not_crash() -> None:
     huge = hammer_like(density=4e7).points
     assert len(huge) > 500_000
     assert detect(huge, seed=0).handles
+
+
+def test_open3d_is_imported_before_the_first_timed_step() -> None:
+    """A fresh process's first detection must not charge Open3D's one-time import (about a
+    second) to its voxelize step: the detectors import it before their timers start."""
+    script = (
+        "import sys; from simgrasp.handles.step_timer import new_timings\n"
+        "assert 'open3d' not in sys.modules, 'imported with simgrasp already'\n"
+        "assert new_timings() == {} and 'open3d' in sys.modules\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr

@@ -10,10 +10,6 @@ normals step.
 
 from __future__ import annotations
 
-import time
-from collections.abc import Iterator
-from contextlib import contextmanager
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
@@ -23,6 +19,7 @@ from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection
+from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.perception import (
     estimate_normals,
     gather_neighborhoods,
@@ -38,13 +35,6 @@ from simgrasp.quadric import (
     fit_quadrics,
 )
 from simgrasp.seeding import rng_for
-
-
-@contextmanager
-def _timed(timings: dict[str, float], step: str) -> Iterator[None]:
-    start = time.perf_counter()
-    yield
-    timings[step] = timings.get(step, 0.0) + time.perf_counter() - start
 
 
 def detect_quadric_handles(
@@ -70,16 +60,16 @@ def detect_quadric_handles(
     """
     config = config or QuadricDetectorConfig()
     pts, nrm = validate_cloud(points, normals)
-    timings: dict[str, float] = {}
-    with _timed(timings, "voxelize"):
+    timings = new_timings()
+    with timed(timings, "voxelize"):
         if config.voxel_size > 0:
             pts, nrm = voxel_downsample(pts, config.voxel_size, normals=nrm)
-    with _timed(timings, "normals"):
+    with timed(timings, "normals"):
         tree = cKDTree(pts)
         if nrm is None:
             nrm = _estimate_normals(pts, config, viewpoint, tree)
     rng = rng_for(seed, "quadric_detector", "sample")
-    with _timed(timings, "sample"):
+    with timed(timings, "sample"):
         center_index = sample_centers(
             pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
         )
@@ -105,15 +95,15 @@ def detect_quadric_handles(
     sampled_centers = pts[center_index[np.unique(hood_source)]]
     if len(hood_centers) == 0:
         return Detection((), (), sampled_centers, "quadric", timings, pts)
-    with _timed(timings, "fit"):
+    with timed(timings, "fit"):
         fit = fit_quadrics(hood_points, hood_normals, method=config.fit_method, mask=hood_mask)
-    with _timed(timings, "test"):
+    with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hood_centers, tree, nrm, config)
         rows = np.flatnonzero(accepted)
         _, first = np.unique(hood_source[rows], return_index=True)
         accepted = np.zeros_like(accepted)
         accepted[rows[first]] = True  # one candidate per center: its smallest passing scale
-    with _timed(timings, "cluster"):
+    with timed(timings, "cluster"):
         index = np.flatnonzero(accepted)
         centroid = pts.mean(axis=0)
         handles, members = cluster_handles(

@@ -12,9 +12,6 @@ cloud, built (and timed) in the sampling step, serves the neighborhoods and the 
 
 from __future__ import annotations
 
-import time
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,19 +24,13 @@ from simgrasp.handles import criteria
 from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cylinder_fit import fit_circles, minimal_curvature_axes, project_to_surface
 from simgrasp.handles.detection import TIMING_STEPS, Candidate, Detection, Handle
+from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception import gather_neighborhoods, sample_centers, voxel_downsample
 from simgrasp.quadric import Quadric, fit_quadrics
 from simgrasp.seeding import rng_for
 
 KIND = "cylinder_shell"
-
-
-@contextmanager
-def _timed(timings: dict[str, float], step: str) -> Iterator[None]:
-    start = time.perf_counter()
-    yield
-    timings[step] = timings.get(step, 0.0) + time.perf_counter() - start
 
 
 @dataclass(frozen=True)
@@ -85,13 +76,13 @@ def detect_tenpas_handles(
     del viewpoint  # no normals are estimated, so no orientation is needed
     config = config or TenPasConfig()
     pts, nrm = validate_cloud(points, normals)
-    timings: dict[str, float] = {}
-    with _timed(timings, "voxelize"):
+    timings = new_timings()
+    with timed(timings, "voxelize"):
         if config.voxel_size > 0:
             pts, nrm = voxel_downsample(pts, config.voxel_size, normals=nrm)
     timings["normals"] = 0.0
     rng = rng_for(seed, "tenpas", "sample")
-    with _timed(timings, "sample"):
+    with timed(timings, "sample"):
         tree = cKDTree(pts)
         center_index = sample_centers(
             pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
@@ -109,13 +100,13 @@ def detect_tenpas_handles(
         )
     if len(hoods.centers) == 0:
         return Detection((), (), pts[center_index], "tenpas", _complete(timings), pts)
-    with _timed(timings, "fit"):
+    with timed(timings, "fit"):
         fit = fit_quadrics(hoods.points, None, method="taubin", mask=hoods.mask)
-    with _timed(timings, "test"):
+    with timed(timings, "test"):
         shells = _test_shells(
             fit.coefficients, fit.valid, hoods.points, hoods.mask, hoods.centers, tree, config
         )
-    with _timed(timings, "cluster"):
+    with timed(timings, "cluster"):
         index = np.flatnonzero(shells.accepted)
         candidates = tuple(
             Candidate(

@@ -5,6 +5,7 @@ Arrays are float64 in meters; variable names carry their frame (``points_cam``,
 with :func:`simgrasp.seeding.rng_for`.
 """
 
+from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.cloud_io import read_cloud, write_cloud
 from simgrasp.perception.mesh_cloud import sample_surface
 from simgrasp.perception.neighborhoods import Neighborhoods, gather_neighborhoods, sample_centers
@@ -18,6 +19,7 @@ __all__ = [
     "depth_camera_noise",
     "estimate_normals",
     "gather_neighborhoods",
+    "import_open3d",
     "multiplicative_noise",
     "point_spacing",
     "read_cloud",

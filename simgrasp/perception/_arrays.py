@@ -52,10 +52,16 @@ def positive(value: float, name: str) -> float:
     return float(value)
 
 
-def to_open3d(points: NDArray[np.float64], normals: NDArray[np.float64] | None = None):  # noqa: ANN201
-    """Wrap arrays in an ``open3d.geometry.PointCloud`` (Open3D imported lazily: it is heavy)."""
-    import open3d as o3d
+def import_open3d():  # noqa: ANN201
+    """The ``open3d`` module, imported on first use rather than with simgrasp (about 1 s)."""
+    import open3d
 
+    return open3d
+
+
+def to_open3d(points: NDArray[np.float64], normals: NDArray[np.float64] | None = None):  # noqa: ANN201
+    """Wrap arrays in an ``open3d.geometry.PointCloud``."""
+    o3d = import_open3d()
     cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
     if normals is not None:
         cloud.normals = o3d.utility.Vector3dVector(normals)
