@@ -88,6 +88,9 @@ def test_tiny_planar_and_huge_clouds_do_not_crash() -> None:
     rng = np.random.default_rng(0)
     tiny = rng.normal(size=(5, 3)) * 0.01
     assert detect(tiny).handles == ()
+    for count in (1, 2):  # fewer points than a normal needs: empty, like any tiny cloud
+        for detector in ("quadric", "tenpas"):
+            assert detect(tiny[:count], detector=detector).candidates == ()
     plane = np.column_stack([rng.uniform(-0.1, 0.1, (5000, 2)), np.zeros(5000)])
     assert detect(plane).handles == ()
     line = np.outer(np.linspace(0, 0.2, 500), [1.0, 0.0, 0.0])

@@ -64,6 +64,8 @@ def detect_quadric_handles(
     with timed(timings, "voxelize"):
         if config.voxel_size > 0:
             pts, nrm = voxel_downsample(pts, config.voxel_size, normals=nrm)
+    if len(pts) < config.min_points:  # no neighborhood can hold enough points for a fit
+        return Detection((), (), np.zeros((0, 3)), "quadric", timings, pts)
     with timed(timings, "normals"):
         tree = cKDTree(pts)
         if nrm is None:
