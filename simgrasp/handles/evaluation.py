@@ -181,6 +181,13 @@ def _mean_std(values: Sequence[float]) -> str:
     return f"{finite.mean():.2f} ± {finite.std():.2f}"
 
 
+def _finite_mean(values: Sequence[float]) -> float:
+    """Mean of the finite values (a seed without candidates has NaN accuracy); NaN, a gap in a
+    plot, when no seed had one."""
+    finite = [v for v in values if np.isfinite(v)]
+    return float(np.mean(finite)) if finite else float("nan")
+
+
 def accuracy_tables(records: Sequence[EvalRecord]) -> str:
     """Markdown: per detector, Table I (sigma = smallest) and Table II (accuracy vs sigma) as
     mean ± std over seeds, then candidates, handle recall and timings per object."""
@@ -238,9 +245,7 @@ def plot_accuracy_vs_noise(records: Sequence[EvalRecord], path: Path) -> Path:
         for obj in objects:
             rows = [r for r in records if r.detector == detector and r.object == obj]
             sigmas = sorted({r.sigma for r in rows})
-            means = [
-                np.nanmean([r.accuracy for r in rows if r.sigma == s] or [np.nan]) for s in sigmas
-            ]
+            means = [_finite_mean([r.accuracy for r in rows if r.sigma == s]) for s in sigmas]
             ax.plot(sigmas, means, marker="o", label=obj)
         ax.set_title(f"{detector}: detection accuracy vs noise")
         ax.set_xlabel("σ (multiplicative noise)")
