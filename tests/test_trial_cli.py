@@ -14,17 +14,19 @@ from test_trial import handle_grasp
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.cli import main
+from simgrasp.evaluation.sweep import TrialSpec, run_spec
 from simgrasp.grasping.chain import ChainResult
 from simgrasp.grasping.grasp import pose7_from_matrix
 from simgrasp.grasping.trial_cli import _print_summary, _write_frames
 from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import build_scene
+from simgrasp.scenes.views import CHAIN_VIEWS
 
 
 def handle_grasp_object_frame(seed: int) -> list[str]:
     """The top-down handle grasp of test_trial for gen_hammer, expressed in the object frame
     (the CLI builds the same seeded scene, so it maps it back to the same world pose)."""
-    model = build_object_model(load_object("gen_hammer", seed=seed))
+    model = build_object_model(load_object("gen_hammer"))
     scene = build_scene(model, make_gripper("builtin"), seed=seed)
     object_T_tcp = handle_grasp(scene).object_T_tcp(scene.world_T_object)
     return [f"{v:.12f}" for v in pose7_from_matrix(object_T_tcp)]
@@ -135,3 +137,15 @@ def test_a_chain_without_a_grasp_is_reported_not_a_crash(tmp_path, capsys) -> No
     assert "1 handle(s) from 36 candidates on 4632 cloud points; 0 collision-free" in out
     assert "none: no grasp was executed" in out
     assert "lift height" not in out
+
+
+def test_trial_reruns_the_evaluate_record_of_the_same_object_and_seed(capsys) -> None:
+    """A sweep record (object, seed) is rerun by `simgrasp trial OBJECT --seed SEED`: a
+    generated tool keeps its seed-0 sizes in both, only the scene and the chain take the seed."""
+    spec = TrialSpec("gen_mug", "quadric", "builtin", 0.0, 3, "stable", CHAIN_VIEWS)
+    swept = run_spec(spec, None)
+    assert main(["trial", "gen_mug", "--seed", "3", "--json"]) == 0
+    rerun = json.loads(capsys.readouterr().out)
+    assert rerun["object"] == swept["object_asset"] == "gen_mug_s0"
+    for key in ("failure", "success", "on_handle", "candidates", "handles", "object_pose"):
+        assert rerun[key] == swept[key], key

@@ -20,7 +20,11 @@ FRAME_SECONDS = 1.0
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("object", help="YCB id (025_mug or mug) or generated tool (gen_hammer)")
+    parser.add_argument(
+        "object",
+        help="YCB id (025_mug or mug) or generated tool: gen_hammer (= gen_hammer_s0), or "
+        "gen_hammer_s3 for the sizes drawn from seed 3",
+    )
     parser.add_argument("--gripper", choices=("builtin", "robotiq_2f85"), default="builtin")
     parser.add_argument(
         "--grasp",
@@ -48,7 +52,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--width", type=float, default=None, help="jaw opening before closing (m; default max)"
     )
-    parser.add_argument("--seed", type=int, default=0, help="seed for the object and the scene")
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        help="seed of the scene (rest pose and yaw) and of the chain (noise, detection, "
+        "planning), as in an evaluate record: the same object and seed rerun that trial",
+    )
     add_placement_argument(parser)
     add_views_argument(parser)
     parser.add_argument("--ycb-dir", default=None, help="YCB root (default $SIMGRASP_YCB_DIR)")
@@ -91,7 +101,7 @@ def _manual_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> 
     from simgrasp.scenes.scene import SceneConfig, build_scene
 
     gripper = make_gripper(args.gripper)
-    object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
+    object_model = build_object_model(load_object(args.object, args.ycb_dir))
     scene = build_scene(object_model, gripper, SceneConfig(placement=args.placement), args.seed)
     width = gripper.max_opening if args.width is None else args.width
     if not 0 < width <= gripper.max_opening:
@@ -118,7 +128,7 @@ def _chain_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> d
         .with_placement(args.placement)
         .with_views(args.views)
     )
-    object_model = build_object_model(load_object(args.object, args.ycb_dir, seed=args.seed))
+    object_model = build_object_model(load_object(args.object, args.ycb_dir))
     return run_chain(object_model, config, args.seed, on_phase=recorder).to_json()
 
 
