@@ -9,6 +9,7 @@ import pytest
 from simgrasp.assets.generated import GENERATED_KINDS
 from simgrasp.assets.model import (
     COLLISION_GROUP,
+    MAX_TEXTURE_SIDE,
     MIN_RADIUS_OF_GYRATION,
     VISUAL_GROUP,
     ObjectModel,
@@ -146,3 +147,21 @@ def test_thin_tools_get_the_inertia_floor_and_thick_ones_keep_theirs(ycb_dir: st
     hammer = build_object_model(load_object("048_hammer", ycb_dir))
     moments = np.linalg.eigvalsh(hammer.inertial.inertia_com) / hammer.inertial.mass
     assert moments.min() > 2 * floor  # well above the floor: its own, untouched
+
+
+def test_scan_texture_is_downscaled_keeping_its_colors(ycb_dir: str) -> None:
+    """The YCB hammer's 4096 x 4096 texture enters the model at MAX_TEXTURE_SIDE, the same
+    picture at a lower resolution (mean color within 1 %)."""
+    from PIL import Image
+
+    asset = load_object("048_hammer", ycb_dir)
+    with Image.open(asset.texture_file) as image:
+        assert max(image.size) > MAX_TEXTURE_SIDE  # else this test checks nothing
+        original_mean = np.asarray(image.convert("RGB"), dtype=float).mean(axis=(0, 1))
+    spec = mujoco.MjSpec()
+    build_object_model(asset).add_to(spec, np.eye(4))
+    compiled = spec.compile()
+    assert compiled.ntex == 1
+    assert (compiled.tex_width[0], compiled.tex_height[0]) == (MAX_TEXTURE_SIDE,) * 2
+    texels = compiled.tex_data.reshape(-1, 3).astype(float)
+    np.testing.assert_allclose(texels.mean(axis=0), original_mean, rtol=0.01)

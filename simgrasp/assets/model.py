@@ -35,6 +35,10 @@ HULL_COLORS = np.array(
     ]
 )
 GENERATED_RGBA = (0.72, 0.62, 0.50, 1.0)
+MAX_TEXTURE_SIDE = 1024
+"""Object textures are downscaled to at most this many pixels a side. A YCB scan's 4096 x 4096
+map (48 MB of RGB) cost ~0.13 s to upload to a software GL context in every scene, and an
+object covers a few hundred pixels of a 640 x 480 picture."""
 
 
 @dataclass(frozen=True)
@@ -192,10 +196,12 @@ def _add_texture(
 
 @functools.lru_cache(maxsize=8)
 def _texture_rgb(path: str, mtime_ns: int, size: int) -> tuple[int, int, bytes]:
-    """(width, height, RGB bytes) of an image file, decoded once per process and file version
-    (a YCB texture takes ~0.25 s to decode; every scene of a sweep needs it)."""
+    """(width, height, RGB bytes) of an image file, at most ``MAX_TEXTURE_SIDE`` pixels a
+    side, decoded once per process and file version (a YCB texture takes ~0.25 s to decode;
+    every scene of a sweep needs it)."""
     with Image.open(path) as image:
         rgb = image.convert("RGB")
+    rgb.thumbnail((MAX_TEXTURE_SIDE, MAX_TEXTURE_SIDE), Image.Resampling.LANCZOS)
     return rgb.width, rgb.height, rgb.tobytes()
 
 
