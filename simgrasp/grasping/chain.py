@@ -31,6 +31,7 @@ from simgrasp.handles.accuracy import detection_accuracy, handle_recall
 from simgrasp.handles.detection import Detection
 from simgrasp.perception import estimate_normals, multiplicative_noise
 from simgrasp.scenes.gripper import Gripper, make_gripper
+from simgrasp.scenes.kept_renderer import kept_renderer
 from simgrasp.scenes.observe import ObjectCloud, object_cloud
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
@@ -167,9 +168,9 @@ def cloud_from_views(
 
 
 def observe(scene: Scene, noise: float, seed: int) -> ObjectCloud:
-    """Render every scene camera and fuse the object's pixels into a world-frame cloud."""
-    with SceneRenderer(scene.model) as renderer:
-        frames = render_views(scene, renderer)
+    """Render every scene camera and fuse the object's pixels into a world-frame cloud (with
+    the process's renderer for scenes built alike: :mod:`simgrasp.scenes.kept_renderer`)."""
+    frames = render_views(scene, kept_renderer(scene))
     return cloud_from_views(scene, frames, noise, seed)
 
 

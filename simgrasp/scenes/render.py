@@ -192,6 +192,11 @@ class SceneRenderer:
         self._closed = True
 
     @property
+    def closed(self) -> bool:
+        """True once :meth:`close` freed the GL resources."""
+        return self._closed
+
+    @property
     def clip_range(self) -> tuple[float, float]:
         """(near, far) clipping distances in meters, as the GL renderer uses them."""
         extent = self.model.stat.extent
