@@ -6,7 +6,9 @@ and textures, first draws): more than rendering four views with it. Scenes that
 gripper and the same ``SceneConfig`` differ only in state that reaches the renderer through
 ``data``: the object's rest pose and the cameras placed around it. The renderer of the first
 such scene draws the others exactly as a fresh one would (tested). A scene built otherwise
-replaces it, so at most one renderer (one GL context) is kept; it is closed at exit.
+replaces it, so at most one renderer (one GL context) is kept; it is closed at exit. A GL
+context hangs a ``fork``-ed child: call :func:`close_kept_renderer` before forking (or use
+the ``spawn`` start method, as simgrasp's own workers do).
 """
 
 from __future__ import annotations
