@@ -144,6 +144,23 @@ def test_seeded_resets_are_deterministic(small_env: HandleGraspEnv) -> None:
     assert next_info["episode_seed"] != first_info["episode_seed"]
 
 
+def test_an_episode_after_another_of_its_object_looks_as_in_a_fresh_env(
+    small_env: HandleGraspEnv,
+) -> None:
+    """The env keeps its renderer across episodes of one object: the second episode's images
+    and cloud (the hammer elsewhere on the table) equal those of a fresh env."""
+    first, _ = small_env.reset(options={"object": "gen_hammer", "episode_seed": 0})
+    after, _ = small_env.reset(options={"object": "gen_hammer", "episode_seed": 1})
+    fresh_env = HandleGraspEnv(**SMALL)
+    try:
+        fresh, _ = fresh_env.reset(options={"object": "gen_hammer", "episode_seed": 1})
+    finally:
+        fresh_env.close()
+    assert not np.array_equal(first["depth"], after["depth"])
+    for key in fresh:
+        np.testing.assert_array_equal(after[key], fresh[key], err_msg=key)
+
+
 def test_one_grasp_per_episode(small_env: HandleGraspEnv) -> None:
     with pytest.raises(RuntimeError, match="before reset"):
         small_env.step(AIR_GRASP)

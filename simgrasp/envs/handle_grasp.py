@@ -38,6 +38,7 @@ from simgrasp.envs.observation import (
 from simgrasp.grasping.chain import cloud_from_views, model_for, render_views
 from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
 from simgrasp.scenes.gripper import GripperName, make_gripper
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS, check_views
@@ -168,7 +169,8 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         self.action_space = action_space(self._gripper.max_opening, self.config.scene_config)
         self._models: dict[str, ObjectModel] = {}
         self._episode: _Episode | None = None
-        self._renderer: SceneRenderer | None = None
+        self._renderers = RendererKeeper()
+        self._renderer: SceneRenderer | None = None  # the episode's, owned by _renderers
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -181,7 +183,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         scene = build_scene(
             self._object_model(object_name), self._gripper, self.config.scene_config, episode_seed
         )
-        self._renderer = SceneRenderer(scene.model)
+        self._renderer = self._renderers.renderer_for(scene)
         frames = render_views(scene, self._renderer)
         cloud = cloud_from_views(scene, frames, self.config.noise, episode_seed)
         observation = make_observation(
@@ -233,6 +235,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
     def close(self) -> None:
         """Free the GL renderer (idempotent)."""
         self._end_episode()
+        self._renderers.close()
         super().close()
 
     def _draw_episode(self, options: dict[str, Any]) -> tuple[str, int]:
@@ -253,9 +256,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         return self._models[name]
 
     def _end_episode(self) -> None:
-        """Forget the episode and close its renderer (one GL renderer per scene)."""
-        if self._renderer is not None:
-            self._renderer.close()
+        """Forget the episode (its renderer stays kept for the next scene built alike)."""
         self._renderer = None
         self._episode = None
 

@@ -1,4 +1,4 @@
-"""One depth renderer kept per process across scenes built alike (the trials of a sweep).
+"""A depth renderer kept across scenes built alike (the trials of a sweep, an env's episodes).
 
 A new :class:`SceneRenderer` costs about 0.25 s on software GL (GL context, upload of meshes
 and textures, first draws): more than rendering four views with it. Scenes that
@@ -6,9 +6,11 @@ and textures, first draws): more than rendering four views with it. Scenes that
 gripper and the same ``SceneConfig`` differ only in state that reaches the renderer through
 ``data``: the object's rest pose and the cameras placed around it. The renderer of the first
 such scene draws the others exactly as a fresh one would (tested). A scene built otherwise
-replaces it, so at most one renderer (one GL context) is kept; it is closed at exit. A GL
-context hangs a ``fork``-ed child: call :func:`close_kept_renderer` before forking (or use
-the ``spawn`` start method, as simgrasp's own workers do).
+replaces it, so a :class:`RendererKeeper` holds at most one renderer (one GL context).
+
+The chain uses one keeper per process (:func:`kept_renderer`, closed at exit). A GL context
+hangs a ``fork``-ed child: call :func:`close_kept_renderer` before forking (or use the
+``spawn`` start method, as simgrasp's own workers do).
 """
 
 from __future__ import annotations
@@ -43,36 +45,52 @@ class _Kept:
         )
 
 
-_kept: _Kept | None = None
-
-
 def _layout(model: mujoco.MjModel) -> tuple[float, ...]:
     """Sizes and the depth range a renderer is made for: a guard that the scenes match."""
     counts = (model.nbody, model.ngeom, model.nmesh, model.ntex, model.nmat, model.ncam)
     return (*counts, model.nlight, float(model.stat.extent))
 
 
+class RendererKeeper:
+    """Holds one :class:`SceneRenderer` for consecutive scenes built alike."""
+
+    def __init__(self) -> None:
+        self._kept: _Kept | None = None
+
+    def renderer_for(self, scene: Scene) -> SceneRenderer:
+        """The kept renderer if it serves scenes built like ``scene``, else a new one (the old
+        one closed). Do not close it yourself: :meth:`close` does."""
+        if self._kept is not None and self._kept.serves(scene):
+            return self._kept.renderer
+        self.close()
+        renderer = SceneRenderer(scene.model)
+        self._kept = _Kept(
+            scene.object_model,
+            scene.gripper.gripper.name,
+            scene.config,
+            _layout(scene.model),
+            renderer,
+        )
+        return renderer
+
+    def close(self) -> None:
+        """Free the kept renderer's GL resources, if any (idempotent)."""
+        if self._kept is not None:
+            self._kept.renderer.close()
+            self._kept = None
+
+
+_PROCESS_KEEPER = RendererKeeper()
+
+
 def kept_renderer(scene: Scene) -> SceneRenderer:
-    """The process's renderer for scenes built like ``scene`` (made on first use; a scene built
-    from another object model, gripper or config replaces it). Do not close it: it is closed
-    when replaced, by :func:`close_kept_renderer`, or at exit."""
-    global _kept
-    if _kept is not None and _kept.serves(scene):
-        return _kept.renderer
-    close_kept_renderer()
-    renderer = SceneRenderer(scene.model)
-    _kept = _Kept(
-        scene.object_model, scene.gripper.gripper.name, scene.config, _layout(scene.model), renderer
-    )
-    return renderer
+    """This process's renderer for scenes built like ``scene`` (see the module docstring)."""
+    return _PROCESS_KEEPER.renderer_for(scene)
 
 
 def close_kept_renderer() -> None:
-    """Free the kept renderer's GL resources, if any (idempotent)."""
-    global _kept
-    if _kept is not None:
-        _kept.renderer.close()
-        _kept = None
+    """Free this process's kept renderer, if any (idempotent)."""
+    _PROCESS_KEEPER.close()
 
 
 atexit.register(close_kept_renderer)
