@@ -7,6 +7,7 @@ import argparse
 import numpy as np
 
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, PLACEMENTS
+from simgrasp.scenes.views import CHAIN_VIEWS, MAX_VIEWS
 
 
 def float_range(text: str) -> tuple[float, ...]:
@@ -36,8 +37,6 @@ def comma_list(text: str) -> tuple[str, ...]:
 
 def add_views_argument(parser: argparse.ArgumentParser) -> None:
     """``--views N``: how many default cameras the full chain renders and fuses."""
-    from simgrasp.scenes.views import CHAIN_VIEWS, MAX_VIEWS
-
     parser.add_argument(
         "--views",
         type=int,

@@ -39,7 +39,6 @@ from simgrasp.grasping.chain import cloud_from_views, model_for, render_views
 from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
 from simgrasp.scenes.gripper import GripperName, make_gripper
 from simgrasp.scenes.kept_renderer import RendererKeeper
-from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS, check_views
 from simgrasp.seeding import rng_for
@@ -170,7 +169,6 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         self._models: dict[str, ObjectModel] = {}
         self._episode: _Episode | None = None
         self._renderers = RendererKeeper()
-        self._renderer: SceneRenderer | None = None  # the episode's, owned by _renderers
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -183,8 +181,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         scene = build_scene(
             self._object_model(object_name), self._gripper, self.config.scene_config, episode_seed
         )
-        self._renderer = self._renderers.renderer_for(scene)
-        frames = render_views(scene, self._renderer)
+        frames = render_views(scene, self._renderers.renderer_for(scene))
         cloud = cloud_from_views(scene, frames, self.config.noise, episode_seed)
         observation = make_observation(
             frames,
@@ -226,11 +223,12 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         mass, (480, 640, 3) uint8; None without ``render_mode``."""
         if self.render_mode is None:
             return None
-        if self._episode is None or self._renderer is None:
+        if self._episode is None:
             raise RuntimeError("HandleGraspEnv.render() called before reset()")
         scene = self._episode.scene
         width, height = RENDER_SIZE
-        return self._renderer.rgb(scene.data, _object_camera(scene), width, height)
+        renderer = self._renderers.renderer_for(scene)  # the one that rendered its views
+        return renderer.rgb(scene.data, _object_camera(scene), width, height)
 
     def close(self) -> None:
         """Free the GL renderer (idempotent)."""
@@ -257,7 +255,6 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
 
     def _end_episode(self) -> None:
         """Forget the episode (its renderer stays kept for the next scene built alike)."""
-        self._renderer = None
         self._episode = None
 
 

@@ -76,12 +76,8 @@ def run(args: argparse.Namespace) -> int:
         _check_render_target(args.render)
     frames: list[np.ndarray] = []
     recorder = _FrameRecorder(frames) if args.render is not None else None
-    try:
-        trial = _manual_trial if args.grasp is not None else _chain_trial
-        record = trial(args, recorder)
-    finally:
-        if recorder is not None:
-            recorder.close()
+    trial = _manual_trial if args.grasp is not None else _chain_trial
+    record = trial(args, recorder)
     if args.render is not None:
         record["render"] = _write_frames(frames, args.render)
     if args.json:
@@ -144,32 +140,27 @@ def _check_render_target(path: Path) -> None:
 
 
 class _FrameRecorder:
-    """Phase callback that renders one RGB picture per key moment of a trial; the renderer is
-    made on the first call (when the scene exists) and released by :meth:`close`."""
+    """Phase callback that renders one RGB picture per key moment of a trial, with the
+    process's kept renderer (:mod:`simgrasp.scenes.kept_renderer`; the full chain has already
+    rendered its depth views with it)."""
 
     def __init__(self, frames: list[np.ndarray]) -> None:
         self.frames = frames
-        self._renderer: Any = None
         self._camera: Any = None
 
     def __call__(self, _phase: str, scene: Any) -> None:
-        if self._renderer is None:
+        from simgrasp.scenes.kept_renderer import kept_renderer
+
+        if self._camera is None:
             import mujoco
 
-            from simgrasp.scenes.render import SceneRenderer
-
-            self._renderer = SceneRenderer(scene.model)
             self._camera = mujoco.MjvCamera()
             self._camera.type = mujoco.mjtCamera.mjCAMERA_FREE
             self._camera.distance = 0.9
             self._camera.azimuth = 135.0
             self._camera.elevation = -25.0
             self._camera.lookat[:] = scene.world_T_object[:3, 3] + np.array([0.0, 0.0, 0.12])
-        self.frames.append(self._renderer.rgb(scene.data, self._camera, *RENDER_SIZE))
-
-    def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
+        self.frames.append(kept_renderer(scene).rgb(scene.data, self._camera, *RENDER_SIZE))
 
 
 def _write_frames(frames: list[np.ndarray], path: Path) -> str | None:

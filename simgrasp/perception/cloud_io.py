@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from simgrasp.perception._arrays import to_open3d
+from simgrasp.perception._arrays import import_open3d, to_open3d
 
 FORMATS = (".ply", ".pcd", ".xyz", ".npy")
 
@@ -57,8 +57,7 @@ def write_cloud(path: str | Path, points: ArrayLike, normals: ArrayLike | None =
     suffix = _format(path)
     pts, nrm = _checked(path, np.asarray(points, dtype=np.float64), normals)
     if suffix in (".ply", ".pcd"):
-        import open3d as o3d
-
+        o3d = import_open3d()
         if not o3d.io.write_point_cloud(str(path), to_open3d(pts, nrm)):
             raise ValueError(f"{path}: Open3D could not write the point cloud")
         return
@@ -70,8 +69,7 @@ def write_cloud(path: str | Path, points: ArrayLike, normals: ArrayLike | None =
 
 
 def _read_open3d(path: Path) -> Cloud:
-    import open3d as o3d
-
+    o3d = import_open3d()
     cloud = o3d.io.read_point_cloud(str(path), format="auto")
     points = np.asarray(cloud.points, dtype=np.float64)
     if len(points) == 0:

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.perception._arrays import as_points, kd_tree, positive, to_open3d
+from simgrasp.perception._arrays import as_points, import_open3d, kd_tree, positive, to_open3d
 
 Orientation = Literal["outward", "viewpoint", "none"]
 
@@ -104,8 +104,7 @@ def estimate_normals(
         radius = RADIUS_PER_SPACING * spacing
     radius = positive(radius, "radius")
 
-    import open3d as o3d
-
+    o3d = import_open3d()
     cloud = to_open3d(pts)
     cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=radius, max_nn=max_nn))
     normals = np.asarray(cloud.normals, dtype=np.float64)
