@@ -14,9 +14,11 @@ import time
 
 import numpy as np
 
-from simgrasp.grasping.chain import ChainConfig, model_for, render_views
+from simgrasp.assets.model import model_for
+from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
+from simgrasp.scenes.observe import render_views
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import build_scene
 

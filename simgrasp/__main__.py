@@ -1,3 +1,5 @@
+"""``python -m simgrasp``: the command line."""
+
 import sys
 
 from simgrasp.cli import main

@@ -12,6 +12,8 @@ import os
 import subprocess
 import sys
 
+from simgrasp.errors import SimgraspError
+
 BACKENDS: tuple[str, ...] = ("egl", "osmesa", "raycast")
 GL_BACKENDS: tuple[str, ...] = ("egl", "osmesa")
 FORCE_ENV = "SIMGRASP_RENDER_BACKEND"
@@ -38,7 +40,9 @@ def forced_backend() -> str | None:
     if not forced:
         return None
     if forced not in BACKENDS:
-        raise ValueError(f"{FORCE_ENV}={forced!r} is not a render backend; use one of {BACKENDS}")
+        raise SimgraspError(
+            f"{FORCE_ENV}={forced!r} is not a render backend; use one of {BACKENDS}"
+        )
     return forced
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 from functools import cache
 from pathlib import Path
 
+from simgrasp.errors import DataNotFoundError
+
 
 @cache
 def models_dir() -> Path:
@@ -17,7 +19,7 @@ def models_dir() -> Path:
     for candidate in (package / "_models", package.parent / "models"):
         if candidate.is_dir():
             return candidate
-    raise FileNotFoundError(
+    raise DataNotFoundError(
         f"simgrasp's model data is missing: neither {package / '_models'} nor "
         f"{package.parent / 'models'} exists; reinstall the package"
     )
@@ -27,5 +29,5 @@ def model_path(*parts: str) -> Path:
     """Return the path of a shipped model file, failing clearly if it does not exist."""
     path = models_dir().joinpath(*parts)
     if not path.exists():
-        raise FileNotFoundError(f"shipped model file {path} does not exist")
+        raise DataNotFoundError(f"shipped model file {path} does not exist")
     return path

@@ -6,6 +6,8 @@ import zlib
 
 import numpy as np
 
+from simgrasp.errors import SimgraspError
+
 
 def rng_for(seed: int, *keys: str | int) -> np.random.Generator:
     """Return a generator determined by ``seed`` and a path of keys.
@@ -14,6 +16,6 @@ def rng_for(seed: int, *keys: str | int) -> np.random.Generator:
     one stage never shifts the draws of another stage.
     """
     if not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+        raise SimgraspError(f"seed must be a non-negative integer, got {seed!r}")
     words = [int(seed)] + [k if isinstance(k, int) else zlib.crc32(str(k).encode()) for k in keys]
     return np.random.default_rng(np.random.SeedSequence(words))

@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simgrasp.grasping.chain import ChainConfig, model_for, run_chain
+from simgrasp.assets.model import model_for
+from simgrasp.grasping.chain import run_chain
+from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.grasping.planner import (
     GripperGeometry,
     PlannerConfig,
@@ -156,7 +158,7 @@ def hammer_model():
 
 
 def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_model) -> None:
-    result = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=0)
+    result = run_chain(hammer_model, ChainConfig(), seed=0)
     assert result.cloud_points > 500
     assert result.candidates > 0 and result.detection_accuracy >= 0.8
     assert result.handle_recall
@@ -165,15 +167,15 @@ def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_model) -> N
 
 @pytest.mark.parametrize("gripper", ["builtin", "robotiq_2f85"])
 def test_full_chain_holds_an_upright_mug_by_its_handle(gripper: str) -> None:
-    config = ChainConfig(detector="quadric", gripper=gripper).with_placement("upright")
+    config = ChainConfig.of(gripper=gripper, scene__placement="upright")
     result = run_chain(model_for("gen_mug"), config, seed=0)
     assert result.detection_accuracy >= 0.9 and result.handle_recall
     assert result.success and result.on_handle, result.to_json()["failure"]
 
 
 def test_full_chain_is_reproducible(hammer_model) -> None:
-    first = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=3).to_json()
-    second = run_chain(hammer_model, ChainConfig(detector="quadric"), seed=3).to_json()
+    first = run_chain(hammer_model, ChainConfig(), seed=3).to_json()
+    second = run_chain(hammer_model, ChainConfig(), seed=3).to_json()
     for record in (first, second):
         record.pop("timings_s")
     assert first == second
@@ -181,7 +183,7 @@ def test_full_chain_is_reproducible(hammer_model) -> None:
 
 @pytest.mark.parametrize("detector", ["centroid", "random", "tenpas"])
 def test_baselines_run_through_the_same_chain(hammer_model, detector: str) -> None:
-    record = run_chain(hammer_model, ChainConfig(detector=detector), seed=1).to_json()
+    record = run_chain(hammer_model, ChainConfig.of(detector__kind=detector), seed=1).to_json()
     assert record["detector"] == detector
     assert record["success"] in (True, False)
     assert record["failure"] in (

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from simgrasp.cli import main
-from simgrasp.handles.evaluation import evaluate_object, plot_accuracy_vs_noise
+from simgrasp.evaluation.detection_eval import evaluate_object, plot_accuracy_vs_noise
 
 
 @pytest.mark.usefixtures("ycb_dir")

@@ -13,19 +13,19 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import simgrasp  # noqa: F401  (registers the env)
+from simgrasp.assets.model import model_for
 from simgrasp.envs.handle_grasp import HandleGraspConfig, HandleGraspEnv, trial_reward
 from simgrasp.envs.policy import FALLBACK_SOURCE, DetectorPolicy
-from simgrasp.grasping.chain import (
-    ChainConfig,
-    model_for,
-    observe,
-    run_chain,
-    viewpoint_normals,
-)
-from simgrasp.grasping.trial import TrialConfig, TrialResult
+from simgrasp.grasping.chain import run_chain
+from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trial import TrialResult
+from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.scenes.camera import CameraSpec
+from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.gripper import make_gripper
-from simgrasp.scenes.scene import SceneConfig, build_scene
+from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.observe import observe, viewpoint_normals
+from simgrasp.scenes.scene import build_scene
 
 ENV_ID = "simgrasp/HandleGrasp-v0"
 # One small camera and a short trial keep the API checks fast; the chain comparison below uses
@@ -106,7 +106,7 @@ def test_observation_is_the_chains_cloud_and_images(small_env: HandleGraspEnv) -
         config.scene_config,
         info["episode_seed"],
     )
-    cloud = observe(scene, config.noise, info["episode_seed"])
+    cloud = observe(scene, kept_renderer(scene), config.noise, info["episode_seed"]).cloud
     count = len(cloud)
     assert info["cloud_points"] == count and 10 < count <= config.max_points
     assert obs["valid"].sum() == count and not obs["valid"][count:].any()
@@ -220,7 +220,7 @@ def test_reward_kinds() -> None:
 
 @pytest.mark.parametrize("seed", [1, 0])
 def test_env_and_detector_policy_reproduce_the_chain(seed: int) -> None:
-    chain = run_chain(model_for("gen_hammer"), ChainConfig(detector="quadric"), seed=seed)
+    chain = run_chain(model_for("gen_hammer"), ChainConfig.of(detector__kind="quadric"), seed=seed)
     env = gymnasium.make(f"simgrasp:{ENV_ID}")
     try:
         obs, info = env.reset(seed=99, options={"object": "gen_hammer", "episode_seed": seed})

@@ -18,13 +18,13 @@ import sys
 import tempfile
 import time
 from collections import Counter
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from simgrasp.assets.registry import default_objects
+from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.cli import main
 from simgrasp.evaluation.sweep import plan_trials
 from simgrasp.evaluation.trial_log import trial_key
@@ -319,7 +319,7 @@ def test_demo_prints_the_report_and_writes_it(tmp_path: Path) -> None:
     (out / "trials.jsonl").write_text("left over from an older demo\n", encoding="utf-8")
     env = {k: v for k, v in os.environ.items() if k != "SIMGRASP_YCB_DIR"}
     done = run_simgrasp(["demo", "--seeds", "1", "--out", str(out)], env=env)
-    objects = len(default_objects())
+    objects = len(GENERATED_OBJECTS)
     trials = objects * 2 * 2
     assert done.stdout.startswith(f"# simgrasp demo\n\n{trials} trials: {objects} objects")
     assert "## Grasp success" in done.stdout
@@ -333,19 +333,21 @@ def test_demo_prints_the_report_and_writes_it(tmp_path: Path) -> None:
 
 def test_placement_is_part_of_a_trials_identity(reference: Path) -> None:
     assert {r["placement"] for r in read_log(reference)} == {"stable"}
-    stable = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2))
-    upright = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2), "upright")
+    stable = plan_trials(["gen_mug"], {}, range(2))
+    upright = plan_trials(["gen_mug"], {"scene.placement": ["upright"]}, range(2))
     assert not {s.key for s in stable} & {s.key for s in upright}
     # Logs written before placements existed hold stable-placement trials.
-    old = {field: value for field, value in asdict(stable[0]).items() if field != "placement"}
+    old = {
+        k: v for k, v in stable[0].summary_fields().items() if k not in ("placement", "settings")
+    }
     assert trial_key(old) == stable[0].key
 
 
 def test_camera_views_are_part_of_a_trials_identity(reference: Path) -> None:
     assert {r["views"] for r in read_log(reference)} == {CHAIN_VIEWS}
-    four = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2))
-    two = plan_trials(["gen_mug"], ["quadric"], ["builtin"], [0.0], range(2), views=2)
+    four = plan_trials(["gen_mug"], {}, range(2))
+    two = plan_trials(["gen_mug"], {"scene.num_views": [2]}, range(2))
     assert not {s.key for s in four} & {s.key for s in two}
     # Logs written before views were recorded hold two-camera trials.
-    old = {field: value for field, value in asdict(two[0]).items() if field != "views"}
+    old = {k: v for k, v in two[0].summary_fields().items() if k not in ("views", "settings")}
     assert trial_key(old) == two[0].key

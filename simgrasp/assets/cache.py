@@ -21,6 +21,8 @@ import numpy as np
 import platformdirs
 import trimesh
 
+from simgrasp.errors import SimgraspError
+
 log = logging.getLogger(__name__)
 
 CACHE_ENV = "SIMGRASP_CACHE_DIR"
@@ -85,14 +87,14 @@ def save_hulls(path: Path, hulls: tuple[trimesh.Trimesh, ...]) -> None:
 def _read(path: Path) -> tuple[trimesh.Trimesh, ...]:
     with np.load(path, allow_pickle=False) as data:
         if int(data["format_version"]) != FORMAT_VERSION:
-            raise ValueError(f"format version {int(data['format_version'])} != {FORMAT_VERSION}")
+            raise SimgraspError(f"format version {int(data['format_version'])} != {FORMAT_VERSION}")
         arrays = {k: data[k] for k in ("vertices", "faces", "vertex_counts", "face_counts")}
         if str(data["checksum"]) != _payload_checksum(arrays):
-            raise ValueError("checksum mismatch")
+            raise SimgraspError("checksum mismatch")
     vertex_ends = np.cumsum(arrays["vertex_counts"])
     face_ends = np.cumsum(arrays["face_counts"])
     if vertex_ends[-1] != len(arrays["vertices"]) or face_ends[-1] != len(arrays["faces"]):
-        raise ValueError("hull counts do not match the stored arrays")
+        raise SimgraspError("hull counts do not match the stored arrays")
     vertices = np.split(arrays["vertices"], vertex_ends[:-1])
     faces = np.split(arrays["faces"], face_ends[:-1])
     return tuple(trimesh.Trimesh(v, f, process=False) for v, f in zip(vertices, faces, strict=True))

@@ -16,6 +16,7 @@ import trimesh
 from tqdm import tqdm
 
 from simgrasp.assets import cache
+from simgrasp.errors import SimgraspError
 
 MIN_HULL_VOLUME = 1e-10  # m^3 (0.1 mm^3): flatter hulls are dropped, MuJoCo rejects them
 
@@ -46,24 +47,24 @@ class DecompositionConfig:
 
     def __post_init__(self) -> None:
         if not 0.01 <= self.threshold <= 1.0:
-            raise ValueError(
+            raise SimgraspError(
                 f"DecompositionConfig.threshold must be in [0.01, 1], got {self.threshold}"
             )
         if self.max_convex_hull == 0 or self.max_convex_hull < -1:
-            raise ValueError(
+            raise SimgraspError(
                 "DecompositionConfig.max_convex_hull must be -1 or positive, "
                 f"got {self.max_convex_hull}"
             )
         if self.preprocess_mode not in ("auto", "on", "off"):
-            raise ValueError(
+            raise SimgraspError(
                 "DecompositionConfig.preprocess_mode must be 'auto', 'on' or 'off', "
                 f"got {self.preprocess_mode!r}"
             )
         for name in ("preprocess_resolution", "resolution", "mcts_nodes", "mcts_iterations"):
             if getattr(self, name) < 1:
-                raise ValueError(f"DecompositionConfig.{name} must be positive")
+                raise SimgraspError(f"DecompositionConfig.{name} must be positive")
         if self.max_ch_vertex < 4:
-            raise ValueError("DecompositionConfig.max_ch_vertex must be at least 4")
+            raise SimgraspError("DecompositionConfig.max_ch_vertex must be at least 4")
 
 
 _coacd_calls = 0
@@ -76,11 +77,11 @@ def coacd_calls() -> int:
 
 def _check_mesh(mesh: trimesh.Trimesh, object_name: str) -> None:
     if len(mesh.faces) == 0 or len(mesh.vertices) < 4:
-        raise ValueError(f"object {object_name!r}: mesh is empty, cannot decompose it")
+        raise SimgraspError(f"object {object_name!r}: mesh is empty, cannot decompose it")
     if not np.all(np.isfinite(mesh.vertices)):
-        raise ValueError(f"object {object_name!r}: mesh has non-finite vertices")
+        raise SimgraspError(f"object {object_name!r}: mesh has non-finite vertices")
     if np.any(mesh.faces >= len(mesh.vertices)) or np.any(mesh.faces < 0):
-        raise ValueError(f"object {object_name!r}: mesh faces index missing vertices")
+        raise SimgraspError(f"object {object_name!r}: mesh faces index missing vertices")
 
 
 def _spin(bar: tqdm, done: threading.Event) -> None:
@@ -121,7 +122,7 @@ def run_coacd(
     if not hulls:
         hulls = (mesh.convex_hull,)
     if hulls[0].volume <= MIN_HULL_VOLUME:
-        raise ValueError(
+        raise SimgraspError(
             f"object {object_name!r}: mesh has no volume, cannot build collision hulls"
         )
     return hulls

@@ -32,6 +32,7 @@ from typing import Literal
 from tqdm import tqdm
 
 from simgrasp.assets.ycb_catalog import YCB_CATALOG, find_ycb_entry
+from simgrasp.errors import SimgraspError
 
 YCB_BASE_URL = "http://ycb-benchmarks.s3-website-us-east-1.amazonaws.com/data"
 ArchiveKind = Literal["google_16k", "berkeley"]
@@ -65,7 +66,7 @@ def archive_url(object_id: str, kind: ArchiveKind, base_url: str = YCB_BASE_URL)
         return f"{base}/google/{object_id}_google_16k.tgz"
     if kind == "berkeley":
         return f"{base}/berkeley/{object_id}/{object_id}_berkeley_meshes.tgz"
-    raise ValueError(f"unknown archive kind {kind!r} (expected 'google_16k' or 'berkeley')")
+    raise SimgraspError(f"unknown archive kind {kind!r} (expected 'google_16k' or 'berkeley')")
 
 
 def resolve_object_ids(spec: str, kind: ArchiveKind) -> list[str]:
@@ -79,11 +80,11 @@ def resolve_object_ids(spec: str, kind: ArchiveKind) -> list[str]:
         return [e.id for e in YCB_CATALOG if scan in e.scans]
     names = [part.strip() for part in spec.split(",") if part.strip()]
     if not names:
-        raise ValueError("--objects is empty: give YCB ids (e.g. 025_mug,048_hammer) or 'all'")
+        raise SimgraspError("--objects is empty: give YCB ids (e.g. 025_mug,048_hammer) or 'all'")
     entries = [find_ycb_entry(name) for name in names]
     for entry in entries:
         if scan not in entry.scans:
-            raise ValueError(f"YCB object {entry.id!r} has no {scan} scan; use --kind berkeley")
+            raise SimgraspError(f"YCB object {entry.id!r} has no {scan} scan; use --kind berkeley")
     return list(dict.fromkeys(e.id for e in entries))
 
 

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
 from simgrasp.assets.object import ObjectAsset
+from simgrasp.errors import SimgraspError
 from simgrasp.seeding import rng_for
 
 # Densities (kg/m^3) of the materials the parts are made of.
@@ -315,7 +316,7 @@ def _shift_region(region: Region, offset: NDArray[np.float64]) -> Region:
 def generate_parts(kind: str, seed: int) -> GeneratedTool:
     """Build the parts and handle label of a generated tool (object frame, see module doc)."""
     if kind not in _BUILDERS:
-        raise ValueError(
+        raise SimgraspError(
             f"unknown generated object kind {kind!r}; known kinds: {', '.join(GENERATED_KINDS)}"
         )
     parts, regions, whole = _BUILDERS[kind](rng_for(seed, "generated", kind))

@@ -15,13 +15,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.resources import model_path
 
 
 def _vec3(value: ArrayLike, what: str) -> NDArray[np.float64]:
     arr = np.asarray(value, dtype=float)
     if arr.shape != (3,) or not np.all(np.isfinite(arr)):
-        raise ValueError(f"{what} must be 3 finite numbers, got {value!r}")
+        raise SimgraspError(f"{what} must be 3 finite numbers, got {value!r}")
     return arr
 
 
@@ -122,7 +123,7 @@ class HandleLabel:
         try:
             regions = tuple(_region_from_json(r) for r in data.get("regions", []))
         except (KeyError, ValueError, TypeError) as exc:
-            raise ValueError(f"bad handle label for object {object_name!r}: {exc}") from exc
+            raise SimgraspError(f"bad handle label for object {object_name!r}: {exc}") from exc
         return HandleLabel(object_name, regions, bool(data.get("whole_object", False)))
 
 
@@ -131,17 +132,17 @@ def _region_from_json(data: dict[str, Any]) -> Region:
     if kind == "capsule":
         radius = float(data["radius"])
         if not radius > 0:
-            raise ValueError(f"capsule radius must be positive, got {radius}")
+            raise SimgraspError(f"capsule radius must be positive, got {radius}")
         return Capsule(_vec3(data["p0"], "capsule p0"), _vec3(data["p1"], "capsule p1"), radius)
     if kind == "box":
         rotation = np.asarray(data.get("rotation", np.eye(3)), dtype=float)
         if rotation.shape != (3, 3) or not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-6):
-            raise ValueError("box rotation must be a 3x3 rotation matrix")
+            raise SimgraspError("box rotation must be a 3x3 rotation matrix")
         half = _vec3(data["half_extents"], "box half_extents")
         if np.any(half <= 0):
-            raise ValueError(f"box half_extents must be positive, got {half.tolist()}")
+            raise SimgraspError(f"box half_extents must be positive, got {half.tolist()}")
         return Box(_vec3(data["center"], "box center"), rotation, half)
-    raise ValueError(f"unknown region type {kind!r} (expected 'capsule' or 'box')")
+    raise SimgraspError(f"unknown region type {kind!r} (expected 'capsule' or 'box')")
 
 
 YCB_LABELS_FILE = ("handles", "ycb_handles.json")
@@ -152,10 +153,10 @@ def load_label_file(path: Path) -> dict[str, HandleLabel]:
     try:
         data = json.loads(Path(path).read_text())
     except (OSError, json.JSONDecodeError) as exc:
-        raise ValueError(f"cannot read handle label file {path}: {exc}") from exc
+        raise SimgraspError(f"cannot read handle label file {path}: {exc}") from exc
     objects = data.get("objects")
     if not isinstance(objects, dict):
-        raise ValueError(f"handle label file {path} has no 'objects' mapping")
+        raise SimgraspError(f"handle label file {path} has no 'objects' mapping")
     return {name: HandleLabel.from_json(name, entry) for name, entry in objects.items()}
 
 

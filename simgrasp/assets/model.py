@@ -21,6 +21,8 @@ from scipy.spatial.transform import Rotation
 
 from simgrasp.assets.decompose import DecompositionConfig, decompose
 from simgrasp.assets.object import ObjectAsset
+from simgrasp.assets.registry import load_object
+from simgrasp.errors import SimgraspError
 
 VISUAL_GROUP = 2
 COLLISION_GROUP = 3
@@ -86,7 +88,7 @@ class ObjectModel:
         """
         world_T_object = np.asarray(world_T_object, dtype=float)
         if world_T_object.shape != (4, 4) or not np.all(np.isfinite(world_T_object)):
-            raise ValueError(f"world_T_object for {name!r} must be a finite 4x4 matrix")
+            raise SimgraspError(f"world_T_object for {name!r} must be a finite 4x4 matrix")
         body = spec.worldbody.add_body(
             name=name,
             pos=world_T_object[:3, 3],
@@ -174,7 +176,7 @@ def _add_texture(
         stat = texture_file.stat()
         width, height, rgb = _texture_rgb(str(texture_file), stat.st_mtime_ns, stat.st_size)
     except OSError as exc:
-        raise ValueError(f"object {name!r}: cannot read texture {texture_file}: {exc}") from exc
+        raise SimgraspError(f"object {name!r}: cannot read texture {texture_file}: {exc}") from exc
     texture_name = f"{name}_texture"
     if files_dir is None:
         texture = spec.add_texture(
@@ -221,7 +223,7 @@ def inertial_properties(asset: ObjectAsset, hulls: tuple[trimesh.Trimesh, ...]) 
     solids = [asset.mesh] if solid_mesh else list(hulls)
     volumes = np.array([s.volume for s in solids])
     if not np.all(volumes > 0):
-        raise ValueError(f"object {asset.name!r}: a solid used for its inertia has no volume")
+        raise SimgraspError(f"object {asset.name!r}: a solid used for its inertia has no volume")
     density = asset.mass / volumes.sum()
     com = sum(v * s.center_mass for v, s in zip(volumes, solids, strict=True)) / volumes.sum()
     inertia = np.zeros((3, 3))
@@ -265,6 +267,11 @@ def build_object_model(
 ) -> ObjectModel:
     """Decompose ``asset`` (cached) and compute its inertia; ``config`` defaults per source."""
     if not asset.mass > 0:
-        raise ValueError(f"object {asset.name!r}: mass must be positive, got {asset.mass}")
+        raise SimgraspError(f"object {asset.name!r}: mass must be positive, got {asset.mass}")
     hulls = decompose(asset.mesh, config or default_decomposition(asset), asset.name)
     return ObjectModel(asset=asset, hulls=hulls, inertial=inertial_properties(asset, hulls))
+
+
+def model_for(object_name: str, ycb_dir: str | None = None) -> ObjectModel:
+    """The simulation model of an object by name (CoACD decomposition from the on-disk cache)."""
+    return build_object_model(load_object(object_name, ycb_dir))

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from typing import Final, Literal, cast
 
+from simgrasp.errors import SimgraspError
+
 Placement = Literal["stable", "upright"]
 PLACEMENTS: tuple[str, ...] = ("stable", "upright")
 """``"stable"``: a stable pose drawn by the probability of landing in it from a random drop;
@@ -18,5 +20,5 @@ DEFAULT_PLACEMENT: Final[Placement] = "stable"
 def check_placement(placement: str) -> Placement:
     """``placement`` if it names a policy, else a ValueError listing them."""
     if placement not in PLACEMENTS:
-        raise ValueError(f"placement must be one of {', '.join(PLACEMENTS)}, got {placement!r}")
+        raise SimgraspError(f"placement must be one of {', '.join(PLACEMENTS)}, got {placement!r}")
     return cast(Placement, placement)

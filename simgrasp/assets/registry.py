@@ -7,8 +7,10 @@ import re
 
 from simgrasp.assets.generated import GENERATED_KINDS, generate_tool
 from simgrasp.assets.object import ObjectAsset
+from simgrasp.assets.object_sets import GENERATED_OBJECTS
+from simgrasp.errors import SimgraspError
 
-__all__ = ["GENERATED_KINDS", "default_objects", "load_object"]
+__all__ = ["GENERATED_KINDS", "load_object"]
 
 _GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+)(?:_s(?P<seed>\d+))?$")
 
@@ -22,13 +24,13 @@ def load_object(
     if match:
         kind = match["kind"]
         if kind not in GENERATED_KINDS:
-            raise ValueError(
+            raise SimgraspError(
                 f"unknown generated object {name!r}; generated objects are "
-                f"{', '.join(default_objects())}"
+                f"{', '.join(GENERATED_OBJECTS)}"
             )
         return generate_tool(kind, int(match["seed"]) if match["seed"] else seed)
     if name.startswith("gen_"):
-        raise ValueError(
+        raise SimgraspError(
             f"bad generated object name {name!r}: expected gen_<kind> or gen_<kind>_s<seed> "
             f"with kind one of {', '.join(GENERATED_KINDS)}"
         )
@@ -38,13 +40,8 @@ def load_object(
     try:
         find_ycb_entry(name)
     except ValueError as exc:
-        raise ValueError(
-            f"{exc}; generated objects are {', '.join(default_objects())} "
+        raise SimgraspError(
+            f"{exc}; generated objects are {', '.join(GENERATED_OBJECTS)} "
             "(add _s<seed> to pick sizes)"
         ) from None
     return load_ycb_object(name, ycb_dir)
-
-
-def default_objects() -> list[str]:
-    """The generated tools, the objects used when no YCB download is present."""
-    return [f"gen_{kind}" for kind in GENERATED_KINDS]

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from simgrasp.assets.model import ObjectModel, inertial_properties
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.errors import SimgraspError
 
 MIN_PROBABILITY = 1e-3  # poses less likely than this (knife-edge balances) are dropped
 
@@ -114,7 +115,7 @@ def upright_poses(poses: list[StablePose], object_name: str) -> list[StablePose]
     probabilities renormalized. ValueError naming the object if none does."""
     upright = [pose for pose in poses if pose.rest_T_object[2, 2] >= UPRIGHT_COSINE]
     if not upright:
-        raise ValueError(
+        raise SimgraspError(
             f"object {object_name!r} has no stable pose with its +z axis up; "
             "place it with placement='stable'"
         )

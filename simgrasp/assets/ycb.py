@@ -15,6 +15,7 @@ from simgrasp.assets.labels import ycb_handle_label
 from simgrasp.assets.mesh_check import load_mesh_file
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.ycb_catalog import find_ycb_entry
+from simgrasp.errors import DataNotFoundError, SimgraspError
 
 YCB_DIR_ENV = "SIMGRASP_YCB_DIR"
 
@@ -33,14 +34,14 @@ def resolve_ycb_root(ycb_dir: str | os.PathLike[str] | None = None) -> Path:
     if ycb_dir is None:
         ycb_dir = os.environ.get(YCB_DIR_ENV) or None
     if ycb_dir is None:
-        raise FileNotFoundError(
+        raise DataNotFoundError(
             f"no YCB folder given: pass --ycb-dir, set {YCB_DIR_ENV} to a YCB download "
             "(the folder holding 025_mug/ etc.), or get one with "
             "`simgrasp fetch-ycb --objects all --dest DIR`"
         )
     root = Path(ycb_dir).expanduser()
     if not root.is_dir():
-        raise FileNotFoundError(
+        raise DataNotFoundError(
             f"YCB folder {root} does not exist; point {YCB_DIR_ENV} or --ycb-dir at a YCB "
             "download, or create one with `simgrasp fetch-ycb --dest DIR`"
         )
@@ -94,13 +95,13 @@ def ycb_mesh_path(root: str | os.PathLike[str], object_id: str) -> tuple[Path, P
     if not object_dir.is_dir():
         present = available_ycb_objects(root) if root.is_dir() else []
         listing = ", ".join(present) if present else "none"
-        raise FileNotFoundError(
+        raise DataNotFoundError(
             f"YCB object {object_id!r} is not in {root} (present: {listing}); get it with "
             f"`simgrasp fetch-ycb --objects {object_id} --dest {root}`"
         )
     mesh_path = _find_mesh(object_dir)
     if mesh_path is None:
-        raise FileNotFoundError(
+        raise DataNotFoundError(
             f"YCB object {object_id!r} in {object_dir} has no mesh file; looked for "
             f"{', '.join(MESH_CANDIDATES)}"
         )
@@ -121,12 +122,12 @@ def load_ycb_object(
     entry = find_ycb_entry(name)
     mass = entry.mass_kg if mass_kg is None else float(mass_kg)
     if mass is None:
-        raise ValueError(
+        raise SimgraspError(
             f"YCB object {entry.id!r} has no published mass (it is one part of a set); "
             "pass mass_kg explicitly"
         )
     if not mass > 0:
-        raise ValueError(f"mass_kg for YCB object {entry.id!r} must be positive, got {mass}")
+        raise SimgraspError(f"mass_kg for YCB object {entry.id!r} must be positive, got {mass}")
     root = resolve_ycb_root(ycb_dir)
     mesh_path, texture_path = ycb_mesh_path(root, entry.id)
     mesh = load_mesh_file(mesh_path, entry.id)

@@ -21,6 +21,8 @@ from __future__ import annotations
 import difflib
 from dataclasses import dataclass
 
+from simgrasp.errors import SimgraspError
+
 GOOGLE_SCANS = ("google_16k", "google_64k", "google_512k")
 BERKELEY_SCANS = ("poisson", "tsdf")
 
@@ -153,4 +155,4 @@ def find_ycb_entry(name: str) -> YcbEntry:
     close = difflib.get_close_matches(key, list(_BY_KEY), n=5, cutoff=0.6)
     ids = sorted(set(variants) | {_BY_KEY[c].id for c in close})
     hint = f"; did you mean {', '.join(ids)}?" if ids else "; see the YCB object list"
-    raise ValueError(f"unknown YCB object {name!r}{hint}")
+    raise SimgraspError(f"unknown YCB object {name!r}{hint}")

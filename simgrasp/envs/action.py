@@ -12,8 +12,9 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.scenes.scene import SceneConfig
+from simgrasp.scenes.config import SceneConfig
 
 ACTION_SIZE = 8
 MIN_OPENING = 1e-3
@@ -45,13 +46,13 @@ def grasp_from_action(action: ArrayLike, max_opening: float) -> Grasp:
     """
     values = np.asarray(action, dtype=np.float64)
     if values.shape != (ACTION_SIZE,) or not np.all(np.isfinite(values)):
-        raise ValueError(
+        raise SimgraspError(
             f"invalid action {np.asarray(action).tolist()!r}: expected {ACTION_SIZE} finite "
             "numbers [x, y, z, qw, qx, qy, qz, width]"
         )
     norm = float(np.linalg.norm(values[3:7]))
     if norm < MIN_QUATERNION_NORM:
-        raise ValueError(
+        raise SimgraspError(
             f"invalid action {values.tolist()!r}: the quaternion [qw, qx, qy, qz] has norm "
             f"{norm:.3g}, below {MIN_QUATERNION_NORM:g}; it encodes no rotation"
         )

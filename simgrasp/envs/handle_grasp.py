@@ -2,9 +2,8 @@
 
 Episode: :meth:`HandleGraspEnv.reset` picks an object and an episode seed, builds the chain's
 scene (the object in a seeded stable pose and yaw, :func:`simgrasp.scenes.scene.build_scene`)
-and observes it through the chain's pipeline (:func:`simgrasp.grasping.chain.render_views`,
-:func:`~simgrasp.grasping.chain.cloud_from_views`), so the cloud is exactly the one
-:func:`simgrasp.grasping.chain.run_chain` would plan on with that seed.
+and observes it as the chain does (:func:`simgrasp.scenes.observe.observe`), so the cloud is
+exactly the one :func:`simgrasp.grasping.chain.run_chain` would plan on with that seed.
 :meth:`HandleGraspEnv.step` executes the action as a grasp trial
 (:func:`simgrasp.grasping.trial.run_trial`) and ends the episode.
 
@@ -26,8 +25,8 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.model import ObjectModel
-from simgrasp.assets.registry import default_objects
+from simgrasp.assets.model import ObjectModel, model_for
+from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.envs.action import action_space, grasp_from_action
 from simgrasp.envs.observation import (
     Observation,
@@ -35,11 +34,14 @@ from simgrasp.envs.observation import (
     make_observation,
     observation_space,
 )
-from simgrasp.grasping.chain import cloud_from_views, model_for, render_views
-from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.trial import TrialResult, run_trial
+from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.gripper import GripperName, make_gripper
 from simgrasp.scenes.kept_renderer import RendererKeeper
-from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
+from simgrasp.scenes.observe import observe
+from simgrasp.scenes.scene import Scene, build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS, check_views
 from simgrasp.seeding import rng_for
 
@@ -73,7 +75,7 @@ class HandleGraspConfig:
         trial: the grasp trial's parameters.
     """
 
-    objects: tuple[str, ...] = field(default_factory=lambda: tuple(default_objects()))
+    objects: tuple[str, ...] = GENERATED_OBJECTS
     gripper: GripperName = "builtin"
     noise: float = 0.0
     num_views: int = CHAIN_VIEWS
@@ -87,16 +89,20 @@ class HandleGraspConfig:
         objects = (self.objects,) if isinstance(self.objects, str) else tuple(self.objects)
         object.__setattr__(self, "objects", objects)
         if not objects:
-            raise ValueError("HandleGraspConfig.objects must name at least one object")
+            raise SimgraspError("HandleGraspConfig.objects must name at least one object")
         if self.gripper not in get_args(GripperName):
-            raise ValueError(f"unknown gripper {self.gripper!r}; use 'builtin' or 'robotiq_2f85'")
+            raise SimgraspError(
+                f"unknown gripper {self.gripper!r}; use 'builtin' or 'robotiq_2f85'"
+            )
         if not 0 <= self.noise < 1:
-            raise ValueError(f"noise sigma must be in [0, 1), got {self.noise}")
+            raise SimgraspError(f"noise sigma must be in [0, 1), got {self.noise}")
         check_views(self.num_views)
         if self.max_points < 1:
-            raise ValueError(f"max_points must be >= 1, got {self.max_points}")
+            raise SimgraspError(f"max_points must be >= 1, got {self.max_points}")
         if self.reward not in get_args(RewardKind):
-            raise ValueError(f"unknown reward {self.reward!r}; use one of {get_args(RewardKind)}")
+            raise SimgraspError(
+                f"unknown reward {self.reward!r}; use one of {get_args(RewardKind)}"
+            )
 
     @property
     def scene_config(self) -> SceneConfig:
@@ -158,7 +164,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         if unknown:
             raise TypeError(f"unknown HandleGraspEnv option(s) {unknown}; options: {sorted(names)}")
         if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ValueError(f"unsupported render_mode {render_mode!r}; use None or 'rgb_array'")
+            raise SimgraspError(f"unsupported render_mode {render_mode!r}; use None or 'rgb_array'")
         self.config = replace(config or HandleGraspConfig(), **overrides)
         self.render_mode = render_mode
         self._gripper = make_gripper(self.config.gripper)
@@ -181,10 +187,10 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         scene = build_scene(
             self._object_model(object_name), self._gripper, self.config.scene_config, episode_seed
         )
-        frames = render_views(scene, self._renderers.renderer_for(scene))
-        cloud = cloud_from_views(scene, frames, self.config.noise, episode_seed)
+        seen = observe(scene, self._renderers.renderer_for(scene), self.config.noise, episode_seed)
+        cloud = seen.cloud
         observation = make_observation(
-            frames,
+            seen.frames,
             scene.object_body,
             cloud,
             self.config.max_points,
@@ -239,13 +245,17 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
     def _draw_episode(self, options: dict[str, Any]) -> tuple[str, int]:
         unknown = sorted(set(options) - set(RESET_OPTIONS))
         if unknown:
-            raise ValueError(f"unknown reset option(s) {unknown}; options: {list(RESET_OPTIONS)}")
+            raise SimgraspError(
+                f"unknown reset option(s) {unknown}; options: {list(RESET_OPTIONS)}"
+            )
         index = int(self.np_random.integers(len(self.config.objects)))
         episode_seed = int(self.np_random.integers(EPISODE_SEEDS))
         object_name = str(options.get("object", self.config.objects[index]))
         episode_seed = options.get("episode_seed", episode_seed)
         if not isinstance(episode_seed, int | np.integer) or episode_seed < 0:
-            raise ValueError(f"episode_seed must be a non-negative integer, got {episode_seed!r}")
+            raise SimgraspError(
+                f"episode_seed must be a non-negative integer, got {episode_seed!r}"
+            )
         return object_name, int(episode_seed)
 
     def _object_model(self, name: str) -> ObjectModel:

@@ -7,9 +7,9 @@ A ``gymnasium.spaces.Dict`` for V scene cameras of H x W pixels and a cloud of a
   Noise-free renders: the configured noise applies to the cloud only (as in the chain).
 - ``mask`` (V, H, W) uint8: 1 where the pixel sees the object, else 0.
 - ``points_world`` (N, 3) float64: the chain's segmented object cloud
-  (:func:`simgrasp.grasping.chain.cloud_from_views`: fused views, 3 mm voxels, noise), zero-padded.
+  (:func:`simgrasp.scenes.observe.cloud_from_views`: fused views, 3 mm voxels, noise), zero-padded.
 - ``normals_world`` (N, 3) float64: unit normals turned toward the camera that saw each point
-  (:func:`simgrasp.grasping.chain.viewpoint_normals`, on the whole cloud), zero-padded; all
+  (:func:`simgrasp.scenes.observe.viewpoint_normals`, on the whole cloud), zero-padded; all
   zero when the cloud is too small to plan on (fewer than ``MIN_CLOUD_POINTS`` points).
 - ``valid`` (N,) uint8: 1 for the cloud's points, 0 for padding.
 - ``view_index`` (N,) int64: the camera (0..V-1) each point was seen from (0 for padding).
@@ -31,11 +31,12 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from simgrasp.grasping.chain import MIN_CLOUD_POINTS, viewpoint_normals
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.proposal import MIN_CLOUD_POINTS
 from simgrasp.scenes.camera import default_viewpoints
-from simgrasp.scenes.observe import ObjectCloud
+from simgrasp.scenes.config import SceneConfig
+from simgrasp.scenes.observe import ObjectCloud, viewpoint_normals
 from simgrasp.scenes.render import DepthFrame
-from simgrasp.scenes.scene import SceneConfig
 
 Observation = dict[str, NDArray]
 
@@ -55,7 +56,7 @@ def camera_layout(scene: SceneConfig) -> CameraLayout:
     cameras = scene.cameras or tuple(default_viewpoints(np.zeros(3), n=scene.num_views))
     sizes = sorted({(camera.height, camera.width) for camera in cameras})
     if len(sizes) != 1:
-        raise ValueError(
+        raise SimgraspError(
             f"all scene cameras must have one image size to stack their images, got (H, W) {sizes}"
         )
     height, width = sizes[0]
@@ -91,7 +92,9 @@ def make_observation(
     ``cloud`` of the same scene; ``rng`` draws the subsample of a cloud above ``max_points``."""
     names = tuple(frame.camera_name for frame in frames)
     if names != cloud.camera_names:
-        raise ValueError(f"frames of cameras {names} do not match the cloud's {cloud.camera_names}")
+        raise SimgraspError(
+            f"frames of cameras {names} do not match the cloud's {cloud.camera_names}"
+        )
     world_T_cam = np.stack([frame.world_T_cam for frame in frames])
     normals_world = _cloud_normals(cloud)
     view_index = _view_index(cloud.viewpoints_world, world_T_cam[:, :3, 3])

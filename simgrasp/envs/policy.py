@@ -2,7 +2,7 @@
 action.
 
 :class:`DetectorPolicy` plans with the very function the chain plans with
-(:func:`simgrasp.grasping.chain.plan_grasps`), on the observation's cloud, normals and the
+(:func:`simgrasp.grasping.proposal.plan_grasps`), on the observation's cloud, normals and the
 centers of the cameras that saw the cloud, and returns the best-ranked grasp as an action.
 Given the episode seed, it proposes exactly the grasp ``run_chain`` executes for that object
 and seed when the env and the chain share gripper, noise and scene (and the cloud was not
@@ -22,18 +22,16 @@ import gymnasium
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp.config import build as build_settings
 from simgrasp.envs.action import action_from_grasp
 from simgrasp.envs.handle_grasp import HandleGraspEnv
 from simgrasp.envs.observation import Observation
-from simgrasp.grasping.chain import (
-    MIN_CLOUD_POINTS,
-    ChainConfig,
-    ChainDetector,
-    gripper_geometry,
-    plan_grasps,
-)
+from simgrasp.grasping.chain import gripper_geometry
+from simgrasp.grasping.chain_config import ChainDetector, ChainDetectorConfig
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import GripperGeometry, PlannerConfig, top_down_above_table
+from simgrasp.grasping.planner import GripperGeometry, top_down_above_table
+from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
 from simgrasp.scenes.gripper import GripperName, make_gripper
 
 FALLBACK_SOURCE = "fallback"
@@ -46,25 +44,25 @@ class DetectorPolicy:
     (``"centroid"``, ``"random"``), for ``gripper`` over a table top at ``table_top_z`` (world
     z, meters); :meth:`for_env` takes both from an env."""
 
-    detector: ChainDetector = "quadric"
+    detector: ChainDetector | ChainDetectorConfig = "quadric"
+    """A proposer's name (with default thresholds) or its full settings."""
     gripper: GripperName = "builtin"
     table_top_z: float = 0.0
     planner: PlannerConfig = field(default_factory=PlannerConfig)
-    chain_config: ChainConfig = field(init=False, repr=False)
     geometry: GripperGeometry = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        chain_config = ChainConfig(
-            detector=self.detector, gripper=self.gripper, planner=self.planner
-        )
-        object.__setattr__(self, "chain_config", chain_config)
+        if not isinstance(self.detector, ChainDetectorConfig):
+            object.__setattr__(
+                self, "detector", build_settings(ChainDetectorConfig, {"kind": self.detector})
+            )
         object.__setattr__(self, "geometry", gripper_geometry(make_gripper(self.gripper)))
 
     @classmethod
     def for_env(
         cls,
         env: gymnasium.Env,
-        detector: ChainDetector = "quadric",
+        detector: ChainDetector | ChainDetectorConfig = "quadric",
         planner: PlannerConfig | None = None,
     ) -> DetectorPolicy:
         """The policy for ``env`` (a possibly wrapped :class:`HandleGraspEnv`): its gripper
@@ -74,6 +72,11 @@ class DetectorPolicy:
             raise TypeError(f"DetectorPolicy.for_env needs a HandleGraspEnv, got {unwrapped!r}")
         config = unwrapped.config
         return cls(detector, config.gripper, config.scene.table_top_z, planner or PlannerConfig())
+
+    @property
+    def detector_config(self) -> ChainDetectorConfig:
+        assert isinstance(self.detector, ChainDetectorConfig)  # normalized by __post_init__
+        return self.detector
 
     def plan(self, observation: Observation, seed: int) -> Grasp:
         """The best grasp (world frame) on the observed cloud, or the fallback grasp; ``seed``
@@ -90,7 +93,8 @@ class DetectorPolicy:
             cameras_world,
             self.geometry,
             self.table_top_z,
-            self.chain_config,
+            self.detector_config,
+            self.planner,
             seed,
         )
         return grasps[0] if grasps else self.fallback(points_world)

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from simgrasp.errors import SimgraspError
 from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
 Record = dict[str, Any]
@@ -217,7 +218,7 @@ def report_markdown(records: Sequence[Record], title: str = "Grasp sweep") -> st
     """The sweep report: detection accuracy (paper Tables I/II form), lift and on-handle success
     per object x detector x gripper, failure modes and stage timings (Table III form)."""
     if not records:
-        raise ValueError("no trial records to report")
+        raise SimgraspError("no trial records to report")
     objects = list(dict.fromkeys(r["object"] for r in records))
     noises = sorted({r["noise"] for r in records})
     seeds = sorted({r["seed"] for r in records})

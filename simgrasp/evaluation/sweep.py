@@ -1,4 +1,4 @@
-"""Grasp-evaluation sweeps: every object x detector x gripper x noise x seed as one full-chain
+"""Grasp-evaluation sweeps: every object x swept settings x seed as one full-chain
 trial (:func:`simgrasp.grasping.chain.run_chain`), run in worker processes or as Ray tasks and
 recorded in a resumable :class:`~simgrasp.evaluation.trial_log.TrialLog`.
 
@@ -11,63 +11,90 @@ from __future__ import annotations
 import functools
 import itertools
 import os
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from contextlib import closing
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
-from simgrasp.evaluation.trial_log import NOISE_DIGITS, TrialKey, TrialLog, trial_key
+from simgrasp.config.tree import build
+from simgrasp.errors import SimgraspError
+from simgrasp.evaluation.trial_log import (
+    NOISE_DIGITS,
+    TrialKey,
+    TrialLog,
+    trial_key,
+    trial_settings,
+)
+from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.process_pool import spawn_pool
-from simgrasp.scenes.views import CHAIN_VIEWS
 
 Backend = Literal["local", "ray"]
 TRIALS_FILE = "trials.jsonl"
+SWEEP_AXES = ("detector.kind", "gripper", "noise")
+"""The chain settings a sweep varies (in this order, inside the object and outside the seed)."""
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True)
 class TrialSpec:
-    """One trial of a sweep; ``noise`` is the chain's multiplicative cloud-noise sigma,
-    ``placement`` the scene's (:class:`simgrasp.scenes.scene.SceneConfig`) and ``views`` its
-    number of cameras."""
+    """One trial of a sweep: an object, a seed and the chain's settings."""
 
     object: str
-    detector: str
-    gripper: str
-    noise: float
     seed: int
-    placement: Placement = DEFAULT_PLACEMENT
-    views: int = CHAIN_VIEWS
+    config: ChainConfig
+
+    @property
+    def settings(self) -> dict[str, Any]:
+        """How ``config`` differs from the default chain config (the trial's identity)."""
+        return trial_settings(self.config)
 
     @property
     def key(self) -> TrialKey:
-        return trial_key(asdict(self))
+        return trial_key({"object": self.object, "seed": self.seed, "settings": self.settings})
+
+    def summary_fields(self) -> dict[str, Any]:
+        """The record fields that name the trial for reports (object, detector, gripper,
+        noise, seed, placement, views) and its ``settings``."""
+        config = self.config
+        return {
+            "object": self.object,
+            "detector": config.detector.kind,
+            "gripper": config.gripper,
+            "noise": config.noise,
+            "seed": self.seed,
+            "placement": config.scene.placement,
+            "views": config.scene.num_views,
+            "settings": self.settings,
+        }
 
 
 def plan_trials(
     objects: Sequence[str],
-    detectors: Sequence[str],
-    grippers: Sequence[str],
-    noises: Sequence[float],
+    axes: Mapping[str, Sequence[Any]],
     seeds: Iterable[int],
-    placement: Placement = DEFAULT_PLACEMENT,
-    views: int = CHAIN_VIEWS,
+    base: ChainConfig | None = None,
 ) -> list[TrialSpec]:
-    """Every combination, object-major (so workers share decomposed models early), each
-    object placed by ``placement`` and seen by ``views`` cameras."""
+    """Every object x axis values x seed, object-major (so workers share decomposed models
+    early); ``axes`` maps dotted chain settings (e.g. ``detector.kind``) to the values swept,
+    applied to ``base`` (default: the default chain config)."""
+    base = base or ChainConfig()
+    axes = {k: [round(float(v), NOISE_DIGITS) for v in vs] if k == "noise" else vs
+            for k, vs in axes.items()}  # fmt: skip
+    keys = list(axes)
+    configs = [
+        build(ChainConfig, dict(zip(keys, values, strict=True)), base=base)
+        for values in itertools.product(*(axes[key] for key in keys))
+    ]
+    seeds = list(seeds)
     return [
-        TrialSpec(obj, det, grip, round(float(noise), NOISE_DIGITS), int(seed), placement, views)
-        for obj, det, grip, noise, seed in itertools.product(
-            objects, detectors, grippers, noises, list(seeds)
-        )
+        TrialSpec(obj, int(seed), config) for obj in objects for config in configs for seed in seeds
     ]
 
 
 @functools.cache
 def _object_model(name: str, ycb_dir: str | None):  # -> ObjectModel (lazy mujoco import)
-    from simgrasp.grasping.chain import model_for
+    from simgrasp.assets.model import model_for
 
     return model_for(name, ycb_dir)
 
@@ -79,17 +106,12 @@ def prepare_object(name: str, ycb_dir: str | None) -> str:
 
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
-    """Run one full-chain trial; the flat chain record with the spec's key fields."""
-    from simgrasp.grasping.chain import ChainConfig, run_chain
+    """Run one full-chain trial; the flat chain record with the spec's summary fields."""
+    from simgrasp.grasping.chain import run_chain
 
-    config = (
-        ChainConfig(detector=spec.detector, gripper=spec.gripper, noise=spec.noise)
-        .with_placement(spec.placement)
-        .with_views(spec.views)
-    )
-    record = run_chain(_object_model(spec.object, ycb_dir), config, spec.seed).to_json()
+    record = run_chain(_object_model(spec.object, ycb_dir), spec.config, spec.seed).to_json()
     record["object_asset"] = record["object"]
-    record.update(asdict(spec))
+    record.update(spec.summary_fields())
     return record
 
 
@@ -125,7 +147,7 @@ def run_ray(
     try:
         import ray
     except ImportError:
-        raise ValueError(
+        raise SimgraspError(
             "--backend ray needs Ray: install the extra with `pip install 'simgrasp[ray]'` "
             "(or `pip install 'ray[default]'`)"
         ) from None
@@ -162,7 +184,7 @@ def run_trials(
     """Trial records from ``backend``, in completion order; starts no workers (nor Ray) when
     there is nothing to run."""
     if backend not in ("local", "ray"):
-        raise ValueError(f"unknown backend {backend!r}; use 'local' or 'ray'")
+        raise SimgraspError(f"unknown backend {backend!r}; use 'local' or 'ray'")
     if specs:
         yield from (
             run_ray(specs, ycb_dir, workers, address)
@@ -187,7 +209,7 @@ def run_sweep(
     from tqdm import tqdm
 
     if len(set(s.key for s in specs)) != len(specs):
-        raise ValueError("the sweep plan lists a trial twice")
+        raise SimgraspError("the sweep plan lists a trial twice")
     log = TrialLog(Path(out_dir) / TRIALS_FILE)
     wanted = {spec.key for spec in specs}
     finished = {trial_key(r): r for r in log.load() if trial_key(r) in wanted}
@@ -207,3 +229,15 @@ def run_sweep(
                 on_record(record)
     bar.close()
     return [finished[spec.key] for spec in specs]
+
+
+def check_plan(specs: Sequence[TrialSpec], ycb_dir: str | None) -> None:
+    """Fail before any worker starts on an unknown gripper or object (or missing YCB data),
+    naming the offending value."""
+    from simgrasp.assets.registry import load_object
+    from simgrasp.scenes.gripper import make_gripper
+
+    for gripper in dict.fromkeys(spec.config.gripper for spec in specs):
+        make_gripper(gripper)
+    for name in dict.fromkeys(spec.object for spec in specs):
+        load_object(name, ycb_dir)

@@ -14,39 +14,64 @@ import os
 from pathlib import Path
 from typing import Any
 
-from simgrasp.assets.placement import DEFAULT_PLACEMENT
+from simgrasp.config.tree import build, diff
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
-TrialKey = tuple[str, str, str, float, int, str, int]
-KEY_FIELDS = ("object", "detector", "gripper", "noise", "seed")
+TrialKey = tuple[str, int, str]
+KEY_FIELDS = ("object", "seed")
 
 NOISE_DIGITS = 9
 """Noise levels are compared after rounding to this many decimals."""
 
+LEGACY_SETTINGS = {
+    "detector": "detector.kind",
+    "gripper": "gripper",
+    "noise": "noise",
+    "placement": "scene.placement",
+    "views": "scene.num_views",
+}
+"""Top-level fields of records written before the ``settings`` field, and the settings they
+name. Such a record without ``views`` was seen by two cameras, without ``placement`` placed
+``"stable"``: then the only values."""
+
+
+def trial_settings(config: ChainConfig) -> dict[str, Any]:
+    """How ``config`` differs from the default chain config (dotted keys, plain values): with
+    the object and seed, a sweep trial's identity. A new setting at its default changes no
+    identity, so logs written before it existed still resume."""
+    settings = diff(config, ChainConfig())
+    if "noise" in settings:
+        settings["noise"] = round(float(settings["noise"]), NOISE_DIGITS)
+    return settings
+
+
+def record_settings(record: dict[str, Any]) -> dict[str, Any]:
+    """The settings a trial record was run with (see :func:`trial_settings`); records written
+    before the ``settings`` field are read from their top-level fields."""
+    if "settings" in record:
+        given = record["settings"]
+        if not isinstance(given, dict):
+            raise SimgraspError(f"trial record with a bad settings field {given!r:.80}")
+    else:
+        given = {key: record[name] for name, key in LEGACY_SETTINGS.items() if name in record}
+        given.setdefault("scene.num_views", VIEWS_BEFORE_RECORDED)
+    return trial_settings(build(ChainConfig, given, source="trial record settings"))
+
 
 def trial_key(record: Any) -> TrialKey:
-    """The identity of a trial: (object, detector, gripper, noise, seed, placement, views).
-    Records written before placements or views were recorded read as placed ``"stable"`` and
-    seen by two cameras, as they were."""
+    """The identity of a trial: (object, seed, its settings as canonical JSON)."""
     if not isinstance(record, dict):
-        raise ValueError(f"a trial record is a JSON object, not {type(record).__name__}")
+        raise SimgraspError(f"a trial record is a JSON object, not {type(record).__name__}")
     missing = [name for name in KEY_FIELDS if name not in record]
     if missing:
-        raise ValueError(f"trial record without {', '.join(missing)}: {record!r:.200}")
-    try:
-        return (
-            str(record["object"]),
-            str(record["detector"]),
-            str(record["gripper"]),
-            round(float(record["noise"]), NOISE_DIGITS),
-            int(record["seed"]),
-            str(record.get("placement", DEFAULT_PLACEMENT)),
-            int(record.get("views", VIEWS_BEFORE_RECORDED)),
-        )
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"trial record with a bad noise {record['noise']!r} or seed {record['seed']!r}"
-        ) from None
+        raise SimgraspError(f"trial record without {', '.join(missing)}: {record!r:.200}")
+    seed = record["seed"]
+    if isinstance(seed, bool) or not isinstance(seed, int):
+        raise SimgraspError(f"trial record with a bad seed {seed!r}")
+    settings = json.dumps(record_settings(record), sort_keys=True)
+    return str(record["object"]), seed, settings
 
 
 class TrialLog:
@@ -80,7 +105,7 @@ class TrialLog:
             problem = str(exc)
         else:
             return record
-        raise ValueError(
+        raise SimgraspError(
             f"{self.path}:{number}: {problem}; the trial log is corrupt beyond a torn last line"
         )
 

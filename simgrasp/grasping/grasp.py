@@ -13,6 +13,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from simgrasp.errors import SimgraspError
+
 
 def pose7_from_matrix(transform: NDArray[np.float64]) -> NDArray[np.float64]:
     """``[x, y, z, qw, qx, qy, qz]`` of a 4x4 rigid transform (qw >= 0)."""
@@ -24,10 +26,10 @@ def matrix_from_pose7(pose7: ArrayLike, what: str = "pose") -> NDArray[np.float6
     """4x4 rigid transform of ``[x, y, z, qw, qx, qy, qz]``; the quaternion is normalized."""
     pose = np.asarray(pose7, dtype=float)
     if pose.shape != (7,) or not np.all(np.isfinite(pose)):
-        raise ValueError(f"{what} must be 7 finite numbers [x y z qw qx qy qz], got {pose7!r}")
+        raise SimgraspError(f"{what} must be 7 finite numbers [x y z qw qx qy qz], got {pose7!r}")
     norm = np.linalg.norm(pose[3:])
     if norm < 1e-9:
-        raise ValueError(f"{what} has a zero quaternion: {pose.tolist()}")
+        raise SimgraspError(f"{what} has a zero quaternion: {pose.tolist()}")
     transform = np.eye(4)
     transform[:3, :3] = Rotation.from_quat(pose[3:] / norm, scalar_first=True).as_matrix()
     transform[:3, 3] = pose[:3]
@@ -43,11 +45,11 @@ def tcp_pose(position: ArrayLike, closing: ArrayLike, approach: ArrayLike) -> ND
     z = np.asarray(approach, dtype=float)
     y = np.asarray(closing, dtype=float)
     if np.linalg.norm(z) < 1e-9:
-        raise ValueError(f"approach direction must be non-zero, got {approach!r}")
+        raise SimgraspError(f"approach direction must be non-zero, got {approach!r}")
     z = z / np.linalg.norm(z)
     y = y - (y @ z) * z
     if np.linalg.norm(y) < 1e-9:
-        raise ValueError("closing direction must not be parallel to the approach direction")
+        raise SimgraspError("closing direction must not be parallel to the approach direction")
     y = y / np.linalg.norm(y)
     pose = np.eye(4)
     pose[:3, :3] = np.column_stack([np.cross(y, z), y, z])
@@ -58,12 +60,12 @@ def tcp_pose(position: ArrayLike, closing: ArrayLike, approach: ArrayLike) -> ND
 def _check_rigid(transform: NDArray[np.float64], what: str) -> NDArray[np.float64]:
     arr = np.asarray(transform, dtype=float)
     if arr.shape != (4, 4) or not np.all(np.isfinite(arr)):
-        raise ValueError(f"{what} must be a finite 4x4 matrix, got shape {arr.shape}")
+        raise SimgraspError(f"{what} must be a finite 4x4 matrix, got shape {arr.shape}")
     rotation = arr[:3, :3]
     if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-6) or np.linalg.det(rotation) < 0:
-        raise ValueError(f"{what} has no proper rotation block (not orthonormal, det != +1)")
+        raise SimgraspError(f"{what} has no proper rotation block (not orthonormal, det != +1)")
     if not np.allclose(arr[3], [0.0, 0.0, 0.0, 1.0]):
-        raise ValueError(f"{what} must have last row [0 0 0 1], got {arr[3].tolist()}")
+        raise SimgraspError(f"{what} must have last row [0 0 0 1], got {arr[3].tolist()}")
     return arr
 
 
@@ -86,7 +88,9 @@ class Grasp:
     def __post_init__(self) -> None:
         object.__setattr__(self, "world_T_tcp", _check_rigid(self.world_T_tcp, "world_T_tcp"))
         if not (np.isfinite(self.width) and self.width > 0):
-            raise ValueError(f"grasp width must be a positive number of meters, got {self.width}")
+            raise SimgraspError(
+                f"grasp width must be a positive number of meters, got {self.width}"
+            )
 
     @property
     def approach_world(self) -> NDArray[np.float64]:

@@ -14,16 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
-
-ON_HANDLE_THRESHOLD = 0.5
-"""A grasp is ``on_handle`` when at least this share of its finger-object contact points (at
-the end of the hold) lies inside the labeled handle region."""
-
-
-HANDLE_MARGIN = 0.005
-"""Contact points within this distance (m) of a handle region count as on it: contacts lie on
-the convex collision hulls, which bulge a few millimeters beyond the surface the labels were
-drawn around."""
+from simgrasp.grasping.trial_config import HANDLE_MARGIN
 
 
 @dataclass(frozen=True)

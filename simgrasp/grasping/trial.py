@@ -38,8 +38,6 @@ from numpy.typing import NDArray
 
 from simgrasp.grasping.grasp import Grasp, pose7_from_matrix
 from simgrasp.grasping.scoring import (
-    HANDLE_MARGIN,
-    ON_HANDLE_THRESHOLD,
     finger_contacts,
     geoms_touching,
     handle_fraction,
@@ -47,6 +45,7 @@ from simgrasp.grasping.scoring import (
     relative_pose,
     slip_distance,
 )
+from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.scenes.scene import Scene
 
 Failure = Literal[
@@ -58,76 +57,6 @@ Failure = Literal[
     "invalid_start",
 ]
 Phase = Literal["pregrasp", "closed", "lifted", "perturbed"]
-
-_DIRECTIONS = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
-
-
-@dataclass(frozen=True)
-class TrialConfig:
-    """Every parameter of a grasp trial (SI units: m, s, m/s, N)."""
-
-    timestep: float = 0.002
-    control_steps: int = 10
-    """Physics steps between control updates (``mj_step`` with ``nstep``)."""
-    settle_time: float = 0.5
-    pregrasp_distance: float = 0.10
-    approach_speed: float = 0.10
-    close_time: float = 0.8
-    lift_height: float = 0.20
-    lift_speed: float = 0.20
-    hold_time: float = 1.0
-    perturb_directions: tuple[tuple[float, float, float], ...] = _DIRECTIONS
-    """World-frame directions of the tugs (normalized)."""
-    perturb_force_scale: float = 1.0
-    """Tug force as a multiple of the object's weight."""
-    perturb_time: float = 0.3
-    """Duration of each tug (s); the tugs are separated by rests of the same length."""
-    on_handle_threshold: float = ON_HANDLE_THRESHOLD
-    handle_margin: float = HANDLE_MARGIN
-    """Contacts this close (m) to the handle label count as on it (see scoring)."""
-    lifted_fraction: float = 0.5
-    """The object counts as lifted when it rose at least this share of ``lift_height``."""
-    approach_lag_limit: float = 0.02
-    """TCP more than this far from its target after the approach: ``approach_collision``."""
-    approach_push_limit: float = 0.03
-    """Object moved more than this during the approach: ``approach_collision``."""
-    release_gap: float = 0.01
-    """After the close, an object at least this far (m) from every gripper geom has been let
-    go, and the trial ends with the phase's failure (``slipped_in_lift``,
-    ``dropped_in_perturbation``). A gap, not a lost contact, decides it: a tool rattling in
-    the jaws under a tug has no contact at some control steps."""
-    max_penetration: float = 0.02
-    max_speed: float = 100.0
-    """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
-    spinning in the jaws during the tugs reaches ~20 rad/s; blow-ups go far beyond)."""
-
-    def __post_init__(self) -> None:
-        positive = (
-            "timestep",
-            "pregrasp_distance",
-            "approach_speed",
-            "close_time",
-            "lift_height",
-            "lift_speed",
-            "perturb_time",
-            "release_gap",
-            "max_penetration",
-            "max_speed",
-        )
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ValueError(f"TrialConfig.{name} must be positive, got {getattr(self, name)}")
-        if self.control_steps < 1:
-            raise ValueError(f"TrialConfig.control_steps must be >= 1, got {self.control_steps}")
-        if not 0 <= self.on_handle_threshold <= 1 or not 0 < self.lifted_fraction <= 1:
-            raise ValueError("TrialConfig on_handle_threshold/lifted_fraction must be in [0, 1]")
-        directions = np.asarray(self.perturb_directions, dtype=float).reshape(-1, 3)
-        if np.any(np.linalg.norm(directions, axis=1) < 1e-9):
-            raise ValueError("TrialConfig.perturb_directions must be non-zero vectors")
-
-    @property
-    def control_dt(self) -> float:
-        return self.timestep * self.control_steps
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ from typing import Literal
 
 from numpy.typing import ArrayLike
 
+from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.quadric_detector import detect_quadric_handles
@@ -25,7 +26,7 @@ def default_config(
 ) -> QuadricDetectorConfig | TenPasConfig:
     """The default configuration of ``detector``, optionally for another gripper opening (m)."""
     if detector not in DETECTORS:
-        raise ValueError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+        raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
     config_type = QuadricDetectorConfig if detector == "quadric" else TenPasConfig
     if gripper_max_opening is None:
         return config_type()
@@ -50,13 +51,13 @@ def detect(
     config = config if config is not None else default_config(detector)
     if detector == "quadric":
         if not isinstance(config, QuadricDetectorConfig):
-            raise ValueError("the quadric detector needs a QuadricDetectorConfig")
+            raise SimgraspError("the quadric detector needs a QuadricDetectorConfig")
         return detect_quadric_handles(points, normals, config, seed, viewpoint)
     if detector == "tenpas":
         if not isinstance(config, TenPasConfig):
-            raise ValueError("the tenpas detector needs a TenPasConfig")
+            raise SimgraspError("the tenpas detector needs a TenPasConfig")
         return detect_tenpas_handles(points, normals, config, seed, viewpoint)
-    raise ValueError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+    raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
 
 
 __all__ = [

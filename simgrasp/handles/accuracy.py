@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
+from numpy.typing import NDArray
 
 from simgrasp.assets.labels import HandleLabel
 from simgrasp.handles.detection import Detection
@@ -25,3 +28,25 @@ def handle_recall(detection: Detection, label: HandleLabel) -> bool:
         return False
     centers = np.stack([h.center for h in detection.handles])
     return bool(label.contains(centers).any())
+
+
+def score_detection(
+    detection: Detection | None, object_T_frame: NDArray[np.float64], label: HandleLabel
+) -> tuple[float | None, bool | None]:
+    """Accuracy (None without candidates) and recall of a detection made in another frame,
+    ``object_T_frame`` mapping it into the label's object frame; (None, None) without one."""
+    if detection is None:
+        return None, None
+    in_object = moved_detection(detection, object_T_frame)
+    accuracy = detection_accuracy(in_object, label)
+    return (None if np.isnan(accuracy) else accuracy), handle_recall(in_object, label)
+
+
+def moved_detection(detection: Detection, a_T_b: NDArray[np.float64]) -> Detection:
+    """The detection's candidate and handle centers mapped by ``a_T_b`` (for label checks)."""
+    rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
+    candidates = tuple(
+        replace(c, center=rotation @ c.center + translation) for c in detection.candidates
+    )
+    handles = tuple(replace(h, center=rotation @ h.center + translation) for h in detection.handles)
+    return replace(detection, candidates=candidates, handles=handles)

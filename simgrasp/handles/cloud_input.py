@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
+
 
 def validate_cloud(
     points: ArrayLike, normals: ArrayLike | None = None
@@ -17,12 +19,12 @@ def validate_cloud(
     """
     pts = np.asarray(points, dtype=float)
     if pts.ndim != 2 or pts.shape[1] != 3:
-        raise ValueError(f"points must be an (N, 3) array, got shape {pts.shape}")
+        raise SimgraspError(f"points must be an (N, 3) array, got shape {pts.shape}")
     if len(pts) == 0:
-        raise ValueError("the point cloud is empty")
+        raise SimgraspError("the point cloud is empty")
     bad = ~np.all(np.isfinite(pts), axis=1)
     if bad.any():
-        raise ValueError(
+        raise SimgraspError(
             f"the point cloud has {int(bad.sum())} of {len(pts)} points with NaN or inf "
             "coordinates; drop them before detection"
         )
@@ -30,8 +32,8 @@ def validate_cloud(
         return pts, None
     nrm = np.asarray(normals, dtype=float)
     if nrm.shape != pts.shape:
-        raise ValueError(f"normals must match points {pts.shape}, got shape {nrm.shape}")
+        raise SimgraspError(f"normals must match points {pts.shape}, got shape {nrm.shape}")
     lengths = np.linalg.norm(nrm, axis=1)
     if not np.all(np.isfinite(lengths)) or np.any(np.abs(lengths - 1) > 1e-3):
-        raise ValueError("normals must be finite unit vectors")
+        raise SimgraspError("normals must be finite unit vectors")
     return pts, nrm

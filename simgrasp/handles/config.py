@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 from typing import Literal
 
+from simgrasp.errors import SimgraspError
+
 
 @dataclass(frozen=True)
 class QuadricDetectorConfig:
@@ -101,29 +103,29 @@ class QuadricDetectorConfig:
         for name in positive:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and value > 0):
-                raise ValueError(f"detector config: {name} must be positive, got {value!r}")
+                raise SimgraspError(f"detector config: {name} must be positive, got {value!r}")
         if self.voxel_size < 0:
-            raise ValueError(f"detector config: voxel_size must be >= 0, got {self.voxel_size}")
+            raise SimgraspError(f"detector config: voxel_size must be >= 0, got {self.voxel_size}")
         if self.min_points < 9 or self.max_points < self.min_points:
-            raise ValueError(
+            raise SimgraspError(
                 "detector config: need 9 <= min_points <= max_points, got "
                 f"{self.min_points}, {self.max_points}"
             )
         if not self.neighborhood_scales or any(not s > 0 for s in self.neighborhood_scales):
-            raise ValueError(
+            raise SimgraspError(
                 "detector config: neighborhood_scales must be positive, got "
                 f"{self.neighborhood_scales}"
             )
         if self.neighborhoods is not None and self.neighborhoods < 1:
-            raise ValueError(
+            raise SimgraspError(
                 f"detector config: neighborhoods must be >= 1, got {self.neighborhoods}"
             )
         if self.neighborhood_shape not in ("cube", "sphere"):
-            raise ValueError(
+            raise SimgraspError(
                 f"detector config: unknown neighborhood_shape {self.neighborhood_shape!r}"
             )
         if self.fit_method not in ("birdal", "taubin", "algebraic"):
-            raise ValueError(f"detector config: unknown fit_method {self.fit_method!r}")
+            raise SimgraspError(f"detector config: unknown fit_method {self.fit_method!r}")
 
     @classmethod
     def paper(cls, **overrides: object) -> QuadricDetectorConfig:

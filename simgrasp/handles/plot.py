@@ -7,6 +7,8 @@ from pathlib import Path
 
 import matplotlib
 
+from simgrasp.errors import SimgraspError
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -39,7 +41,7 @@ def plot_detection(
     """
     out = Path(out)
     if out.suffix.lower() != ".png":
-        raise ValueError(f"--plot writes PNG files; got {out}")
+        raise SimgraspError(f"--plot writes PNG files; got {out}")
     out.parent.mkdir(parents=True, exist_ok=True)
     fig = plt.figure(figsize=(14, 7))
     views = ((25, -60), (85, -90))

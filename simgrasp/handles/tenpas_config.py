@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
+from simgrasp.errors import SimgraspError
+
 
 @dataclass(frozen=True)
 class TenPasConfig:
@@ -79,43 +81,45 @@ class TenPasConfig:
         for name in positive:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | float):
-                raise ValueError(f"tenpas config: {name} must be a number, got {value!r}")
+                raise SimgraspError(f"tenpas config: {name} must be a number, got {value!r}")
             if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"tenpas config: {name} must be positive, got {value!r}")
+                raise SimgraspError(f"tenpas config: {name} must be positive, got {value!r}")
         for name in ("voxel_size", "shell_gap"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise ValueError(f"tenpas config: {name} must be >= 0, got {value!r}")
+                raise SimgraspError(f"tenpas config: {name} must be >= 0, got {value!r}")
         if self.min_radius >= self.gripper_max_opening / 2:
-            raise ValueError(
+            raise SimgraspError(
                 f"tenpas config: min_radius {self.min_radius} must be below half the gripper "
                 f"opening {self.gripper_max_opening / 2}"
             )
         if not 0 <= self.max_shell_fraction < 1:
-            raise ValueError(
+            raise SimgraspError(
                 f"tenpas config: max_shell_fraction must be in [0, 1), got "
                 f"{self.max_shell_fraction!r}"
             )
         if self.align_angle >= math.pi / 2:
-            raise ValueError(
+            raise SimgraspError(
                 f"tenpas config: align_angle must be below pi/2 rad, got {self.align_angle!r}"
             )
         if self.kind_rtol >= 1:
-            raise ValueError(f"tenpas config: kind_rtol must be below 1, got {self.kind_rtol!r}")
+            raise SimgraspError(f"tenpas config: kind_rtol must be below 1, got {self.kind_rtol!r}")
         if self.align_radius_ratio >= 1:
-            raise ValueError(
+            raise SimgraspError(
                 "tenpas config: align_radius_ratio must be below 1, got "
                 f"{self.align_radius_ratio!r}"
             )
         if self.min_points < 9 or self.max_points < self.min_points:
-            raise ValueError(
+            raise SimgraspError(
                 "tenpas config: need 9 <= min_points <= max_points, got "
                 f"{self.min_points}, {self.max_points}"
             )
         if self.neighborhoods is not None and self.neighborhoods < 1:
-            raise ValueError(f"tenpas config: neighborhoods must be >= 1, got {self.neighborhoods}")
+            raise SimgraspError(
+                f"tenpas config: neighborhoods must be >= 1, got {self.neighborhoods}"
+            )
         if self.min_shells < 1:
-            raise ValueError(f"tenpas config: min_shells must be >= 1, got {self.min_shells}")
+            raise SimgraspError(f"tenpas config: min_shells must be >= 1, got {self.min_shells}")
 
     @classmethod
     def field_names(cls) -> tuple[str, ...]:

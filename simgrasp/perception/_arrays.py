@@ -6,17 +6,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.errors import SimgraspError
+
 
 def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
     """Return ``points`` as a finite, non-empty (N, 3) float64 array or raise ``ValueError``."""
     array = np.asarray(points, dtype=np.float64)
     if array.ndim != 2 or array.shape[1] != 3:
-        raise ValueError(f"{name} must be an (N, 3) array, got shape {array.shape}")
+        raise SimgraspError(f"{name} must be an (N, 3) array, got shape {array.shape}")
     if len(array) == 0:
-        raise ValueError(f"{name} is empty")
+        raise SimgraspError(f"{name} is empty")
     bad = ~np.isfinite(array).all(axis=1)
     if bad.any():
-        raise ValueError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
+        raise SimgraspError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
     return array
 
 
@@ -26,10 +28,12 @@ def as_normals(
     """Return ``normals`` as a finite (N, 3) float64 array matching ``points``."""
     array = np.asarray(normals, dtype=np.float64)
     if array.shape != points.shape:
-        raise ValueError(f"{name} must match the points' shape {points.shape}, got {array.shape}")
+        raise SimgraspError(
+            f"{name} must match the points' shape {points.shape}, got {array.shape}"
+        )
     bad = ~np.isfinite(array).all(axis=1)
     if bad.any():
-        raise ValueError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
+        raise SimgraspError(f"{name} has {int(bad.sum())} of {len(array)} rows with NaN or inf")
     return array
 
 
@@ -39,16 +43,16 @@ def kd_tree(points: NDArray[np.float64], tree: cKDTree | None = None) -> cKDTree
     if tree is None:
         return cKDTree(points)
     if tree.n != len(points) or tree.m != 3:
-        raise ValueError(f"tree holds {tree.n} points of dimension {tree.m}, not the cloud's")
+        raise SimgraspError(f"tree holds {tree.n} points of dimension {tree.m}, not the cloud's")
     return tree
 
 
 def positive(value: float, name: str) -> float:
     """Return ``value`` as a float if it is a finite positive number, else raise ``ValueError``."""
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise ValueError(f"{name} must be a positive number, got {value!r}")
+        raise SimgraspError(f"{name} must be a positive number, got {value!r}")
     if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a finite positive number, got {value!r}")
+        raise SimgraspError(f"{name} must be a finite positive number, got {value!r}")
     return float(value)
 
 

@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from simgrasp.errors import SimgraspError
+
 #: Rotation taking MuJoCo-camera-frame vectors (x right, y up, looking along -z) to the OpenCV
 #: camera frame (x right, y down, z forward). It is its own inverse.
 cv_R_mujoco: np.ndarray = np.diag([1.0, -1.0, -1.0])
@@ -49,16 +51,16 @@ class CameraIntrinsics:
 
     def __post_init__(self) -> None:
         if int(self.width) != self.width or int(self.height) != self.height:
-            raise ValueError(f"image size must be integers, got {self.width}x{self.height}")
+            raise SimgraspError(f"image size must be integers, got {self.width}x{self.height}")
         if self.width <= 0 or self.height <= 0:
-            raise ValueError(f"image size must be positive, got {self.width}x{self.height}")
+            raise SimgraspError(f"image size must be positive, got {self.width}x{self.height}")
         for name in ("fx", "fy"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"camera intrinsics: {name} must be positive, got {value}")
+                raise SimgraspError(f"camera intrinsics: {name} must be positive, got {value}")
         for name in ("cx", "cy"):
             if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"camera intrinsics: {name} must be finite")
+                raise SimgraspError(f"camera intrinsics: {name} must be finite")
 
     @classmethod
     def from_fovy(cls, width: int, height: int, fovy_deg: float) -> CameraIntrinsics:
@@ -66,9 +68,9 @@ class CameraIntrinsics:
         pixels and a centered principal point, exactly as MuJoCo renders an image of this size.
         """
         if not (0.0 < fovy_deg < 180.0):
-            raise ValueError(f"fovy_deg must be in (0, 180) degrees, got {fovy_deg}")
+            raise SimgraspError(f"fovy_deg must be in (0, 180) degrees, got {fovy_deg}")
         if width <= 0 or height <= 0:
-            raise ValueError(f"image size must be positive, got {width}x{height}")
+            raise SimgraspError(f"image size must be positive, got {width}x{height}")
         focal = 0.5 * height / math.tan(math.radians(fovy_deg) / 2.0)
         return cls(
             width=int(width),
@@ -122,14 +124,14 @@ def depth_to_points_cam(
     depth = np.asarray(depth)
     expected = (intrinsics.height, intrinsics.width)
     if depth.shape != expected:
-        raise ValueError(f"depth image has shape {depth.shape}, intrinsics expect {expected}")
+        raise SimgraspError(f"depth image has shape {depth.shape}, intrinsics expect {expected}")
     flat = depth.astype(np.float64, copy=False).ravel()
     with np.errstate(invalid="ignore"):
         valid = np.isfinite(flat) & (flat > 0.0) & (flat <= max_depth)
     if mask is not None:
         mask = np.asarray(mask)
         if mask.shape != expected or mask.dtype != np.bool_:
-            raise ValueError(
+            raise SimgraspError(
                 f"mask must be a boolean image of shape {expected}, got {mask.dtype} {mask.shape}"
             )
         valid &= mask.ravel()
@@ -169,7 +171,7 @@ def transform_points(a_T_b: np.ndarray, points_b: np.ndarray) -> np.ndarray:
     """Map (N, 3) points from frame b to frame a with the 4x4 rigid transform ``a_T_b``."""
     a_T_b = np.asarray(a_T_b, dtype=np.float64)
     if a_T_b.shape != (4, 4) or not np.all(np.isfinite(a_T_b)):
-        raise ValueError(f"transform must be a finite 4x4 matrix, got shape {a_T_b.shape}")
+        raise SimgraspError(f"transform must be a finite 4x4 matrix, got shape {a_T_b.shape}")
     points_b = _as_points(points_b, "points")
     return points_b @ a_T_b[:3, :3].T + a_T_b[:3, 3]
 
@@ -177,5 +179,5 @@ def transform_points(a_T_b: np.ndarray, points_b: np.ndarray) -> np.ndarray:
 def _as_points(points: np.ndarray, name: str) -> np.ndarray:
     points = np.asarray(points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] != 3:
-        raise ValueError(f"{name} must have shape (N, 3), got {points.shape}")
+        raise SimgraspError(f"{name} must have shape (N, 3), got {points.shape}")
     return points

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d, to_open3d
 
 FORMATS = (".ply", ".pcd", ".xyz", ".npy")
@@ -27,7 +28,7 @@ Cloud = tuple[NDArray[np.float64], NDArray[np.float64] | None]
 def _format(path: Path) -> str:
     suffix = path.suffix.lower()
     if suffix not in FORMATS:
-        raise ValueError(
+        raise SimgraspError(
             f"{path}: unknown point-cloud extension {suffix!r}; use one of {', '.join(FORMATS)}"
         )
     return suffix
@@ -38,7 +39,7 @@ def read_cloud(path: str | Path) -> Cloud:
     path = Path(path)
     suffix = _format(path)
     if not path.is_file():
-        raise ValueError(f"{path}: no such point-cloud file")
+        raise SimgraspError(f"{path}: no such point-cloud file")
     if suffix in (".ply", ".pcd"):
         points, normals = _read_open3d(path)
     else:
@@ -59,7 +60,7 @@ def write_cloud(path: str | Path, points: ArrayLike, normals: ArrayLike | None =
     if suffix in (".ply", ".pcd"):
         o3d = import_open3d()
         if not o3d.io.write_point_cloud(str(path), to_open3d(pts, nrm)):
-            raise ValueError(f"{path}: Open3D could not write the point cloud")
+            raise SimgraspError(f"{path}: Open3D could not write the point cloud")
         return
     table = pts if nrm is None else np.hstack([pts, nrm])
     if suffix == ".npy":
@@ -73,7 +74,7 @@ def _read_open3d(path: Path) -> Cloud:
     cloud = o3d.io.read_point_cloud(str(path), format="auto")
     points = np.asarray(cloud.points, dtype=np.float64)
     if len(points) == 0:
-        raise ValueError(f"{path}: no points could be read (empty or not a valid {path.suffix})")
+        raise SimgraspError(f"{path}: no points could be read (empty or not a valid {path.suffix})")
     normals = np.asarray(cloud.normals, dtype=np.float64) if cloud.has_normals() else None
     return points, normals
 
@@ -87,17 +88,17 @@ def _read_table(path: Path, suffix: str) -> NDArray[np.float64]:
                 warnings.simplefilter("ignore", UserWarning)
                 table = np.loadtxt(path, dtype=np.float64, comments="#", ndmin=2)
     except (ValueError, OSError, EOFError) as exc:
-        raise ValueError(f"{path}: not a readable {suffix} point cloud ({exc})") from exc
+        raise SimgraspError(f"{path}: not a readable {suffix} point cloud ({exc})") from exc
     if table.dtype.kind not in "fiu":
-        raise ValueError(f"{path}: expected a numeric array, got dtype {table.dtype}")
+        raise SimgraspError(f"{path}: expected a numeric array, got dtype {table.dtype}")
     return np.asarray(table, dtype=np.float64)
 
 
 def _split_columns(path: Path, table: NDArray[np.float64]) -> Cloud:
     if table.size == 0:
-        raise ValueError(f"{path}: the point cloud is empty")
+        raise SimgraspError(f"{path}: the point cloud is empty")
     if table.ndim != 2 or table.shape[1] not in (3, 6):
-        raise ValueError(
+        raise SimgraspError(
             f"{path}: expected N x 3 (points) or N x 6 (points, normals), got shape {table.shape}"
         )
     return table[:, :3], (table[:, 3:] if table.shape[1] == 6 else None)
@@ -105,12 +106,12 @@ def _split_columns(path: Path, table: NDArray[np.float64]) -> Cloud:
 
 def _checked(path: Path, points: NDArray[np.float64], normals: ArrayLike | None) -> Cloud:
     if points.ndim != 2 or points.shape[1] != 3:
-        raise ValueError(f"{path}: points must be N x 3, got shape {points.shape}")
+        raise SimgraspError(f"{path}: points must be N x 3, got shape {points.shape}")
     if len(points) == 0:
-        raise ValueError(f"{path}: the point cloud is empty")
+        raise SimgraspError(f"{path}: the point cloud is empty")
     bad = ~np.isfinite(points).all(axis=1)
     if bad.any():
-        raise ValueError(
+        raise SimgraspError(
             f"{path}: {int(bad.sum())} of {len(points)} points have NaN or inf coordinates; "
             "remove them first"
         )
@@ -118,11 +119,13 @@ def _checked(path: Path, points: NDArray[np.float64], normals: ArrayLike | None)
         return points, None
     nrm = np.asarray(normals, dtype=np.float64)
     if nrm.shape != points.shape:
-        raise ValueError(f"{path}: normals shape {nrm.shape} does not match points {points.shape}")
+        raise SimgraspError(
+            f"{path}: normals shape {nrm.shape} does not match points {points.shape}"
+        )
     length = np.linalg.norm(nrm, axis=1)
     bad = ~np.isfinite(length) | (length < 1e-12)
     if bad.any():
-        raise ValueError(
+        raise SimgraspError(
             f"{path}: {int(bad.sum())} of {len(points)} normals are NaN, inf or zero length"
         )
     return points, nrm / length[:, None]

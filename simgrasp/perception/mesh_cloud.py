@@ -6,6 +6,8 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from simgrasp.errors import SimgraspError
+
 
 def sample_surface(
     mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
@@ -23,11 +25,11 @@ def sample_surface(
         normals of the faces they lie on (outward for a consistently wound mesh).
     """
     if not isinstance(mesh, trimesh.Trimesh):
-        raise ValueError(f"sample_surface needs a trimesh.Trimesh, got {type(mesh).__name__}")
+        raise SimgraspError(f"sample_surface needs a trimesh.Trimesh, got {type(mesh).__name__}")
     if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 1:
-        raise ValueError(f"count must be a positive integer, got {count!r}")
+        raise SimgraspError(f"count must be a positive integer, got {count!r}")
     if len(mesh.faces) == 0 or not mesh.area > 0:
-        raise ValueError("cannot sample a mesh with no surface area (no faces or degenerate)")
+        raise SimgraspError("cannot sample a mesh with no surface area (no faces or degenerate)")
     seed = int(rng.integers(2**32))
     points, face = trimesh.sample.sample_surface(mesh, int(count), seed=seed)
     return np.asarray(points, dtype=np.float64), np.asarray(mesh.face_normals[face], np.float64)

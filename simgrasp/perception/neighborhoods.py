@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import as_normals, as_points, kd_tree, positive
 from simgrasp.perception.voxel import voxel_count
 
@@ -67,11 +68,11 @@ def sample_centers(
     pts = as_points(points)
     if count is None:
         if voxel_size is None:
-            raise ValueError("sample_centers needs count or voxel_size (to scale with size)")
+            raise SimgraspError("sample_centers needs count or voxel_size (to scale with size)")
         per = positive(per_voxels, "per_voxels")
         count = math.ceil(voxel_count(pts, voxel_size) / per)
     elif isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 1:
-        raise ValueError(f"count must be a positive integer, got {count!r}")
+        raise SimgraspError(f"count must be a positive integer, got {count!r}")
     count = min(int(count), len(pts))
     return np.sort(rng.choice(len(pts), size=count, replace=False)).astype(np.int64)
 
@@ -105,12 +106,12 @@ def gather_neighborhoods(
     centers = as_points(center_points, "center_points")
     radius = positive(half_size, "half_size")
     if shape not in ("cube", "sphere"):
-        raise ValueError(f"shape must be 'cube' or 'sphere', got {shape!r}")
+        raise SimgraspError(f"shape must be 'cube' or 'sphere', got {shape!r}")
     for name, value in (("max_points", max_points), ("min_points", min_points)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+            raise SimgraspError(f"{name} must be a positive integer, got {value!r}")
     if min_points > max_points:
-        raise ValueError(f"min_points ({min_points}) exceeds max_points ({max_points})")
+        raise SimgraspError(f"min_points ({min_points}) exceeds max_points ({max_points})")
 
     owner, flat = _pairs_within(kd_tree(pts, tree), centers, radius, shape)
     sizes = np.bincount(owner, minlength=len(centers))
@@ -121,7 +122,7 @@ def gather_neighborhoods(
         flat = flat[kept[owner]]
     sizes = sizes[keep]
     if (sizes > max_points).any() and rng is None:
-        raise ValueError("gather_neighborhoods needs rng to subsample large neighbourhoods")
+        raise SimgraspError("gather_neighborhoods needs rng to subsample large neighbourhoods")
     offsets = _chosen_offsets(sizes, max_points, rng)
     mask = offsets < sizes[:, None]
     rows = (np.cumsum(sizes) - sizes)[:, None] + offsets

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import as_points
 
 
@@ -36,7 +37,7 @@ def multiplicative_noise(
     """
     pts = as_points(points)
     if not (isinstance(sigma, int | float | np.number) and np.isfinite(sigma) and sigma >= 0):
-        raise ValueError(f"sigma must be a finite number >= 0, got {sigma!r}")
+        raise SimgraspError(f"sigma must be a finite number >= 0, got {sigma!r}")
     factor = rng.normal(1.0, float(sigma), size=(len(pts), 1))
     return pts * factor
 
@@ -60,9 +61,11 @@ class DepthNoiseConfig:
         for name in ("axial_a", "axial_b", "axial_c", "lateral_per_meter"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and np.isfinite(value) and value >= 0):
-                raise ValueError(f"DepthNoiseConfig.{name} must be finite and >= 0, got {value!r}")
+                raise SimgraspError(
+                    f"DepthNoiseConfig.{name} must be finite and >= 0, got {value!r}"
+                )
         if not (isinstance(self.dropout, int | float) and 0 <= self.dropout < 1):
-            raise ValueError(f"DepthNoiseConfig.dropout must be in [0, 1), got {self.dropout!r}")
+            raise SimgraspError(f"DepthNoiseConfig.dropout must be in [0, 1), got {self.dropout!r}")
 
     def axial_sigma(self, z: ArrayLike) -> NDArray[np.float64]:
         """Axial standard deviation (m) at depth ``z`` (m)."""
@@ -87,7 +90,7 @@ def depth_camera_noise(
     pts = as_points(points_cam, "points_cam")
     z = pts[:, 2]
     if (z <= 0).any():
-        raise ValueError(
+        raise SimgraspError(
             f"points_cam has {int((z <= 0).sum())} points at z <= 0 (behind the camera); "
             "depth noise needs points in front of it (OpenCV frame, +z forward)"
         )

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import as_points, import_open3d, kd_tree, positive, to_open3d
 
 Orientation = Literal["outward", "viewpoint", "none"]
@@ -81,26 +82,26 @@ def estimate_normals(
     """
     pts = as_points(points)
     if len(pts) < 3:
-        raise ValueError(f"normal estimation needs at least 3 points, got {len(pts)}")
+        raise SimgraspError(f"normal estimation needs at least 3 points, got {len(pts)}")
     if isinstance(max_nn, bool) or not isinstance(max_nn, int | np.integer) or max_nn < 3:
-        raise ValueError(f"max_nn must be an integer >= 3, got {max_nn!r}")
+        raise SimgraspError(f"max_nn must be an integer >= 3, got {max_nn!r}")
     if orient not in ("outward", "viewpoint", "none"):
-        raise ValueError(f"orient must be 'outward', 'viewpoint' or 'none', got {orient!r}")
+        raise SimgraspError(f"orient must be 'outward', 'viewpoint' or 'none', got {orient!r}")
     if orient == "viewpoint":
         if viewpoint is None:
-            raise ValueError("orient='viewpoint' needs viewpoint, the camera position (3,)")
+            raise SimgraspError("orient='viewpoint' needs viewpoint, the camera position (3,)")
         eye = np.asarray(viewpoint, dtype=np.float64)
         if eye.shape != (3,) or not np.isfinite(eye).all():
-            raise ValueError(f"viewpoint must be a finite (3,) position, got {viewpoint!r}")
+            raise SimgraspError(f"viewpoint must be a finite (3,) position, got {viewpoint!r}")
     elif viewpoint is not None:
-        raise ValueError(f"viewpoint is only used with orient='viewpoint', not {orient!r}")
+        raise SimgraspError(f"viewpoint is only used with orient='viewpoint', not {orient!r}")
 
     if radius is None or orient == "outward":
         tree = kd_tree(pts, tree)
         spacing = point_spacing(pts, tree=tree)
     if radius is None:
         if spacing <= 0:
-            raise ValueError("cannot derive a normal radius: the points coincide; pass radius")
+            raise SimgraspError("cannot derive a normal radius: the points coincide; pass radius")
         radius = RADIUS_PER_SPACING * spacing
     radius = positive(radius, "radius")
 

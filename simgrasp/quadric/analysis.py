@@ -57,6 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.quadric.coefficients import (
     coefficients_to_matrix,
     matrix_to_coefficients,
@@ -136,7 +137,7 @@ def analyze_quadrics(
     """
     c = validate_coefficient_rows(coefficients)
     if not (np.isfinite(rtol) and 0 < rtol < 1):
-        raise ValueError(f"rtol must be in (0, 1), got {rtol!r}")
+        raise SimgraspError(f"rtol must be in (0, 1), got {rtol!r}")
     reference = np.zeros((len(c), 3))
     if reference_points is not None:
         try:
@@ -144,11 +145,11 @@ def analyze_quadrics(
                 np.asarray(reference_points, dtype=np.float64), (len(c), 3)
             ).copy()
         except ValueError:
-            raise ValueError(
+            raise SimgraspError(
                 f"reference_points must be (3,) or ({len(c)}, 3), got {np.shape(reference_points)}"
             ) from None
         if not np.all(np.isfinite(reference)):
-            raise ValueError("reference_points must be finite")
+            raise SimgraspError("reference_points must be finite")
     rround = min(rtol, ROUNDING_RTOL)
     with np.errstate(all="ignore"):
         analysis = _analyze(_translated(c, reference), rtol, rround)

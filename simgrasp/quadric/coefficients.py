@@ -9,6 +9,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
+
 # Position in Q (row, col) of coefficients A..J (upper triangle).
 _ROWS = np.array([0, 1, 2, 0, 0, 1, 0, 1, 2, 3])
 _COLS = np.array([0, 1, 2, 1, 2, 2, 3, 3, 3, 3])
@@ -34,7 +36,7 @@ def validate_coefficient_rows(coefficients: ArrayLike, name: str = "coefficients
     try:
         c = np.asarray(coefficients, dtype=np.float64)
     except (TypeError, ValueError) as error:
-        raise ValueError(f"{name} must be numbers, shape (B, 10): {error}") from None
+        raise SimgraspError(f"{name} must be numbers, shape (B, 10): {error}") from None
     if c.ndim != 2 or c.shape[1] != 10:
-        raise ValueError(f"{name} must have shape (B, 10) [A..J], got {c.shape}")
+        raise SimgraspError(f"{name} must have shape (B, 10) [A..J], got {c.shape}")
     return c

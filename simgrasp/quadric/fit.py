@@ -37,6 +37,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.quadric.coefficients import coefficients_to_matrix, matrix_to_coefficients
 
 FitMethod = Literal["birdal", "taubin", "algebraic"]
@@ -133,15 +134,15 @@ def fit_quadrics(
             do not match (not 3 columns, points/normals/mask mismatch).
     """
     if method not in METHODS:
-        raise ValueError(f"fit_quadrics: unknown method {method!r}; use one of {METHODS}")
+        raise SimgraspError(f"fit_quadrics: unknown method {method!r}; use one of {METHODS}")
     if method == "birdal" and normals is None:
-        raise ValueError("fit_quadrics: method 'birdal' needs normals (one per point)")
+        raise SimgraspError("fit_quadrics: method 'birdal' needs normals (one per point)")
     for name, value in (
         ("gradient_weight", gradient_weight),
         ("magnitude_weight", magnitude_weight),
     ):
         if not (np.isfinite(value) and value > 0):
-            raise ValueError(f"fit_quadrics: {name} must be > 0, got {value!r}")
+            raise SimgraspError(f"fit_quadrics: {name} must be > 0, got {value!r}")
     pts, nrm, valid_point = _dense_inputs(points, normals if method == "birdal" else None, mask)
     with np.errstate(all="ignore"):
         return _fit(pts, nrm, valid_point, method, gradient_weight, magnitude_weight)
@@ -155,19 +156,19 @@ def _dense_inputs(
     """Validate shapes and return dense (B, K, 3) points, normals or None, (B, K) mask."""
     if isinstance(points, list | tuple):
         if mask is not None:
-            raise ValueError("fit_quadrics: mask is only for dense (B, K, 3) points, not a list")
+            raise SimgraspError("fit_quadrics: mask is only for dense (B, K, 3) points, not a list")
         pts, valid = _pad(points, "points")
         nrm = None
         if normals is not None:
             if not isinstance(normals, list | tuple) or len(normals) != len(points):
-                raise ValueError("fit_quadrics: normals must be a list matching the points list")
+                raise SimgraspError("fit_quadrics: normals must be a list matching the points list")
             nrm, valid_n = _pad(normals, "normals")
             if nrm.shape != pts.shape or not np.array_equal(valid, valid_n):
-                raise ValueError("fit_quadrics: each normals array must match its points array")
+                raise SimgraspError("fit_quadrics: each normals array must match its points array")
         return pts, nrm, valid
     pts = _as_float(points, "points")
     if pts.ndim != 3 or pts.shape[2] != 3:
-        raise ValueError(
+        raise SimgraspError(
             f"fit_quadrics: points must be (B, K, 3) or a list of (K_i, 3) arrays, got "
             f"shape {pts.shape}"
         )
@@ -175,7 +176,7 @@ def _dense_inputs(
     if normals is not None:
         nrm = _as_float(normals, "normals")
         if nrm.shape != pts.shape:
-            raise ValueError(
+            raise SimgraspError(
                 f"fit_quadrics: normals shape {nrm.shape} does not match points {pts.shape}"
             )
     if mask is None:
@@ -183,7 +184,7 @@ def _dense_inputs(
     else:
         valid = np.asarray(mask)
         if valid.shape != pts.shape[:2] or valid.dtype != np.bool_:
-            raise ValueError(
+            raise SimgraspError(
                 f"fit_quadrics: mask must be bool of shape {pts.shape[:2]}, got "
                 f"{valid.dtype} {valid.shape}"
             )
@@ -194,14 +195,16 @@ def _as_float(values: ArrayLike, name: str) -> np.ndarray:
     try:
         return np.asarray(values, dtype=np.float64)
     except (TypeError, ValueError) as error:
-        raise ValueError(f"fit_quadrics: {name} must be numeric: {error}") from None
+        raise SimgraspError(f"fit_quadrics: {name} must be numeric: {error}") from None
 
 
 def _pad(arrays: Sequence[ArrayLike], name: str) -> tuple[np.ndarray, np.ndarray]:
     items = [_as_float(a, name) for a in arrays]
     for i, item in enumerate(items):
         if item.ndim != 2 or item.shape[1] != 3:
-            raise ValueError(f"fit_quadrics: {name}[{i}] must have shape (K, 3), got {item.shape}")
+            raise SimgraspError(
+                f"fit_quadrics: {name}[{i}] must have shape (K, 3), got {item.shape}"
+            )
     width = max((len(item) for item in items), default=0)
     dense = np.zeros((len(items), width, 3))
     valid = np.zeros((len(items), width), dtype=bool)

@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from skimage.measure import marching_cubes
 
+from simgrasp.errors import SimgraspError
 from simgrasp.quadric.kinds import QuadricKind
 from simgrasp.quadric.quadric import Quadric
 
@@ -34,11 +35,11 @@ def surface_mesh(
     """
     cube_center = np.asarray(center, dtype=np.float64)
     if cube_center.shape != (3,) or not np.all(np.isfinite(cube_center)):
-        raise ValueError(f"surface_mesh: center must be one finite 3-D point, got {center!r}")
+        raise SimgraspError(f"surface_mesh: center must be one finite 3-D point, got {center!r}")
     if not (np.isfinite(half_size) and half_size > 0):
-        raise ValueError(f"surface_mesh: half_size must be > 0, got {half_size!r}")
+        raise SimgraspError(f"surface_mesh: half_size must be > 0, got {half_size!r}")
     if resolution < 4:
-        raise ValueError(f"surface_mesh: resolution must be >= 4, got {resolution}")
+        raise SimgraspError(f"surface_mesh: resolution must be >= 4, got {resolution}")
     kind = quadric.kind
     if kind == QuadricKind.REAL_ELLIPSOID:
         vertices, faces = _ellipsoid(quadric, resolution)

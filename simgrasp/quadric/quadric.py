@@ -13,6 +13,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.quadric.analysis import DEFAULT_RTOL, QuadricAnalysis, analyze_quadrics
 from simgrasp.quadric.coefficients import (
     coefficients_to_matrix,
@@ -46,23 +47,23 @@ class Quadric:
         try:
             c = np.array(self.coefficients, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError) as error:
-            raise ValueError(f"quadric coefficients must be 10 numbers: {error}") from None
+            raise SimgraspError(f"quadric coefficients must be 10 numbers: {error}") from None
         if c.shape != (10,):
-            raise ValueError(f"quadric coefficients must be 10 numbers [A..J], got {c.size}")
+            raise SimgraspError(f"quadric coefficients must be 10 numbers [A..J], got {c.size}")
         if not np.all(np.isfinite(c)):
-            raise ValueError(f"quadric coefficients must be finite, got {c.tolist()}")
+            raise SimgraspError(f"quadric coefficients must be finite, got {c.tolist()}")
         if not np.any(c[:6]):
-            raise ValueError(
+            raise SimgraspError(
                 "quadric coefficients: the quadratic part A..F is all zero (a plane, not a quadric)"
             )
         if not (np.isfinite(self.rtol) and 0 < self.rtol < 1):
-            raise ValueError(f"quadric rtol must be in (0, 1), got {self.rtol!r}")
+            raise SimgraspError(f"quadric rtol must be in (0, 1), got {self.rtol!r}")
         c.setflags(write=False)
         object.__setattr__(self, "coefficients", c)
         if self.reference_point is not None:
             reference = np.array(self.reference_point, dtype=np.float64)
             if reference.shape != (3,) or not np.all(np.isfinite(reference)):
-                raise ValueError(
+                raise SimgraspError(
                     f"quadric reference_point must be one finite 3-D point, got {reference!r}"
                 )
             reference.setflags(write=False)
@@ -95,7 +96,7 @@ class Quadric:
         if reference_points is not None:
             references = np.array(reference_points, dtype=np.float64)
             if references.shape != (len(rows), 3):
-                raise ValueError(
+                raise SimgraspError(
                     f"reference_points must have shape ({len(rows)}, 3), got {references.shape}"
                 )
             references.setflags(write=False)
@@ -107,7 +108,7 @@ class Quadric:
             try:
                 cls(rows[first], rtol, None if references is None else references[first])
             except ValueError as error:
-                raise ValueError(f"row {first}: {error}") from None
+                raise SimgraspError(f"row {first}: {error}") from None
         rows.setflags(write=False)
         quadrics = []
         for row in range(len(rows)):
@@ -130,7 +131,7 @@ class Quadric:
         """Quadric from a 4x4 matrix Q with f(x) = [x 1] Q [x 1]ᵀ (symmetrized)."""
         m = np.asarray(matrix, dtype=np.float64)
         if m.shape != (4, 4):
-            raise ValueError(f"quadric matrix must be 4x4, got shape {m.shape}")
+            raise SimgraspError(f"quadric matrix must be 4x4, got shape {m.shape}")
         return cls(matrix_to_coefficients(m), rtol=rtol, reference_point=reference_point)
 
     @property
@@ -165,7 +166,7 @@ class Quadric:
         """
         T = np.asarray(transform, dtype=np.float64)
         if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-            raise ValueError(f"transform must be a finite 4x4 matrix, got shape {T.shape}")
+            raise SimgraspError(f"transform must be a finite 4x4 matrix, got shape {T.shape}")
         R = T[:3, :3]
         rigid = (
             np.allclose(R.T @ R, np.eye(3), atol=RIGID_TOLERANCE)
@@ -173,7 +174,7 @@ class Quadric:
             and np.allclose(T[3], [0, 0, 0, 1], atol=RIGID_TOLERANCE)
         )
         if not rigid:
-            raise ValueError(
+            raise SimgraspError(
                 "transform must be rigid (orthonormal rotation with det +1, last row 0 0 0 1)"
             )
         inverse = np.eye(4)
@@ -241,7 +242,7 @@ class Quadric:
         """Distance from ``point`` (3,) to the center; for cylinder kinds, to the axis line."""
         p = np.asarray(point, dtype=np.float64)
         if p.shape != (3,) or not np.all(np.isfinite(p)):
-            raise ValueError(f"distance_to_center needs one finite 3-D point, got {p!r}")
+            raise SimgraspError(f"distance_to_center needs one finite 3-D point, got {p!r}")
         offset = p - self.center
         if self.kind in CYLINDER_KINDS:
             axis = self.axes[2]
@@ -250,7 +251,7 @@ class Quadric:
 
     def _require_handle(self, name: str) -> None:
         if self.kind not in HANDLE_KINDS:
-            raise ValueError(
+            raise SimgraspError(
                 f"{name} is defined for handle kinds "
                 f"({', '.join(sorted(k.value for k in HANDLE_KINDS))}), not {self.kind.value}"
             )
@@ -265,5 +266,5 @@ def _points(points: ArrayLike, name: str) -> tuple[np.ndarray, bool]:
     single = pts.shape == (3,)
     pts = pts.reshape(1, 3) if single else pts
     if pts.ndim != 2 or pts.shape[1] != 3:
-        raise ValueError(f"{name}: points must have shape (N, 3) or (3,), got {pts.shape}")
+        raise SimgraspError(f"{name}: points must have shape (N, 3) or (3,), got {pts.shape}")
     return pts, single

@@ -10,60 +10,17 @@ of any model camera back from ``MjData`` in the OpenCV camera convention of
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Literal
 
 import mujoco
 import numpy as np
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception.camera import CameraIntrinsics, cv_T_mujoco
+from simgrasp.scenes.camera_spec import CameraSpec
 from simgrasp.scenes.views import check_views
 
 _WORLD_UP = np.array([0.0, 0.0, 1.0])
-
-
-@dataclass(frozen=True)
-class CameraSpec:
-    """A fixed pinhole depth camera.
-
-    ``pos`` and ``lookat`` are world-frame points in meters; ``fovy_deg`` the vertical field of
-    view in degrees; ``width`` x ``height`` the image size in pixels (square pixels).
-    """
-
-    name: str
-    pos: tuple[float, float, float]
-    lookat: tuple[float, float, float]
-    fovy_deg: float = 58.0
-    width: int = 640
-    height: int = 480
-
-    def __post_init__(self) -> None:
-        if not self.name:
-            raise ValueError("camera name must not be empty")
-        for field in ("pos", "lookat"):
-            value = np.asarray(getattr(self, field), dtype=np.float64)
-            if value.shape != (3,) or not np.all(np.isfinite(value)):
-                raise ValueError(f"camera {self.name!r}: {field} must be 3 finite numbers")
-            object.__setattr__(self, field, tuple(float(x) for x in value))
-        if np.linalg.norm(np.subtract(self.lookat, self.pos)) < 1e-6:
-            raise ValueError(f"camera {self.name!r}: pos and lookat coincide")
-        # Validates fovy and the image size.
-        CameraIntrinsics.from_fovy(self.width, self.height, self.fovy_deg)
-
-    @property
-    def intrinsics(self) -> CameraIntrinsics:
-        return CameraIntrinsics.from_fovy(self.width, self.height, self.fovy_deg)
-
-    @property
-    def world_R_mjcam(self) -> np.ndarray:
-        """Rotation of the MuJoCo camera frame (looking along -z, +y up) in the world frame."""
-        forward = np.subtract(self.lookat, self.pos)
-        forward /= np.linalg.norm(forward)
-        up = _WORLD_UP if abs(forward @ _WORLD_UP) < 0.999 else np.array([0.0, 1.0, 0.0])
-        right = np.cross(forward, up)
-        right /= np.linalg.norm(right)
-        cam_up = np.cross(right, forward)
-        return np.column_stack([right, cam_up, -forward])
 
 
 def add_camera(spec: mujoco.MjSpec, camera_spec: CameraSpec) -> mujoco.MjsCamera:
@@ -73,7 +30,7 @@ def add_camera(spec: mujoco.MjSpec, camera_spec: CameraSpec) -> mujoco.MjsCamera
     intrinsics from the compiled model) and the offscreen framebuffer is enlarged if needed.
     """
     if any(cam.name == camera_spec.name for cam in spec.cameras):
-        raise ValueError(f"the scene already has a camera named {camera_spec.name!r}")
+        raise SimgraspError(f"the scene already has a camera named {camera_spec.name!r}")
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, camera_spec.world_R_mjcam.ravel())
     camera = spec.worldbody.add_camera(
@@ -111,12 +68,12 @@ def default_viewpoints(
     """
     target = np.asarray(target_world, dtype=np.float64)
     if target.shape != (3,) or not np.all(np.isfinite(target)):
-        raise ValueError(f"target_world must be 3 finite numbers, got {target_world!r}")
+        raise SimgraspError(f"target_world must be 3 finite numbers, got {target_world!r}")
     check_views(n)
     if not distance > 0:
-        raise ValueError(f"distance must be positive, got {distance}")
+        raise SimgraspError(f"distance must be positive, got {distance}")
     if not 0.0 < elevation_deg < 90.0:
-        raise ValueError(f"elevation_deg must be in (0, 90), got {elevation_deg}")
+        raise SimgraspError(f"elevation_deg must be in (0, 90), got {elevation_deg}")
     views = []
     for k in range(n):
         azimuth, elevation, dist = azimuth0_deg + k * 360.0 / n, elevation_deg, distance
@@ -159,7 +116,7 @@ def world_T_cam(
     if convention == "mujoco":
         return world_T_mjcam
     if convention != "opencv":
-        raise ValueError(f"convention must be 'opencv' or 'mujoco', got {convention!r}")
+        raise SimgraspError(f"convention must be 'opencv' or 'mujoco', got {convention!r}")
     return world_T_mjcam @ cv_T_mujoco
 
 
@@ -168,7 +125,7 @@ def camera_id_of(model: mujoco.MjModel, camera_name: str) -> int:
     camera_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, camera_name)
     if camera_id < 0:
         names = [model.camera(i).name for i in range(model.ncam)]
-        raise ValueError(f"no camera named {camera_name!r} in the model (cameras: {names})")
+        raise SimgraspError(f"no camera named {camera_name!r} in the model (cameras: {names})")
     return camera_id
 
 
@@ -180,13 +137,13 @@ def model_camera_intrinsics(model: mujoco.MjModel, camera_name: str) -> CameraIn
     """
     camera_id = camera_id_of(model, camera_name)
     if np.any(model.cam_sensorsize[camera_id] > 0):
-        raise ValueError(
+        raise SimgraspError(
             f"camera {camera_name!r} uses sensorsize/focal intrinsics; only fovy cameras "
             "(as made by add_camera) are supported"
         )
     width, height = (int(x) for x in model.cam_resolution[camera_id])
     if width * height <= 1:
-        raise ValueError(
+        raise SimgraspError(
             f"camera {camera_name!r} has no image resolution; add it with add_camera or set "
             "its resolution attribute"
         )

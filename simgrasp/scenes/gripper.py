@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simgrasp.errors import SimgraspError
 from simgrasp.resources import model_path
 
 GripperName = Literal["builtin", "robotiq_2f85"]
@@ -167,7 +168,7 @@ class GripperHandles:
             )
             < 0
         ):
-            raise ValueError(f"gripper {g.name!r} with prefix {p!r} is not in this model")
+            raise SimgraspError(f"gripper {g.name!r} with prefix {p!r} is not in this model")
         return BoundGripper(
             gripper=g,
             root_body=root,
@@ -311,4 +312,4 @@ def make_gripper(name: str) -> Gripper:
         from simgrasp.scenes.robotiq import robotiq_2f85
 
         return robotiq_2f85()
-    raise ValueError(f"unknown gripper {name!r} (expected 'builtin' or 'robotiq_2f85')")
+    raise SimgraspError(f"unknown gripper {name!r} (expected 'builtin' or 'robotiq_2f85')")

@@ -1,4 +1,5 @@
-"""Object point clouds from rendered depth frames: segment, back-project, add noise, fuse views."""
+"""Observing a scene: render its cameras, then segment, back-project, add noise and fuse the
+object's pixels into one world-frame cloud with normals turned toward the cameras."""
 
 from __future__ import annotations
 
@@ -8,10 +9,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception.camera import depth_to_points_cam, transform_points
-from simgrasp.perception.noise import DepthNoiseConfig, depth_camera_noise
+from simgrasp.perception.noise import DepthNoiseConfig, depth_camera_noise, multiplicative_noise
+from simgrasp.perception.normals import estimate_normals
 from simgrasp.perception.voxel import voxel_downsample
-from simgrasp.scenes.render import DepthFrame
+from simgrasp.scenes.render import DepthFrame, SceneRenderer
+from simgrasp.scenes.scene import Scene
+from simgrasp.seeding import rng_for
+
+CLOUD_VOXEL = 0.003
+"""Voxel edge (m) of the fused object cloud the chain plans on."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,16 +63,16 @@ def object_cloud(
     """
     frames = list(frames)
     if not frames:
-        raise ValueError("object_cloud needs at least one depth frame")
+        raise SimgraspError("object_cloud needs at least one depth frame")
     body_ids = np.unique(np.asarray(list(object_body_ids), dtype=np.int64))
     if body_ids.size == 0:
-        raise ValueError("object_body_ids is empty: no body to keep")
+        raise SimgraspError("object_body_ids is empty: no body to keep")
     if np.any(body_ids < 0):
-        raise ValueError(f"object_body_ids must be body ids >= 0, got {body_ids.tolist()}")
+        raise SimgraspError(f"object_body_ids must be body ids >= 0, got {body_ids.tolist()}")
     if noise is not None and rng is None:
-        raise ValueError("a noise model needs an rng (derive it with simgrasp.seeding.rng_for)")
+        raise SimgraspError("a noise model needs an rng (derive it with simgrasp.seeding.rng_for)")
     if voxel_size is not None and not voxel_size > 0:
-        raise ValueError(f"voxel_size must be positive meters, got {voxel_size}")
+        raise SimgraspError(f"voxel_size must be positive meters, got {voxel_size}")
 
     points_per_view = [_view_points_world(frame, body_ids, noise, rng) for frame in frames]
     points_world = np.concatenate(points_per_view, axis=0)
@@ -93,3 +101,48 @@ def _view_points_world(
     if noise is not None and len(points_cam) > 0:
         points_cam, _ = depth_camera_noise(points_cam, rng, noise)
     return transform_points(frame.world_T_cam, points_cam)
+
+
+def render_views(scene: Scene, renderer: SceneRenderer) -> list[DepthFrame]:
+    """Depth and segmentation from every scene camera, the scene reset to its initial state."""
+    scene.reset()
+    return [renderer.depth(scene.data, camera) for camera in scene.cameras]
+
+
+def cloud_from_views(
+    scene: Scene, frames: list[DepthFrame], noise: float, seed: int
+) -> ObjectCloud:
+    """Fuse the object's pixels of ``frames`` into a world-frame cloud (``CLOUD_VOXEL``
+    voxels) and apply the multiplicative noise ``noise`` about its centroid (seeded by
+    ``seed``)."""
+    cloud = object_cloud(frames, [scene.object_body], voxel_size=CLOUD_VOXEL)
+    if noise == 0 or len(cloud) == 0:
+        return cloud
+    centroid = cloud.points_world.mean(axis=0)
+    rng = rng_for(seed, "chain", "noise")
+    noisy = centroid + multiplicative_noise(cloud.points_world - centroid, noise, rng)
+    return ObjectCloud(noisy, cloud.viewpoints_world, cloud.view_counts, cloud.camera_names)
+
+
+@dataclass(frozen=True, eq=False)
+class SceneObservation:
+    """What the scene's cameras saw: every frame, and the object's fused cloud."""
+
+    frames: list[DepthFrame]
+    cloud: ObjectCloud
+
+
+def observe(scene: Scene, renderer: SceneRenderer, noise: float, seed: int) -> SceneObservation:
+    """Render every scene camera with ``renderer`` (reset to the scene's initial state) and
+    fuse the object's pixels into a world-frame cloud (see :func:`cloud_from_views`)."""
+    frames = render_views(scene, renderer)
+    return SceneObservation(frames, cloud_from_views(scene, frames, noise, seed))
+
+
+def viewpoint_normals(cloud: ObjectCloud) -> np.ndarray:
+    """(N, 3) unit normals of a fused camera cloud, each turned toward the camera that saw its
+    point (world frame)."""
+    normals = estimate_normals(cloud.points_world, orient="none")
+    toward = np.einsum("ij,ij->i", normals, cloud.viewpoints_world - cloud.points_world)
+    normals[toward < 0] *= -1
+    return normals

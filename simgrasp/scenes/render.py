@@ -39,6 +39,7 @@ import functools
 import warnings
 from dataclasses import dataclass
 
+from simgrasp.errors import SimgraspError
 from simgrasp.gl_platform import (  # noqa: E402  (chooses MUJOCO_GL before mujoco loads)
     BACKENDS,
     FORCE_ENV,
@@ -130,7 +131,9 @@ class DepthFrame:
         for name, (dtype, expected) in arrays.items():
             array = np.array(getattr(self, name), dtype=dtype)
             if array.shape != expected:
-                raise ValueError(f"DepthFrame {name} has shape {array.shape}, expected {expected}")
+                raise SimgraspError(
+                    f"DepthFrame {name} has shape {array.shape}, expected {expected}"
+                )
             array.flags.writeable = False
             object.__setattr__(self, name, array)
 
@@ -159,7 +162,7 @@ class SceneRenderer:
         if backend is None:
             backend = select_backend()
         if backend not in BACKENDS:
-            raise ValueError(f"unknown render backend {backend!r}; use one of {BACKENDS}")
+            raise SimgraspError(f"unknown render backend {backend!r}; use one of {BACKENDS}")
         if backend in GL_BACKENDS and loaded_gl_platform() != backend:
             raise RuntimeError(
                 f"render backend {backend!r} requested but mujoco loaded GL platform "
@@ -167,7 +170,9 @@ class SceneRenderer:
             )
         bad = [g for g in geom_groups if not 0 <= g < 6]
         if bad or not geom_groups:
-            raise ValueError(f"geom_groups must be a non-empty subset of 0..5, got {geom_groups}")
+            raise SimgraspError(
+                f"geom_groups must be a non-empty subset of 0..5, got {geom_groups}"
+            )
         self.model = model
         self.backend = backend
         self.geom_groups = tuple(geom_groups)
@@ -269,7 +274,7 @@ class SceneRenderer:
         if key not in self._renderers:
             global_ = self.model.vis.global_
             if width > global_.offwidth or height > global_.offheight:
-                raise ValueError(
+                raise SimgraspError(
                     f"image {width}x{height} exceeds the model's offscreen framebuffer "
                     f"{global_.offwidth}x{global_.offheight}; add cameras with add_camera or "
                     "raise visual/global offwidth/offheight"

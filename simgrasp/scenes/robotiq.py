@@ -24,6 +24,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp.errors import DataNotFoundError
 from simgrasp.scenes.gripper import Gripper
 
 TCP_HEIGHT = 0.14
@@ -46,13 +47,13 @@ def menagerie_mjcf() -> Path:
     """Path of the 2F-85 MJCF under ``$MENAGERIE_ROOT``, failing clearly if it is unavailable."""
     root = os.environ.get("MENAGERIE_ROOT")
     if not root:
-        raise FileNotFoundError(
+        raise DataNotFoundError(
             "the Robotiq 2F-85 gripper needs MENAGERIE_ROOT, the directory of a MuJoCo "
             "Menagerie checkout (holding robotiq_2f85/2f85.xml); it is not set"
         )
     path = Path(root) / "robotiq_2f85" / "2f85.xml"
     if not path.is_file():
-        raise FileNotFoundError(
+        raise DataNotFoundError(
             f"the Robotiq 2F-85 model {path} does not exist; MENAGERIE_ROOT={root!r} must be a "
             "MuJoCo Menagerie checkout"
         )

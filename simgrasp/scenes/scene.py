@@ -18,11 +18,12 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.assets.placement import Placement
 from simgrasp.assets.stable import sample_rest_pose
-from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
+from simgrasp.errors import SimgraspError
+from simgrasp.scenes.camera import add_camera, default_viewpoints
+from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.gripper import BoundGripper, Gripper
-from simgrasp.scenes.views import check_views
 from simgrasp.seeding import rng_for
 
 if TYPE_CHECKING:
@@ -34,42 +35,6 @@ GRIPPER_PREFIX = "gripper/"
 SHADOW_MAP_SIZE = 2048
 """Shadow map texels a side (MuJoCo's default 4096 took ~45 ms per renderer on software GL,
 every scene; depth frames ignore shadows, and pictures keep crisp ones at 640 x 480)."""
-
-
-@dataclass(frozen=True)
-class SceneConfig:
-    """Scene layout (meters, seconds).
-
-    Attributes:
-        table_top_z: height of the table's top face (world z).
-        table_half_size: half extents of the table box (x, y, thickness/2).
-        table_friction: sliding friction of the table top.
-        park_height: TCP height of the parked gripper above the table top.
-        cameras: explicit cameras; empty means ``num_views`` default tabletop viewpoints
-            (640x480, 58 deg vertical FoV) looking at the object.
-        num_views: number of default viewpoints (1..4) when ``cameras`` is empty.
-        random_yaw: rotate the object's rest pose by a seeded random yaw about world z.
-        placement: ``"stable"``, a rest pose drawn among all stable poses by the probability
-            of landing in it from a random drop, or ``"upright"``, only among the poses that
-            stand the object on its own base (+z up), as a person places a mug.
-    """
-
-    table_top_z: float = 0.0
-    table_half_size: tuple[float, float, float] = (0.5, 0.5, 0.025)
-    table_friction: float = 0.6
-    park_height: float = 1.2
-    cameras: tuple[CameraSpec, ...] = ()
-    num_views: int = 1
-    random_yaw: bool = True
-    placement: Placement = DEFAULT_PLACEMENT
-
-    def __post_init__(self) -> None:
-        check_placement(self.placement)
-        check_views(self.num_views)
-        if not all(h > 0 for h in self.table_half_size):
-            raise ValueError(f"table_half_size must be positive, got {self.table_half_size}")
-        if not self.park_height > 0.3:
-            raise ValueError(f"park_height must exceed 0.3 m, got {self.park_height}")
 
 
 @dataclass(frozen=True)
@@ -170,7 +135,7 @@ def build_scene(
     try:
         model = spec.compile()
     except ValueError as exc:
-        raise ValueError(
+        raise SimgraspError(
             f"cannot compile the scene for {object_model.asset.name!r}: {exc}"
         ) from exc
     data = mujoco.MjData(model)
@@ -179,7 +144,7 @@ def build_scene(
     object_body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, OBJECT_NAME)
     joint = int(model.body_jntadr[object_body])
     if object_body < 0 or joint < 0 or model.jnt_type[joint] != mujoco.mjtJoint.mjJNT_FREE:
-        raise ValueError(f"object {object_model.asset.name!r} was not added as a free body")
+        raise SimgraspError(f"object {object_model.asset.name!r} was not added as a free body")
     return Scene(
         spec=spec,
         model=model,

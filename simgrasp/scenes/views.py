@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from typing import Final
 
+from simgrasp.errors import SimgraspError
+
 MAX_VIEWS: Final = 4
 """Default viewpoints are spread evenly in azimuth around the object; at most this many."""
 CHAIN_VIEWS: Final = 4
@@ -21,5 +23,5 @@ def check_views(views: int) -> int:
     """``views`` if it is a whole number of default viewpoints in 1..MAX_VIEWS, else a
     ValueError."""
     if isinstance(views, bool) or not isinstance(views, int) or not 1 <= views <= MAX_VIEWS:
-        raise ValueError(f"the number of camera views must be 1..{MAX_VIEWS}, got {views!r}")
+        raise SimgraspError(f"the number of camera views must be 1..{MAX_VIEWS}, got {views!r}")
     return views

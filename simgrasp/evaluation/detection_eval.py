@@ -23,25 +23,6 @@ from simgrasp.perception import multiplicative_noise, sample_surface
 from simgrasp.process_pool import spawn_pool
 from simgrasp.seeding import rng_for
 
-PAPER_OBJECTS = (
-    "001_chips_can",
-    "014_lemon",
-    "025_mug",
-    "033_spatula",
-    "030_fork",
-    "035_power_drill",
-    "044_flat_screwdriver",
-    "048_hammer",
-)
-LABELED_EXTRA = (
-    "031_spoon",
-    "032_knife",
-    "043_phillips_screwdriver",
-    "042_adjustable_wrench",
-    "037_scissors",
-    "019_pitcher_base",
-    "011_banana",
-)
 CLOUD_POINTS = 30000
 
 

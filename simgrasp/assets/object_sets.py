@@ -1,0 +1,49 @@
+"""Named sets of objects (``generated``, ``paper``, ``ycb``, ``all``) and their expansion.
+
+One meaning everywhere: ``all`` is every object with a handle label (the generated tools and
+the labeled YCB objects); ``ycb`` the labeled YCB objects; ``paper`` the paper's eight.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from simgrasp.assets.generated import GENERATED_KINDS
+
+PAPER_OBJECTS = (
+    "001_chips_can",
+    "014_lemon",
+    "025_mug",
+    "033_spatula",
+    "030_fork",
+    "035_power_drill",
+    "044_flat_screwdriver",
+    "048_hammer",
+)
+"""The YCB objects of the paper's Table I."""
+LABELED_EXTRA = (
+    "031_spoon",
+    "032_knife",
+    "043_phillips_screwdriver",
+    "042_adjustable_wrench",
+    "037_scissors",
+    "019_pitcher_base",
+    "011_banana",
+)
+"""YCB objects we labeled beyond the paper's."""
+GENERATED_OBJECTS = tuple(f"gen_{kind}" for kind in GENERATED_KINDS)
+"""The procedurally generated tools (sizes of seed 0), the default without a YCB download."""
+
+OBJECT_SETS: dict[str, tuple[str, ...]] = {
+    "generated": GENERATED_OBJECTS,
+    "paper": PAPER_OBJECTS,
+    "ycb": PAPER_OBJECTS + LABELED_EXTRA,
+    "all": GENERATED_OBJECTS + PAPER_OBJECTS + LABELED_EXTRA,
+}
+
+
+def expand_objects(names: Iterable[str]) -> list[str]:
+    """Object names with the set names of :data:`OBJECT_SETS` expanded, first occurrence
+    kept (other names pass through, checked when loaded)."""
+    expanded = [obj for name in names for obj in OBJECT_SETS.get(name, (name,))]
+    return list(dict.fromkeys(expanded))

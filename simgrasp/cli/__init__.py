@@ -1,0 +1,86 @@
+"""The ``simgrasp`` command line: one sub-command per user task, one module per command.
+
+Each command module holds an ``Options`` frozen dataclass, from whose fields (its own and the
+settings trees it nests) the flags are generated (:mod:`simgrasp.config.arguments`), and
+``run(options) -> int``. Only the chosen command's module is imported, so ``simgrasp detect``
+does not pay for MuJoCo. A :class:`~simgrasp.errors.SimgraspError` becomes one line on stderr
+and exit code 2; any other exception is a bug and keeps its traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+from types import ModuleType
+from typing import NoReturn
+
+from simgrasp.config.arguments import (
+    add_settings_arguments,
+    effective_config_text,
+    settings_from_args,
+)
+from simgrasp.errors import SimgraspError
+
+# name -> one-line help; the module is simgrasp.cli.<name with - as _>
+COMMANDS: dict[str, str] = {
+    "demo": "run the main job on the embedded default",
+    "detect": "detect handles in a point cloud file",
+    "detect-eval": "detection accuracy on YCB meshes (paper Tables I and II)",
+    "labels": "render objects with their labeled handles",
+    "fetch-ycb": "download YCB objects from the official site",
+    "object": "show or export an object model",
+    "trial": "run one grasp trial in MuJoCo",
+    "evaluate": "sweep objects x detectors x grippers",
+}
+
+
+def command_module(name: str) -> ModuleType:
+    """The module of command ``name``."""
+    return importlib.import_module(f"simgrasp.cli.{name.replace('-', '_')}")
+
+
+class UsageError(SimgraspError):
+    """A command line argparse rejects (its message names the command)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argparse parser whose errors are one line (no usage dump of hundreds of flags)."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(f"{self.prog}: error: {message} (see {self.prog} --help)")
+
+
+def build_parser(command: str | None) -> argparse.ArgumentParser:
+    """The parser of every command, with the flags of ``command`` (only its module is
+    imported)."""
+    parser = _Parser(prog="simgrasp", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, help_text in COMMANDS.items():
+        cmd = sub.add_parser(name, help=help_text, description=help_text)
+        if name == command:
+            module = command_module(name)
+            cmd.description = (module.__doc__ or help_text).strip()
+            cmd.formatter_class = argparse.RawDescriptionHelpFormatter
+            add_settings_arguments(cmd, module.Options)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    try:
+        args = build_parser(command if command in COMMANDS else None).parse_args(argv)
+    except UsageError as exc:
+        print(exc, file=sys.stderr)
+        return 2
+    module = command_module(args.command)
+    try:
+        if args.print_config:
+            sys.stdout.write(effective_config_text(module.Options, args))
+            return 0
+        return int(module.run(settings_from_args(module.Options, args)) or 0)
+    except SimgraspError as exc:
+        print(f"simgrasp {args.command}: error: {exc}", file=sys.stderr)
+        return 2

@@ -1,0 +1,44 @@
+"""Options shared by several commands, declared once."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from simgrasp.errors import SimgraspError
+
+MAX_RANGE_VALUES = 1000
+"""``START:STOP:STEP`` expands to at most this many values: a sweep point each, so more is a
+typo (``1e-12`` for ``1e-2``), not a plan."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class YcbSource:
+    """Where YCB objects are read from."""
+
+    ycb_dir: str | None = None
+    """YCB download root holding 025_mug/ etc. (default: $SIMGRASP_YCB_DIR)."""
+
+
+def float_range(text: str) -> tuple[float, ...]:
+    """``START:STOP:STEP`` (inclusive of STOP) or a comma list, e.g. ``0:0.1:0.02``."""
+    try:
+        if ":" not in text:
+            return tuple(float(v) for v in text.split(","))
+        start, stop, step = (float(v) for v in text.split(":"))
+    except ValueError:
+        raise SimgraspError(
+            f"expected START:STOP:STEP with STEP > 0 and STOP >= START, or a comma list; "
+            f"got {text!r}"
+        ) from None
+    if not all(math.isfinite(v) for v in (start, stop, step)) or step <= 0 or stop < start:
+        raise SimgraspError(
+            f"expected finite START:STOP:STEP with STEP > 0 and STOP >= START, got {text!r}"
+        )
+    count = math.floor((stop - start) / step + 1e-9) + 1
+    if count > MAX_RANGE_VALUES:
+        raise SimgraspError(
+            f"{text!r} expands to {count} values, more than {MAX_RANGE_VALUES} (each is a sweep "
+            "point); use a larger STEP"
+        )
+    return tuple(round(start + i * step, 10) for i in range(count))

@@ -1,0 +1,117 @@
+"""``simgrasp trial OBJECT``: run one grasp trial on an object in MuJoCo and report the outcome.
+
+Without ``--grasp`` the full chain runs: render the scene, detect handles, plan and execute
+the best grasp. Every chain setting is a flag (``--detector.quadric.shell-test false``,
+``--trial.hold-time 2``) or comes from ``--config FILE``; ``--print-config`` shows them.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+from simgrasp.cli.options import YcbSource
+from simgrasp.config import setting
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.chain_config import ChainConfig
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options(YcbSource):
+    object: str = setting(positional=True, metavar="OBJECT")
+    """YCB id (025_mug or mug) or generated tool: gen_hammer (= gen_hammer_s0), or
+    gen_hammer_s3 for the sizes drawn from seed 3."""
+    grasp: tuple[float, float, float, float, float, float, float] | None = setting(
+        None, metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ")
+    )
+    """TCP pose to execute (m; TCP between the pads, +z approach, +y jaw direction); without
+    it the full chain runs."""
+    grasp_frame: Literal["world", "object"] = "world"
+    """Frame of --grasp: world, or the object's mesh frame (placed at its scene pose)."""
+    width: float | None = None
+    """Jaw opening before closing for --grasp (m; default the gripper's maximum)."""
+    seed: int = 0
+    """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
+    in an evaluate record: the same object and seed rerun that trial."""
+    json: bool = False
+    """Print the trial record as JSON."""
+    render: Path | None = None
+    """Write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4."""
+    chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True)
+
+
+def run(options: Options) -> int:
+    from simgrasp.scenes.key_frames import FrameRecorder, check_frames_target, write_frames
+
+    if options.width is not None and options.grasp is None:
+        raise SimgraspError("--width sets the jaw opening of --grasp; give --grasp too")
+    if options.render is not None:
+        check_frames_target(options.render)
+    recorder = FrameRecorder() if options.render is not None else None
+    record = _given_trial(options, recorder) if options.grasp else _chain_trial(options, recorder)
+    if options.render is not None and recorder is not None:
+        record["render"] = write_frames(recorder.frames, options.render)
+    if options.json:
+        print(json.dumps(record))
+    else:
+        _print_summary(record)
+    return 0
+
+
+def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
+    """Execute the grasp given with ``--grasp``."""
+    from simgrasp.assets.model import model_for
+    from simgrasp.grasping.given_grasp import trial_of_grasp
+    from simgrasp.scenes.gripper import make_gripper
+
+    assert options.grasp is not None
+    result = trial_of_grasp(
+        model_for(options.object, options.ycb_dir),
+        make_gripper(options.chain.gripper),
+        options.grasp,
+        frame=options.grasp_frame,
+        width=options.width,
+        scene_config=options.chain.scene,
+        trial_config=options.chain.trial,
+        seed=options.seed,
+        on_phase=recorder,
+    )
+    return result.to_json()
+
+
+def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
+    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.chain`)."""
+    from simgrasp.assets.model import model_for
+    from simgrasp.grasping.chain import run_chain
+
+    object_model = model_for(options.object, options.ycb_dir)
+    return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
+
+
+def _print_summary(record: dict[str, Any]) -> None:
+    """A few lines for a person: the chain's detection (full chain only) and, when a grasp
+    was executed, how it went."""
+    outcome = {True: "success", False: f"failed ({record['failure']})", None: "sim unstable"}
+    lines = [
+        f"object       {record['object']}  (gripper {record['gripper']}, seed {record['seed']})",
+        f"outcome      {outcome[record['success']]}",
+    ]
+    if "handles" in record:
+        lines.append(
+            f"detection    {record['handles']} handle(s) from {record['candidates']} "
+            f"candidates on {record['cloud_points']} cloud points; "
+            f"{record['grasp_candidates']} collision-free grasp(s)"
+        )
+    if record["failure"] != "no_grasp":
+        handle_share = f"share of contacts {record['handle_fraction']:.2f}"
+        lines += [
+            f"on handle    {record['on_handle']}  ({handle_share})",
+            f"lift height  {record['lift_height']:.3f} m",
+            f"sim time     {record['sim_time']:.2f} s in {record['timings_s']['total']:.2f} s wall",
+        ]
+    if "render" in record:
+        lines.append(f"frames       {record['render'] or 'none: no grasp was executed'}")
+    sys.stdout.write("\n".join(lines) + "\n")

@@ -1,0 +1,180 @@
+"""Command-line flags generated from a settings tree, and the tree built back from them.
+
+Every leaf becomes ``--dotted.key`` (underscores as dashes; plus its alias flag, if any) with
+its type, choices, default and docstring in ``--help``. Three flags come with every tree:
+``--config FILE`` (a TOML or YAML subset), ``--set KEY=VALUE`` (repeatable) and
+``--print-config``. Precedence: defaults < ``--config`` < ``--set`` < flags.
+"""
+
+from __future__ import annotations
+
+import argparse
+import types
+import typing
+from pathlib import Path
+from typing import Any
+
+from simgrasp.config.files import dumps_toml, parse_set_items, read_config_file
+from simgrasp.config.schema import Leaf, leaves
+from simgrasp.config.tree import build, check_keys, leaf_map
+from simgrasp.config.values import convert, parse_text, to_plain, type_name
+from simgrasp.errors import SimgraspError
+
+_PREFIX = "setting:"
+_POSITIONAL = "positional:"
+
+
+def flag_name(key: str) -> str:
+    """``detector.quadric.shell_test`` -> ``--detector.quadric.shell-test``."""
+    return "--" + key.replace("_", "-")
+
+
+def add_settings_arguments(parser: argparse.ArgumentParser, cls: type) -> None:
+    """Add a flag (or positional) per leaf of ``cls`` plus ``--config``, ``--set`` and
+    ``--print-config``."""
+    for leaf in leaves(cls):
+        if leaf.spec.cli:
+            _add_leaf(parser, leaf)
+    group = parser.add_argument_group("settings files")
+    group.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE",
+        help="TOML or YAML file setting any subset of the settings, by their dotted keys "
+        "(flags and --set win over it)",
+    )
+    group.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="set any setting by its dotted key, e.g. --set detector.quadric.shell_test=false "
+        "(repeatable; flags win over it)",
+    )
+    group.add_argument(
+        "--print-config", action="store_true", help="print the effective settings as TOML and exit"
+    )
+
+
+def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
+    kwargs: dict[str, Any] = {"help": _help(leaf), "dest": _PREFIX + leaf.key}
+    choices = leaf.spec.choices() if callable(leaf.spec.choices) else leaf.spec.choices
+    choices = choices or _literal_choices(leaf.annotation)
+    arity = _fixed_arity(leaf.annotation)
+    if arity:
+        kwargs.update(nargs=arity, metavar=leaf.spec.metavar)
+    else:
+        kwargs["type"] = _parser_for(leaf)
+        if choices:
+            kwargs["choices"] = choices
+        if leaf.annotation is bool:
+            kwargs.update(nargs="?", const=True, metavar="{true,false}")
+        elif not choices or leaf.spec.metavar:
+            kwargs["metavar"] = leaf.spec.metavar or _metavar(leaf.annotation)
+    if leaf.spec.positional:
+        kwargs.pop("dest")
+        parser.add_argument(_POSITIONAL + leaf.key, nargs="?", default=None, **kwargs)
+        return
+    names = [flag_name(leaf.key)] + ([leaf.spec.flag] if leaf.spec.flag else [])
+    parser.add_argument(*names, default=argparse.SUPPRESS, **kwargs)
+
+
+def _help(leaf: Leaf) -> str:
+    default = "required" if leaf.required else f"default: {_shown(leaf.default)}"
+    text = f"{leaf.doc} ({type_name(leaf.annotation)}; {default})".strip()
+    return text.replace("%", "%%")
+
+
+def _shown(value: Any) -> str:
+    plain = to_plain(value)
+    if isinstance(plain, list):
+        return ",".join(map(str, plain)) if plain else "none"
+    return str(plain)
+
+
+def _metavar(annotation: Any) -> str:
+    """A placeholder naming the value's type (``FLOAT``, ``INT``, ``LIST``, ``TEXT``)."""
+    name = type_name(annotation).split(" | ")[0]
+    return (
+        "LIST"
+        if name.startswith("list")
+        else {"str": "TEXT", "Path": "PATH"}.get(name, name.upper())
+    )
+
+
+def _literal_choices(annotation: Any) -> tuple[Any, ...] | None:
+    if typing.get_origin(annotation) is typing.Literal:
+        return typing.get_args(annotation)
+    return None
+
+
+def _fixed_arity(annotation: Any) -> int | None:
+    """How many values a fixed-length tuple of numbers takes on the command line."""
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        arms = [a for a in typing.get_args(annotation) if a is not type(None)]
+        annotation = arms[0] if len(arms) == 1 else annotation
+    args = typing.get_args(annotation)
+    fixed = typing.get_origin(annotation) is tuple and args and Ellipsis not in args
+    return len(args) if fixed and all(a in (int, float) for a in args) else None
+
+
+def _parser_for(leaf: Leaf) -> Any:
+    def parse(text: str) -> Any:
+        try:
+            if leaf.spec.parse is not None:
+                return leaf.spec.parse(text)
+            return parse_text(text, leaf.annotation, flag_name(leaf.key))
+        except SimgraspError as exc:  # argparse names the flag itself
+            message = str(exc).removeprefix(f"{flag_name(leaf.key)}: ")
+            raise argparse.ArgumentTypeError(message) from None
+
+    parse.__name__ = type_name(leaf.annotation)
+    return parse
+
+
+def given_settings(cls: type, args: argparse.Namespace) -> dict[str, Any]:
+    """Dotted key -> value of every setting in ``args``: ``--config``, then ``--set``, then
+    the flags given (each later one wins)."""
+    overrides: dict[str, Any] = {}
+    if getattr(args, "config", None) is not None:
+        from_file = read_config_file(args.config)
+        check_keys(cls, from_file, f"--config {args.config}")
+        overrides.update(from_file)
+    items = parse_set_items(getattr(args, "set", []))
+    check_keys(cls, items, "--set")
+    known = leaf_map(cls)
+    overrides.update({k: parse_text(v, known[k].annotation, k) for k, v in items.items()})
+    for dest, value in vars(args).items():
+        if dest.startswith(_PREFIX):
+            overrides[dest.removeprefix(_PREFIX)] = value
+        elif dest.startswith(_POSITIONAL) and value is not None:
+            overrides[dest.removeprefix(_POSITIONAL)] = value
+    return overrides
+
+
+def settings_from_args(cls: type, args: argparse.Namespace) -> Any:
+    """The settings tree ``cls`` built from the parsed ``args``; a required setting not given
+    is an error naming its flag."""
+    overrides = given_settings(cls, args)
+    for leaf in leaves(cls):
+        if leaf.required and leaf.key not in overrides:
+            name = leaf.key.upper() if leaf.spec.positional else flag_name(leaf.key)
+            raise SimgraspError(f"missing {name} ({leaf.doc.rstrip('.')})")
+    return build(cls, overrides)
+
+
+def effective_config_text(cls: type, args: argparse.Namespace) -> str:
+    """The effective settings as TOML (``--print-config``); required settings not given are
+    listed as comments."""
+    overrides = given_settings(cls, args)
+    flat: dict[str, Any] = {}
+    for leaf in leaves(cls):
+        if leaf.key in overrides:
+            flat[leaf.key] = to_plain(convert(overrides[leaf.key], leaf.annotation, leaf.key))
+        elif not leaf.required:
+            flat[leaf.key] = to_plain(leaf.default)
+    missing = [leaf.key for leaf in leaves(cls) if leaf.required and leaf.key not in flat]
+    notes = "".join(f"# {key} = (required, not given)\n" for key in missing)
+    if not missing:
+        build(cls, overrides)  # validates the values together
+    return notes + dumps_toml(flat)

@@ -1,0 +1,58 @@
+"""Settings fields: a dataclass field that also says how it reaches the command line.
+
+Every setting of a run is a field of a frozen dataclass; :func:`setting` adds the few facts
+the generated command line needs beyond its type, default and docstring (an alias flag, the
+choices when they come from a registry, a text parser, positional or flattened placement).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from typing import Any
+
+META_KEY = "simgrasp"
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldSpec:
+    """Command-line facts of one field.
+
+    Attributes:
+        flag: an extra short flag (``"--views"`` for ``scene.num_views``).
+        choices: allowed values, or a function returning them (a registry read lazily).
+        parse: converts the flag's text to the value (e.g. ``START:STOP:STEP`` ranges).
+        positional: a positional argument instead of a ``--flag``.
+        flatten: for a nested config field, its fields are named without its own name.
+        exclude: for a nested config field, dotted keys of it not offered on this command.
+        metavar: the placeholder shown in ``--help``.
+        cli: False keeps the field out of the flags (still settable by ``--config``/``--set``).
+    """
+
+    flag: str | None = None
+    choices: tuple[Any, ...] | Callable[[], tuple[Any, ...]] | None = None
+    parse: Callable[[str], Any] | None = None
+    positional: bool = False
+    flatten: bool = False
+    exclude: tuple[str, ...] = ()
+    metavar: str | None = None
+    cli: bool = True
+
+
+def setting(
+    default: Any = dataclasses.MISSING,
+    *,
+    default_factory: Any = dataclasses.MISSING,
+    **spec: Any,
+) -> Any:
+    """A dataclass field with command-line facts (:class:`FieldSpec` keywords)."""
+    metadata = {META_KEY: FieldSpec(**spec)}
+    if default_factory is not dataclasses.MISSING:
+        return dataclasses.field(default_factory=default_factory, metadata=metadata)
+    return dataclasses.field(default=default, metadata=metadata)
+
+
+def field_spec(field: dataclasses.Field[Any]) -> FieldSpec:
+    """The command-line facts of ``field`` (defaults when it has none)."""
+    spec = field.metadata.get(META_KEY)
+    return spec if isinstance(spec, FieldSpec) else FieldSpec()

@@ -1,0 +1,66 @@
+"""The settings tree of one full-chain trial: scene, detector, planner, trial.
+
+Free of MuJoCo imports: the command line generates its flags from these fields, and a sweep's
+trial identity is the object, the seed and how a trial's :class:`ChainConfig` differs from the
+default one (:mod:`simgrasp.evaluation.trial_log`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from simgrasp.config import build, setting
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grippers.registry import gripper_names
+from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.scenes.config import SceneConfig
+from simgrasp.scenes.views import CHAIN_VIEWS
+
+ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
+CHAIN_DETECTORS: tuple[ChainDetector, ...] = ("quadric", "tenpas", "centroid", "random")
+BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
+
+
+@dataclass(frozen=True)
+class ChainDetectorConfig(DetectorConfig):
+    """The grasp proposer: a handle detector, or a baseline planner that ignores handles."""
+
+    kind: ChainDetector = setting("quadric", flag="--detector")  # type: ignore[assignment]
+    """quadric: quadric fits with the paper's criteria; tenpas: ten Pas & Platt 2013's shells;
+    centroid: top-down grasps at the cloud centroid; random: random antipodal point pairs."""
+
+
+def _chain_scene() -> SceneConfig:
+    return SceneConfig(num_views=CHAIN_VIEWS)
+
+
+@dataclass(frozen=True)
+class ChainConfig:
+    """What one full-chain trial uses (render -> detect -> plan -> execute -> score)."""
+
+    detector: ChainDetectorConfig = setting(
+        default_factory=ChainDetectorConfig,
+        exclude=("quadric.gripper_max_opening", "tenpas.gripper_max_opening"),
+    )
+    """The detectors' gripper opening is the chain gripper's."""
+    gripper: str = setting("builtin", choices=gripper_names)
+    """The parallel-jaw gripper that executes the grasp."""
+    noise: float = 0.0
+    """The paper's multiplicative noise sigma on the observed cloud about its centroid
+    (Table II's model), so detection and grasp sweeps share one noise axis."""
+    scene: SceneConfig = field(default_factory=_chain_scene)
+    planner: PlannerConfig = field(default_factory=PlannerConfig)
+    trial: TrialConfig = field(default_factory=TrialConfig)
+
+    @classmethod
+    def of(cls, **settings: Any) -> ChainConfig:
+        """The default config with dotted settings changed, keyword-friendly:
+        ``ChainConfig.of(detector__kind="tenpas", scene__placement="upright")``."""
+        return build(cls, {key.replace("__", "."): value for key, value in settings.items()})
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.noise < 1:
+            raise SimgraspError(f"noise sigma must be in [0, 1), got {self.noise}")

@@ -1,0 +1,54 @@
+"""Grasp sampling and ranking settings of the planner (meters, radians); no heavy imports."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class PlannerConfig:
+    """Grasp sampling and ranking parameters."""
+
+    approaches_per_handle: int = 16
+    approach_pitches: tuple[float, ...] = (0.0, np.pi / 12, np.pi / 6)
+    """Each approach around a handle's axis is also tried tilted down by these angles (rad),
+    turned about the jaws' closing direction toward the axis's lower end, so the pads still
+    close across the handle: a handle standing upright (a mug's) is then also approached from
+    above its side, which keeps the palm off the table (a level approach to a handle 4 cm up
+    puts a Robotiq palm at the table top)."""
+    pitch_min_slope: float = np.pi / 12
+    """Approaches are tilted only around axes sloping at least this much from level (rad):
+    along a flatter axis (a tool lying on the table) a tilt turns the approach sideways more
+    than down."""
+    max_handles: int = 3
+    table_clearance: float = 0.008
+    """The open gripper's boxes stay this far above the table top at the pre-grasp (m)."""
+    grasp_table_clearance: float = 0.003
+    """At the grasp, the open gripper's boxes and the closed fingertips
+    (``GripperGeometry.closed_pad_reach``) stay this far above the table top (m): close enough
+    that the pads reach down the sides of a tool lying flat."""
+    pregrasp_distance: float = 0.10
+    max_colliding_points: int = 0
+    view_weight: float = 0.3
+    """Rank bonus for approaching from the camera's side (cosine with the view direction)."""
+    top_weight: float = 0.3
+    """Rank bonus for approaching from above (cosine with world -z)."""
+    max_tcp_shift: float = 0.03
+    """A grasp whose fingertips would reach below the table is backed off along its approach by
+    up to this much (m), so objects lying flat can still be held above the table."""
+    shift_weight: float = 1.0
+    """Rank penalty per ``max_tcp_shift`` of back-off: a grasp backed off the handle holds it
+    with the pad edges only, so the least backed-off grasp of a flat handle comes first."""
+    lever_weight: float = 0.5
+    """Rank penalty per 10 cm between the grasp point and the cloud centroid along the handle
+    (a stand-in for the center of mass: the weight's torque about the grasp grows with it)."""
+    clearance_weight: float = 0.5
+    """Rank bonus for the open gripper's clearance, its distance to the nearest cloud point up
+    to ``clearance_cap``, as a fraction of the cap: it centers an approach in the gap around a
+    handle (a mug's strap, between the mug's body on either side of it)."""
+    clearance_cap: float = 0.02
+    """Clearances beyond this (m) earn no more bonus."""
+    antipodal_samples: int = 400
+    antipodal_cos: float = 0.9

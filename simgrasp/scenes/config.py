@@ -1,0 +1,50 @@
+"""Scene layout settings (meters): table, parked gripper, cameras and how the object rests.
+
+Free of MuJoCo imports, so settings trees and command lines can use it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.config import setting
+from simgrasp.errors import SimgraspError
+from simgrasp.scenes.camera_spec import CameraSpec
+from simgrasp.scenes.views import MAX_VIEWS, check_views
+
+
+@dataclass(frozen=True)
+class SceneConfig:
+    """Scene layout (meters, seconds).
+
+    Attributes:
+        table_top_z: height of the table's top face (world z).
+        table_half_size: half extents of the table box (x, y, thickness/2).
+        table_friction: sliding friction of the table top.
+        park_height: TCP height of the parked gripper above the table top.
+        cameras: explicit cameras; empty means ``num_views`` default tabletop viewpoints
+            (640x480, 58 deg vertical FoV) looking at the object.
+        num_views: number of default viewpoints (1..4) when ``cameras`` is empty.
+        random_yaw: rotate the object's rest pose by a seeded random yaw about world z.
+        placement: ``"stable"``, a rest pose drawn among all stable poses by the probability
+            of landing in it from a random drop, or ``"upright"``, only among the poses that
+            stand the object on its own base (+z up), as a person places a mug.
+    """
+
+    table_top_z: float = 0.0
+    table_half_size: tuple[float, float, float] = (0.5, 0.5, 0.025)
+    table_friction: float = 0.6
+    park_height: float = 1.2
+    cameras: tuple[CameraSpec, ...] = ()
+    num_views: int = setting(1, flag="--views", choices=tuple(range(1, MAX_VIEWS + 1)))
+    random_yaw: bool = True
+    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
+
+    def __post_init__(self) -> None:
+        check_placement(self.placement)
+        check_views(self.num_views)
+        if not all(h > 0 for h in self.table_half_size):
+            raise SimgraspError(f"table_half_size must be positive, got {self.table_half_size}")
+        if not self.park_height > 0.3:
+            raise SimgraspError(f"park_height must exceed 0.3 m, got {self.park_height}")
