@@ -32,7 +32,8 @@ import numpy as np
 
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
-from simgrasp.grasping.trial import TrialConfig, run_trial
+from simgrasp.grasping.trial import run_trial
+from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import build_scene
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import mujoco
 import numpy as np
 import pytest
@@ -10,8 +12,9 @@ from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, matrix_from_pose7, tcp_pose
 from simgrasp.grasping.scoring import geoms_touching
+from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.gripper import make_gripper
-from simgrasp.scenes.scene import SceneConfig, build_scene
+from simgrasp.scenes.scene import build_scene
 
 
 @pytest.fixture(scope="module")
@@ -117,3 +120,14 @@ def test_bad_grasp_width_and_frame_are_clear_errors() -> None:
     skewed[0, 1] = 0.5
     with pytest.raises(ValueError, match="rotation"):
         Grasp(skewed, 0.05)
+
+
+@pytest.mark.parametrize("path", sorted((Path(__file__).parents[1] / "scenes").glob("*.xml")))
+def test_example_scenes_open_and_step(path: Path) -> None:
+    """The committed example scenes (scripts/export_example_scenes.py) load in plain MuJoCo
+    with the table, the object and the four chain cameras, and simulate."""
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    mujoco.mj_step(model, data, 50)
+    assert model.ncam == 4 and np.isfinite(data.qpos).all()
+    assert mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "object") >= 0

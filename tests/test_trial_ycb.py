@@ -16,9 +16,11 @@ from simgrasp.assets.model import build_object_model
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.trial import TrialConfig, run_trial
+from simgrasp.grasping.trial import run_trial
+from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.gripper import make_gripper
-from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
+from simgrasp.scenes.scene import Scene, build_scene
 
 OBJECTS = ("048_hammer", "033_spatula")
 GRIPPERS = ("builtin", "robotiq_2f85")

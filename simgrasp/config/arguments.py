@@ -73,6 +73,7 @@ def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
             kwargs["metavar"] = leaf.spec.metavar or _metavar(leaf.annotation)
     if leaf.spec.positional:
         kwargs.pop("dest")
+        kwargs["metavar"] = leaf.spec.metavar or leaf.key.upper()
         parser.add_argument(_POSITIONAL + leaf.key, nargs="?", default=None, **kwargs)
         return
     names = [flag_name(leaf.key)] + ([leaf.spec.flag] if leaf.spec.flag else [])

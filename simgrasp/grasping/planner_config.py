@@ -12,6 +12,7 @@ class PlannerConfig:
     """Grasp sampling and ranking parameters."""
 
     approaches_per_handle: int = 16
+    """Approach directions sampled around each handle's axis."""
     approach_pitches: tuple[float, ...] = (0.0, np.pi / 12, np.pi / 6)
     """Each approach around a handle's axis is also tried tilted down by these angles (rad),
     turned about the jaws' closing direction toward the axis's lower end, so the pads still
@@ -23,6 +24,7 @@ class PlannerConfig:
     along a flatter axis (a tool lying on the table) a tilt turns the approach sideways more
     than down."""
     max_handles: int = 3
+    """Grasps are planned on at most this many best-scored handles."""
     table_clearance: float = 0.008
     """The open gripper's boxes stay this far above the table top at the pre-grasp (m)."""
     grasp_table_clearance: float = 0.003
@@ -30,7 +32,9 @@ class PlannerConfig:
     (``GripperGeometry.closed_pad_reach``) stay this far above the table top (m): close enough
     that the pads reach down the sides of a tool lying flat."""
     pregrasp_distance: float = 0.10
+    """How far back along the approach the open gripper is checked for collisions (m)."""
     max_colliding_points: int = 0
+    """Cloud points the open gripper's boxes may hold before a grasp is dropped."""
     view_weight: float = 0.3
     """Rank bonus for approaching from the camera's side (cosine with the view direction)."""
     top_weight: float = 0.3
@@ -51,4 +55,6 @@ class PlannerConfig:
     clearance_cap: float = 0.02
     """Clearances beyond this (m) earn no more bonus."""
     antipodal_samples: int = 400
+    """Point pairs the random antipodal baseline samples."""
     antipodal_cos: float = 0.9
+    """Antipodal pairs need normals opposed along the pair to this cosine at least."""

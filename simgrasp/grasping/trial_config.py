@@ -26,15 +26,23 @@ class TrialConfig:
     """Every parameter of a grasp trial (SI units: m, s, m/s, N)."""
 
     timestep: float = 0.002
+    """Physics time step (s)."""
     control_steps: int = 10
     """Physics steps between control updates (``mj_step`` with ``nstep``)."""
     settle_time: float = 0.5
+    """Time the object rests on the table before the grasp (s)."""
     pregrasp_distance: float = 0.10
+    """How far back along the approach the open gripper starts (m)."""
     approach_speed: float = 0.10
+    """Speed of the approach from the pre-grasp to the grasp pose (m/s)."""
     close_time: float = 0.8
+    """Time the jaws squeeze before the lift (s)."""
     lift_height: float = 0.20
+    """How high the gripper lifts (m)."""
     lift_speed: float = 0.20
+    """Lift speed (m/s)."""
     hold_time: float = 1.0
+    """Time the lifted object is held still before the tugs (s)."""
     perturb_directions: tuple[tuple[float, float, float], ...] = _DIRECTIONS
     """World-frame directions of the tugs (normalized)."""
     perturb_force_scale: float = 1.0
@@ -42,6 +50,7 @@ class TrialConfig:
     perturb_time: float = 0.3
     """Duration of each tug (s); the tugs are separated by rests of the same length."""
     on_handle_threshold: float = ON_HANDLE_THRESHOLD
+    """Share of finger contacts inside the handle label that makes a grasp ``on_handle``."""
     handle_margin: float = HANDLE_MARGIN
     """Contacts this close (m) to the handle label count as on it (see scoring)."""
     lifted_fraction: float = 0.5
@@ -56,6 +65,7 @@ class TrialConfig:
     ``dropped_in_perturbation``). A gap, not a lost contact, decides it: a tool rattling in
     the jaws under a tug has no contact at some control steps."""
     max_penetration: float = 0.02
+    """Any contact deeper than this (m) counts as divergence."""
     max_speed: float = 100.0
     """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
     spinning in the jaws during the tugs reaches ~20 rad/s; blow-ups go far beyond)."""

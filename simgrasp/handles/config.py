@@ -32,6 +32,7 @@ class QuadricDetectorConfig:
     center; a center becomes a candidate at its smallest passing scale (large scales let wide
     handles be fitted, small ones keep thin handles)."""
     neighborhood_shape: Literal["cube", "sphere"] = "cube"
+    """Neighborhood shape: an axis-aligned cube (the paper's) or a sphere."""
     max_points: int = 128
     """Neighborhoods with more points are subsampled (seeded) to this many (more points
     average noise out: σ = 0.05 accuracy over the paper's objects 0.83 with 64, 0.92 with 128)."""
@@ -40,6 +41,7 @@ class QuadricDetectorConfig:
     neighborhoods: int | None = None
     """Number of neighborhood centers; ``None`` scales it with object size (voxel count)."""
     fit_method: Literal["birdal", "taubin", "algebraic"] = "birdal"
+    """Quadric fit: Birdal et al. 2018 (points and normals), Taubin, or plain algebraic."""
     kind_rtol: float = 1e-2
     """Relative tolerance for rank decisions when classifying noisy fits (a smallest
     eigenvalue below ``kind_rtol`` x the largest counts as zero, i.e. a cylinder)."""
@@ -49,12 +51,16 @@ class QuadricDetectorConfig:
     so a graspable handle's center lies about one transverse radius (at most half the opening)
     away from it; a farther center means a fit that is not a closed handle around the point."""
     eccentricity_test: bool = False
+    """Reject sphere-like ellipsoids (see ``min_elongation``; a paper suggestion)."""
     min_elongation: float = 1.3
     """Ellipsoids whose longest/shortest semi-axis ratio is below this are rejected."""
     width_test: bool = True
     """Also require the larger transverse semi-axis to fit the gripper (x ``width_slack``)."""
     width_slack: float = 1.0
+    """Factor on the gripper's half opening allowed for the larger transverse semi-axis."""
     shell_test: bool = True
+    """Reject candidates with points in a thin shell just outside the fitted surface (ten Pas's
+    test, a paper suggestion)."""
     shell_half_length: float = 0.008
     """Half length (m) along the handle axis over which the shell must be clear (about half
     a finger pad's width plus a margin)."""
@@ -68,6 +74,7 @@ class QuadricDetectorConfig:
     inside_test: bool = True
     """Reject quadrics whose center lies outside the object (behind no surface, by normals)."""
     inside_neighbors: int = 8
+    """Nearest cloud points whose normals vote whether a quadric center is inside the object."""
     cluster_distance: float = 0.02
     """Single-linkage distance (m) joining candidates into one handle hypothesis."""
     min_support: int = 2
@@ -77,6 +84,7 @@ class QuadricDetectorConfig:
     mass lift with less torque): exp(-(d / L)^2), d in meters, with the length
     L = max(centrality_min_length, centrality_scale x the cloud's RMS radius)."""
     centrality_scale: float = 0.7
+    """Multiple of the cloud's RMS radius giving the centrality length L (``prefer_central``)."""
     centrality_min_length: float = 0.06
     """Floor of L (m): on a compact object (a mug) every part is near the center, so an
     off-center handle is not penalized against the body."""

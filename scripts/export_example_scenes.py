@@ -1,0 +1,39 @@
+"""Regenerate the example scenes in ``scenes/``: MJCF files that
+``python -m mujoco.viewer --mjcf scenes/<name>.xml`` opens (table, object at its seed-0 rest
+pose, the chain's four depth cameras, the parked gripper).
+
+Committed: the scenes built only from our own assets (generated tools, the built-in gripper).
+The Menagerie Robotiq and the YCB scans are third-party data we never ship, so no scene
+holds them; a YCB object is exported with its files by ``simgrasp object export 048_hammer
+--out DIR``.
+
+    python scripts/export_example_scenes.py
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from simgrasp.assets.model import model_for
+from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.scenes.gripper import make_gripper
+from simgrasp.scenes.scene import build_scene
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+SHIPPED = (("gen_hammer", "builtin"), ("gen_mug", "builtin"))
+"""(object, gripper) of the committed example scenes."""
+
+
+def export(object_name: str, gripper: str, out_dir: Path) -> Path:
+    """Write the seed-0 chain scene of ``object_name`` with ``gripper``; returns the XML."""
+    scene = build_scene(model_for(object_name), make_gripper(gripper), ChainConfig().scene, 0)
+    return scene.export_xml(out_dir / f"{object_name}_{gripper}.xml")
+
+
+def main() -> None:
+    for object_name, gripper in SHIPPED:
+        print(export(object_name, gripper, SCENES))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,144 @@
+"""Settings trees: config files, --set and flags (precedence), unknown keys, --print-config and
+the generated --help."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from simgrasp.cli import COMMANDS, build_parser, command_module, main
+from simgrasp.config.arguments import flag_name
+from simgrasp.config.schema import leaves
+from simgrasp.config.tree import build, diff, flatten
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.tenpas_config import TenPasConfig
+
+
+def effective(argv: list[str], capsys: pytest.CaptureFixture[str]) -> dict:
+    assert main([*argv, "--print-config"]) == 0
+    return tomllib.loads(capsys.readouterr().out)
+
+
+def test_detect_print_config_lists_every_detector_threshold(capsys) -> None:
+    config = effective(["detect", "cloud.npy"], capsys)
+    for cls, section in ((QuadricDetectorConfig, "quadric"), (TenPasConfig, "tenpas")):
+        names = {leaf.key for leaf in leaves(cls)}
+        # None-valued settings are printed as comments (TOML has no null)
+        printed = set(config["detector"][section]) | {
+            name for name in names if getattr(cls(), name) is None
+        }
+        assert names == printed, names ^ printed
+
+
+def test_file_then_set_then_flags(tmp_path: Path, capsys) -> None:
+    path = tmp_path / "run.toml"
+    path.write_text(
+        "seed = 4\nnoise = 0.01\n[detector.quadric]\nshell_test = false\nmax_points = 64\n"
+        "[scene]\nplacement = 'upright'\n"
+    )
+    config = effective(["trial", "gen_mug", "--config", str(path)], capsys)
+    assert config["seed"] == 4 and config["noise"] == 0.01
+    assert config["detector"]["quadric"]["shell_test"] is False
+    assert config["scene"]["placement"] == "upright"
+    # --set wins over the file, a flag over both
+    argv = ["trial", "gen_mug", "--config", str(path), "--set", "seed=5", "--set", "noise=0.02"]
+    config = effective([*argv, "--seed", "6", "--detector.quadric.max-points", "32"], capsys)
+    assert config["seed"] == 6 and config["noise"] == 0.02
+    assert config["detector"]["quadric"]["max_points"] == 32
+    assert config["detector"]["quadric"]["shell_test"] is False
+
+
+def test_yaml_config(tmp_path: Path, capsys) -> None:
+    path = tmp_path / "run.yaml"
+    path.write_text(
+        "detector:\n  kind: tenpas\n  tenpas:\n    min_shells: 4\nviews: 2\n".replace(
+            "views: 2", "scene:\n  num_views: 2"
+        )
+    )
+    config = effective(["trial", "gen_mug", "--config", str(path)], capsys)
+    assert config["detector"]["kind"] == "tenpas"
+    assert config["detector"]["tenpas"]["min_shells"] == 4
+    assert config["scene"]["num_views"] == 2
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (
+            ["--set", "detector.quadric.shell_tst=false"],
+            "unknown setting 'detector.quadric.shell_tst'",
+        ),
+        (["--set", "seed"], "expected KEY=VALUE"),
+        (["--set", "noise=loud"], "noise: expected float"),
+        (["--set", "scene.placement=sideways"], "must be one of stable, upright"),
+        (["--detector.quadric.max-points", "many"], "--detector.quadric.max-points"),
+        (["--noise", "2"], "noise sigma must be in [0, 1)"),
+    ],
+)
+def test_bad_settings_are_one_line_errors(argv, message, capsys) -> None:
+    assert main(["trial", "gen_mug", *argv, "--print-config"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1, err
+
+
+def test_unknown_key_in_a_file_names_the_key_and_file(tmp_path: Path, capsys) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text("[detector.quadric]\nshell_test = false\nshel_gap = 0.01\n")
+    assert main(["detect", "cloud.npy", "--config", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"--config {path}: unknown setting 'detector.quadric.shel_gap'" in err
+    assert "did you mean detector.quadric.shell_gap" in err
+
+
+def test_bad_config_files(tmp_path: Path, capsys) -> None:
+    broken = tmp_path / "broken.toml"
+    broken.write_text("seed = = 3\n")
+    for path, message in (
+        (tmp_path / "missing.toml", "no such file"),
+        (broken, "not valid TOML"),
+        (tmp_path / "x.ini", "expected a .toml, .yaml or .yml file"),
+    ):
+        if path.suffix == ".ini":
+            path.write_text("a=1")
+        assert main(["trial", "gen_mug", "--config", str(path)]) == 2
+        assert message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_every_flag_is_in_help_with_its_default(command: str) -> None:
+    """Each generated flag is listed by --help with its default (or 'required'), and every
+    setting has a docstring."""
+    parser = build_parser(command)
+    sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+    text = re.sub(r"\s+", " ", sub.format_help())
+    for leaf in leaves(command_module(command).Options):
+        if not leaf.spec.cli:
+            continue
+        name = leaf.key.upper() if leaf.spec.positional else flag_name(leaf.key)
+        assert name in text, name
+        assert leaf.doc, f"{command}: {leaf.key} has no docstring"
+        assert ("required" if leaf.required else "default:") in text
+
+
+def test_a_tree_round_trips_through_its_flat_form() -> None:
+    config = ChainConfig.of(detector__kind="tenpas", scene__num_views=2, noise=0.03)
+    assert build(ChainConfig, flatten(config)) == config
+    assert diff(config, ChainConfig()) == {
+        "detector.kind": "tenpas",
+        "noise": 0.03,
+        "scene.num_views": 2,
+    }
+    with pytest.raises(SimgraspError, match="unknown setting 'detector.colour'"):
+        build(ChainConfig, {"detector.colour": "red"})
+
+
+def test_the_chain_detector_opening_is_the_grippers() -> None:
+    """A chain's detectors take the gripper's opening; the setting is not offered there."""
+    keys = {leaf.key for leaf in leaves(ChainConfig)}
+    assert "detector.quadric.shell_gap" in keys
+    assert "detector.quadric.gripper_max_opening" not in keys
