@@ -135,7 +135,7 @@ def run_chain(
     gripper = gripper or make_gripper(config.gripper)
     scene = build_scene(object_model, gripper, config.scene, seed)
     lap("scene")
-    cloud = observe(scene, kept_renderer(scene), config.noise, seed).cloud
+    cloud = observe(scene, kept_renderer(scene), config.noise, seed, config.sensor).cloud
     lap("render")
     grasps, detection = propose_grasps(scene, cloud, config, seed)
     lap("detect_and_plan")

@@ -13,6 +13,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.perception.camera import depth_to_points_cam, transform_points
 from simgrasp.perception.noise import DepthNoiseConfig, depth_camera_noise, multiplicative_noise
 from simgrasp.perception.normals import estimate_normals
+from simgrasp.perception.sensor_config import SensorConfig
 from simgrasp.perception.voxel import voxel_downsample
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
 from simgrasp.scenes.scene import Scene
@@ -110,11 +111,16 @@ def render_views(scene: Scene, renderer: SceneRenderer) -> list[DepthFrame]:
 
 
 def cloud_from_views(
-    scene: Scene, frames: list[DepthFrame], noise: float, seed: int
+    scene: Scene,
+    frames: list[DepthFrame],
+    noise: float,
+    seed: int,
+    sensor: SensorConfig | None = None,
 ) -> ObjectCloud:
-    """Fuse the object's pixels of ``frames`` into a world-frame cloud (``CLOUD_VOXEL``
-    voxels) and apply the multiplicative noise ``noise`` about its centroid (seeded by
-    ``seed``)."""
+    """Fuse the object's pixels of ``frames``, as ``sensor`` (default ideal) sees them, into a
+    world-frame cloud (``CLOUD_VOXEL`` voxels) and apply the multiplicative noise ``noise``
+    about its centroid (seeded by ``seed``)."""
+    assert sensor is None or sensor.kind == "ideal"
     cloud = object_cloud(frames, [scene.object_body], voxel_size=CLOUD_VOXEL)
     if noise == 0 or len(cloud) == 0:
         return cloud
@@ -132,11 +138,17 @@ class SceneObservation:
     cloud: ObjectCloud
 
 
-def observe(scene: Scene, renderer: SceneRenderer, noise: float, seed: int) -> SceneObservation:
+def observe(
+    scene: Scene,
+    renderer: SceneRenderer,
+    noise: float,
+    seed: int,
+    sensor: SensorConfig | None = None,
+) -> SceneObservation:
     """Render every scene camera with ``renderer`` (reset to the scene's initial state) and
     fuse the object's pixels into a world-frame cloud (see :func:`cloud_from_views`)."""
     frames = render_views(scene, renderer)
-    return SceneObservation(frames, cloud_from_views(scene, frames, noise, seed))
+    return SceneObservation(frames, cloud_from_views(scene, frames, noise, seed, sensor))
 
 
 def viewpoint_normals(cloud: ObjectCloud) -> np.ndarray:
