@@ -62,7 +62,7 @@ def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
     choices = choices or _literal_choices(leaf.annotation)
     arity = _fixed_arity(leaf.annotation)
     if arity:
-        kwargs.update(nargs=arity, metavar=leaf.spec.metavar)
+        kwargs.update(nargs=arity, metavar=leaf.spec.metavar or "FLOAT")
     else:
         kwargs["type"] = _parser_for(leaf)
         if choices:
