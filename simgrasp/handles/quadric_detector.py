@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.handles import criteria
+import simgrasp.handles.criteria as criteria
 from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig

@@ -20,7 +20,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from simgrasp.handles import criteria
+import simgrasp.handles.criteria as criteria
 from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cylinder_fit import fit_circles, minimal_curvature_axes, project_to_surface
 from simgrasp.handles.detection import TIMING_STEPS, Candidate, Detection, Handle
