@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from simgrasp.grasping.chain import ChainConfig, model_for, render_views
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import build_scene

@@ -33,7 +33,7 @@ import numpy as np
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.trial import TrialConfig, run_trial
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))

@@ -8,12 +8,12 @@ import pytest
 
 from simgrasp.grasping.chain import ChainConfig, model_for, run_chain
 from simgrasp.grasping.planner import (
-    GripperGeometry,
     PlannerConfig,
     collides,
     grasps_from_handles,
     table_margin,
 )
+from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
 
 GEOMETRY = GripperGeometry(max_opening=0.085)

@@ -23,8 +23,8 @@ from simgrasp.grasping.chain import (
     viewpoint_normals,
 )
 from simgrasp.grasping.trial import TrialConfig, TrialResult
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.camera import CameraSpec
-from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import SceneConfig, build_scene
 
 ENV_ID = "simgrasp/HandleGrasp-v0"

@@ -7,7 +7,7 @@ import numpy as np
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.chain import render_views
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import SceneConfig, build_scene

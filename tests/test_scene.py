@@ -10,7 +10,7 @@ from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, matrix_from_pose7, tcp_pose
 from simgrasp.grasping.scoring import geoms_touching
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import SceneConfig, build_scene
 
 

@@ -18,7 +18,7 @@ from simgrasp.evaluation.sweep import TrialSpec, run_spec
 from simgrasp.grasping.chain import ChainResult
 from simgrasp.grasping.grasp import pose7_from_matrix
 from simgrasp.grasping.trial_cli import _print_summary, _write_frames
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS
 

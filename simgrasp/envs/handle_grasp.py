@@ -37,7 +37,7 @@ from simgrasp.envs.observation import (
 )
 from simgrasp.grasping.chain import cloud_from_views, model_for, render_views
 from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
-from simgrasp.scenes.gripper import GripperName, make_gripper
+from simgrasp.grippers import DEFAULT_GRIPPER, check_gripper_name, make_gripper
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS, check_views
@@ -59,7 +59,7 @@ class HandleGraspConfig:
         objects: object names an episode draws from (YCB ids or names read from ``ycb_dir``,
             generated tools ``gen_<kind>[_s<N>]``, ``gen_<kind>`` being ``gen_<kind>_s0``);
             default: the generated tools. Models are built on first use.
-        gripper: ``"builtin"`` or ``"robotiq_2f85"``.
+        gripper: a registered gripper name (:func:`simgrasp.grippers.gripper_names`).
         noise: multiplicative noise sigma on the cloud, as ``ChainConfig.noise``.
         num_views: default scene cameras (1..4, default the chain's 4); replaces
             ``scene.num_views``. Explicit ``scene.cameras`` take precedence (V = their
@@ -74,7 +74,7 @@ class HandleGraspConfig:
     """
 
     objects: tuple[str, ...] = field(default_factory=lambda: tuple(default_objects()))
-    gripper: GripperName = "builtin"
+    gripper: str = DEFAULT_GRIPPER
     noise: float = 0.0
     num_views: int = CHAIN_VIEWS
     max_points: int = 8192
@@ -88,8 +88,7 @@ class HandleGraspConfig:
         object.__setattr__(self, "objects", objects)
         if not objects:
             raise ValueError("HandleGraspConfig.objects must name at least one object")
-        if self.gripper not in get_args(GripperName):
-            raise ValueError(f"unknown gripper {self.gripper!r}; use 'builtin' or 'robotiq_2f85'")
+        check_gripper_name(self.gripper)
         if not 0 <= self.noise < 1:
             raise ValueError(f"noise sigma must be in [0, 1), got {self.noise}")
         check_views(self.num_views)

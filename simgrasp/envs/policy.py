@@ -29,12 +29,12 @@ from simgrasp.grasping.chain import (
     MIN_CLOUD_POINTS,
     ChainConfig,
     ChainDetector,
-    gripper_geometry,
     plan_grasps,
 )
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import GripperGeometry, PlannerConfig, top_down_above_table
-from simgrasp.scenes.gripper import GripperName, make_gripper
+from simgrasp.grasping.planner import PlannerConfig, top_down_above_table
+from simgrasp.grippers import DEFAULT_GRIPPER, make_gripper
+from simgrasp.grippers.geometry import GripperGeometry
 
 FALLBACK_SOURCE = "fallback"
 """``Grasp.source`` of the fallback grasp."""
@@ -47,7 +47,7 @@ class DetectorPolicy:
     z, meters); :meth:`for_env` takes both from an env."""
 
     detector: ChainDetector = "quadric"
-    gripper: GripperName = "builtin"
+    gripper: str = DEFAULT_GRIPPER
     table_top_z: float = 0.0
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     chain_config: ChainConfig = field(init=False, repr=False)
@@ -58,7 +58,7 @@ class DetectorPolicy:
             detector=self.detector, gripper=self.gripper, planner=self.planner
         )
         object.__setattr__(self, "chain_config", chain_config)
-        object.__setattr__(self, "geometry", gripper_geometry(make_gripper(self.gripper)))
+        object.__setattr__(self, "geometry", make_gripper(self.gripper).planning_geometry())
 
     @classmethod
     def for_env(

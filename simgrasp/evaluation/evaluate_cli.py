@@ -18,6 +18,7 @@ from simgrasp.cli_args import (
     comma_list,
     float_range,
 )
+from simgrasp.grippers import DEFAULT_GRIPPER, gripper_names
 
 OBJECT_SETS = ("generated", "paper", "all")
 
@@ -48,7 +49,7 @@ def check_plan(
     data) or a noise sigma outside [0, 1), naming the offending value."""
     from simgrasp.assets.registry import load_object
     from simgrasp.grasping.chain import CHAIN_DETECTORS
-    from simgrasp.scenes.gripper import make_gripper
+    from simgrasp.grippers import make_gripper
 
     for detector in detectors:
         if detector not in CHAIN_DETECTORS:
@@ -86,7 +87,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="comma list of quadric, tenpas, centroid, random",
     )
     parser.add_argument(
-        "--gripper", type=comma_list, default=("builtin",), help="builtin and/or robotiq_2f85"
+        "--gripper",
+        type=comma_list,
+        default=(DEFAULT_GRIPPER,),
+        help=f"comma list of {', '.join(gripper_names())}",
     )
     add_placement_argument(parser)
     add_views_argument(parser)

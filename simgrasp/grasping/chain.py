@@ -19,18 +19,19 @@ from simgrasp.assets.placement import Placement
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.planner import (
-    GripperGeometry,
     PlannerConfig,
     antipodal_grasps,
     centroid_grasps,
     grasps_from_handles,
 )
 from simgrasp.grasping.trial import Phase, TrialConfig, TrialResult, run_trial
+from simgrasp.grippers import make_gripper
+from simgrasp.grippers.base import Gripper
+from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles import DETECTORS, default_config, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
 from simgrasp.handles.detection import Detection
 from simgrasp.perception import estimate_normals, multiplicative_noise
-from simgrasp.scenes.gripper import Gripper, make_gripper
 from simgrasp.scenes.kept_renderer import kept_renderer
 from simgrasp.scenes.observe import ObjectCloud, object_cloud
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
@@ -125,28 +126,6 @@ def _no_grasp_record(result: ChainResult) -> dict[str, Any]:
     }
 
 
-def gripper_geometry(gripper: Gripper) -> GripperGeometry:
-    """The planner's collision boxes for ``gripper`` (documented approximations).
-
-    The boxes are those of the open gripper (pre-grasp and approach). The Robotiq's pads swing
-    forward as they close (tips 9.5 mm past the TCP open, 21-23 mm once closed on a handle
-    narrower than 4 cm), so its grasps keep the closed fingertips above the table: closing
-    tips that hit the table top stall the jaws before they squeeze the handle.
-    """
-    if gripper.name == "robotiq_2f85":
-        from simgrasp.scenes.robotiq import OPEN_FINGER_REACH
-
-        return GripperGeometry(
-            max_opening=gripper.max_opening,
-            pad_reach=OPEN_FINGER_REACH,
-            closed_pad_reach=gripper.finger_reach,
-            finger_length=0.06,
-            finger_width=0.025,
-            palm_size=(0.07, 0.14, 0.06),
-        )
-    return GripperGeometry(max_opening=gripper.max_opening, pad_reach=gripper.finger_reach)
-
-
 def render_views(scene: Scene, renderer: SceneRenderer) -> list[DepthFrame]:
     """Depth and segmentation from every scene camera, the scene reset to its initial state."""
     scene.reset()
@@ -202,7 +181,7 @@ def plan_grasps(
             :func:`viewpoint_normals` makes them); the centroid baseline ignores them.
         cameras_world: (K, 3) optical centers of the cameras that saw the cloud (world frame,
             meters), for the planner's view bonus.
-        geometry: the gripper's collision boxes (:func:`gripper_geometry`).
+        geometry: the gripper's collision boxes (``Gripper.planning_geometry()``).
         table_top_z: world z of the table top (m).
         config: its ``detector`` and ``planner`` are used.
         seed: seeds the detector's sampling and the planner's approach jitter.
@@ -244,7 +223,7 @@ def propose_grasps(
         cloud.points_world,
         viewpoint_normals(cloud),
         np.unique(cloud.viewpoints_world, axis=0),
-        gripper_geometry(scene.gripper.gripper),
+        scene.gripper.gripper.planning_geometry(),
         scene.config.table_top_z,
         config,
         seed,

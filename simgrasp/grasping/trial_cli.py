@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from simgrasp.cli_args import add_placement_argument, add_views_argument
+from simgrasp.grippers import DEFAULT_GRIPPER, gripper_names
 
 RENDER_SIZE = (640, 480)
 FRAME_SECONDS = 1.0
@@ -25,7 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="YCB id (025_mug or mug) or generated tool: gen_hammer (= gen_hammer_s0), or "
         "gen_hammer_s3 for the sizes drawn from seed 3",
     )
-    parser.add_argument("--gripper", choices=("builtin", "robotiq_2f85"), default="builtin")
+    parser.add_argument("--gripper", choices=gripper_names(), default=DEFAULT_GRIPPER)
     parser.add_argument(
         "--grasp",
         nargs=7,
@@ -93,7 +94,7 @@ def _manual_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> 
     from simgrasp.assets.registry import load_object
     from simgrasp.grasping.grasp import Grasp, matrix_from_pose7
     from simgrasp.grasping.trial import run_trial
-    from simgrasp.scenes.gripper import make_gripper
+    from simgrasp.grippers import make_gripper
     from simgrasp.scenes.scene import SceneConfig, build_scene
 
     gripper = make_gripper(args.gripper)

@@ -1,4 +1,4 @@
-"""scenes stage: MuJoCo scenes, grippers, cameras and rendering."""
+"""scenes stage: MuJoCo scenes, cameras and rendering (grippers: simgrasp.grippers)."""
 
 from simgrasp.gl_platform import configure_mujoco_gl
 

@@ -20,8 +20,9 @@ from scipy.spatial.transform import Rotation
 
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
 from simgrasp.assets.stable import sample_rest_pose
+from simgrasp.grippers.base import Gripper
+from simgrasp.grippers.mount import BoundGripper, attach_gripper
 from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
-from simgrasp.scenes.gripper import BoundGripper, Gripper
 from simgrasp.scenes.views import check_views
 from simgrasp.seeding import rng_for
 
@@ -166,7 +167,7 @@ def build_scene(
         add_camera(spec, camera)
 
     parked = parked_tcp(config)
-    handles = gripper.add_to(spec, parked, prefix=GRIPPER_PREFIX)
+    handles = attach_gripper(spec, gripper, parked, prefix=GRIPPER_PREFIX)
     try:
         model = spec.compile()
     except ValueError as exc:

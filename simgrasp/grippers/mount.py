@@ -1,10 +1,9 @@
-"""Parallel-jaw grippers behind one interface, floating on a mocap-driven weld.
+"""A gripper in a MuJoCo scene: floating on a free joint, welded to a mocap body.
 
-A :class:`Gripper` describes a gripper model (its MJCF, root body, TCP site, fingers, pads and
-actuator). :meth:`Gripper.add_to` places it in a scene spec at ``world_T_tcp`` with a free
-joint welded to a mocap body, so the gripper follows commanded poses while contacts can push
-back. After compiling, :meth:`GripperHandles.bind` resolves ids into a :class:`BoundGripper`
-that issues commands and reads the state from ``mujoco.MjData``.
+:func:`attach_gripper` places a :class:`~simgrasp.grippers.base.Gripper` in a scene spec at
+``world_T_tcp`` with a free joint welded to a mocap body, so the gripper follows commanded
+poses while contacts can push back. After compiling, :meth:`GripperHandles.bind` resolves ids
+into a :class:`BoundGripper` that issues commands and reads the state from ``mujoco.MjData``.
 
 TCP convention (README): origin midway between the finger pads, +z the approach direction
 (palm toward object), +y the direction in which the jaws open and close. Units: m, kg, N.
@@ -12,32 +11,20 @@ TCP convention (README): origin midway between the finger pads, +z the approach 
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cache
-from typing import Literal
 
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from simgrasp.resources import model_path
-
-GripperName = Literal["builtin", "robotiq_2f85"]
+from simgrasp.grippers.base import Gripper
 
 WELD_SOLREF = (0.02, 1.0)
 """Weld (mocap -> gripper base) time constant and damping: soft enough that contacts push the
 gripper back instead of teleporting it through the object, stiff enough to carry a 1 kg load
 with millimeter lag."""
-
-
-def pose_to_matrix(pos: NDArray[np.float64], quat_wxyz: NDArray[np.float64]) -> NDArray:
-    """4x4 transform from a position and a ``[w, x, y, z]`` quaternion."""
-    transform = np.eye(4)
-    transform[:3, :3] = Rotation.from_quat(np.asarray(quat_wxyz), scalar_first=True).as_matrix()
-    transform[:3, 3] = pos
-    return transform
 
 
 def matrix_to_pose(transform: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
@@ -46,82 +33,46 @@ def matrix_to_pose(transform: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
     return transform[:3, 3].copy(), quat if quat[0] >= 0 else -quat
 
 
-@dataclass(frozen=True)
-class Gripper:
-    """A parallel-jaw gripper model.
+def attach_gripper(
+    spec: mujoco.MjSpec,
+    gripper: Gripper,
+    world_T_tcp: NDArray[np.float64],
+    prefix: str = "gripper/",
+) -> GripperHandles:
+    """Attach ``gripper`` to ``spec`` with its TCP at ``world_T_tcp`` (4x4, world frame).
 
-    Attributes:
-        name: ``"builtin"`` or ``"robotiq_2f85"``.
-        max_opening: largest gap between the pads (m).
-        load_spec: returns a fresh ``MjSpec`` of the gripper (no free joint; it has a site
-            named ``tcp_site`` following the TCP convention).
-        root_body: the body that gets the free joint.
-        tcp_site: site at the TCP.
-        fingers: (left, right) tuples of the bodies whose subtrees make up each finger; the
-            left finger is on the -y side.
-        pads: (left, right) names of the pad geoms, one tuple per finger.
-        actuator: the actuator that opens and closes the jaws.
-        ctrl_for_opening: control value that holds the pads ``opening`` meters apart.
-        ctrl_closed: control value that squeezes with the full grip force.
-        grip_force: nominal squeezing force per jaw (N), for documentation and reports.
-        finger_reach: how far the fingertips reach past the TCP along +z (m), the most over
-            the stroke; a grasp whose TCP is closer than this to the table hits it.
+    Adds a mocap body ``{prefix}mocap`` and a weld from it to the gripper's root body, and
+    sets the parent's contact options (elliptic cones, ``impratio``, ``implicitfast``)
+    because attaching drops the child's ``<option>``.
     """
+    child = gripper.load_spec()
+    root = _root_at_origin(child, gripper.root_body)
+    for body in child.bodies:
+        if body.name != "world":
+            body.gravcomp = 1.0
+    root.add_freejoint(name="free")
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    spec.option.impratio = max(spec.option.impratio, 10.0)
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
 
-    name: str
-    max_opening: float
-    load_spec: Callable[[], mujoco.MjSpec] = field(repr=False)
-    root_body: str
-    tcp_site: str
-    fingers: tuple[tuple[str, ...], tuple[str, ...]]
-    pads: tuple[tuple[str, ...], tuple[str, ...]]
-    actuator: str
-    ctrl_for_opening: Callable[[float], float] = field(repr=False)
-    ctrl_closed: float
-    grip_force: float
-    finger_reach: float
-
-    def root_T_tcp(self) -> NDArray[np.float64]:
-        """Pose of the TCP site in the root body frame at the model's reference configuration."""
-        return _root_T_tcp(self)
-
-    def add_to(
-        self, spec: mujoco.MjSpec, world_T_tcp: NDArray[np.float64], prefix: str = "gripper/"
-    ) -> GripperHandles:
-        """Attach the gripper to ``spec`` with its TCP at ``world_T_tcp`` (4x4, world frame).
-
-        Adds a mocap body ``{prefix}mocap`` and a weld from it to the gripper's root body, and
-        sets the parent's contact options (elliptic cones, ``impratio``, ``implicitfast``)
-        because attaching drops the child's ``<option>``.
-        """
-        child = self.load_spec()
-        root = _root_at_origin(child, self.root_body)
-        for body in child.bodies:
-            if body.name != "world":
-                body.gravcomp = 1.0
-        root.add_freejoint(name="free")
-        spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-        spec.option.impratio = max(spec.option.impratio, 10.0)
-        spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-
-        world_T_root = np.asarray(world_T_tcp, float) @ np.linalg.inv(self.root_T_tcp())
-        pos, quat = matrix_to_pose(world_T_root)
-        mocap = spec.worldbody.add_body(name=f"{prefix}mocap", pos=pos, quat=quat, mocap=True)
-        frame = spec.worldbody.add_frame(pos=pos, quat=quat)
-        spec.attach(child, prefix=prefix, frame=frame)
-        weld = spec.add_equality(
-            name=f"{prefix}weld",
-            type=mujoco.mjtEq.mjEQ_WELD,
-            objtype=mujoco.mjtObj.mjOBJ_BODY,
-            name1=mocap.name,
-            name2=f"{prefix}{self.root_body}",
-        )
-        data = np.zeros(len(weld.data))
-        data[6] = 1.0  # relative pose: identity quaternion (anchor and offset zero)
-        data[10] = 1.0  # torque scale
-        weld.data = data
-        weld.solref = WELD_SOLREF
-        return GripperHandles(self, prefix)
+    world_T_root = np.asarray(world_T_tcp, float) @ np.linalg.inv(root_T_tcp(gripper))
+    pos, quat = matrix_to_pose(world_T_root)
+    mocap = spec.worldbody.add_body(name=f"{prefix}mocap", pos=pos, quat=quat, mocap=True)
+    frame = spec.worldbody.add_frame(pos=pos, quat=quat)
+    spec.attach(child, prefix=prefix, frame=frame)
+    weld = spec.add_equality(
+        name=f"{prefix}weld",
+        type=mujoco.mjtEq.mjEQ_WELD,
+        objtype=mujoco.mjtObj.mjOBJ_BODY,
+        name1=mocap.name,
+        name2=f"{prefix}{gripper.root_body}",
+    )
+    data = np.zeros(len(weld.data))
+    data[6] = 1.0  # relative pose: identity quaternion (anchor and offset zero)
+    data[10] = 1.0  # torque scale
+    weld.data = data
+    weld.solref = WELD_SOLREF
+    return GripperHandles(gripper, prefix)
 
 
 @dataclass(frozen=True)
@@ -181,7 +132,7 @@ class GripperHandles:
             finger_geoms=finger_geoms,  # type: ignore[arg-type]
             pad_geoms=pads,  # type: ignore[arg-type]
             pad_depth=float(model.geom_size[pads[0][0], 1] + model.geom_size[pads[1][0], 1]),
-            root_T_tcp=g.root_T_tcp(),
+            root_T_tcp=root_T_tcp(g),
         )
 
 
@@ -261,7 +212,8 @@ def _root_at_origin(spec: mujoco.MjSpec, root_body: str) -> mujoco.MjsBody:
 
 
 @cache
-def _root_T_tcp(gripper: Gripper) -> NDArray[np.float64]:
+def root_T_tcp(gripper: Gripper) -> NDArray[np.float64]:
+    """Pose of the TCP site in the root body frame at the model's reference configuration."""
     spec = gripper.load_spec()
     _root_at_origin(spec, gripper.root_body)
     model = spec.compile()
@@ -276,39 +228,3 @@ def _root_T_tcp(gripper: Gripper) -> NDArray[np.float64]:
     world_T_site[:3, :3] = data.site_xmat[site].reshape(3, 3)
     world_T_site[:3, 3] = data.site_xpos[site]
     return np.linalg.inv(world_T_root) @ world_T_site
-
-
-def _builtin_spec() -> mujoco.MjSpec:
-    return mujoco.MjSpec.from_file(str(model_path("grippers", "parallel_jaw.xml")))
-
-
-def _identity_ctrl(opening: float) -> float:
-    return opening
-
-
-BUILTIN = Gripper(
-    name="builtin",
-    max_opening=0.085,
-    load_spec=_builtin_spec,
-    root_body="base",
-    tcp_site="tcp",
-    fingers=(("left_finger",), ("right_finger",)),
-    pads=(("left_pad",), ("right_pad",)),
-    actuator="fingers",
-    ctrl_for_opening=_identity_ctrl,
-    ctrl_closed=0.0,
-    grip_force=60.0,
-    finger_reach=0.012,
-)
-"""simgrasp's own gripper (models/grippers/parallel_jaw.xml): 0.085 m stroke, 60 N per jaw."""
-
-
-def make_gripper(name: str) -> Gripper:
-    """The gripper called ``name``: ``"builtin"`` or ``"robotiq_2f85"``."""
-    if name == "builtin":
-        return BUILTIN
-    if name == "robotiq_2f85":
-        from simgrasp.scenes.robotiq import robotiq_2f85
-
-        return robotiq_2f85()
-    raise ValueError(f"unknown gripper {name!r} (expected 'builtin' or 'robotiq_2f85')")
