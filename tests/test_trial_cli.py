@@ -16,11 +16,11 @@ from simgrasp.assets.registry import load_object
 from simgrasp.cli import main
 from simgrasp.evaluation.sweep import TrialSpec, run_spec
 from simgrasp.grasping.chain import ChainResult
-from simgrasp.grasping.grasp import pose7_from_matrix
 from simgrasp.grasping.trial_cli import _print_summary, _write_frames
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS
+from simgrasp.transforms import matrix_to_pose7
 
 
 def handle_grasp_object_frame(seed: int) -> list[str]:
@@ -29,7 +29,7 @@ def handle_grasp_object_frame(seed: int) -> list[str]:
     model = build_object_model(load_object("gen_hammer"))
     scene = build_scene(model, make_gripper("builtin"), seed=seed)
     object_T_tcp = handle_grasp(scene).object_T_tcp(scene.world_T_object)
-    return [f"{v:.12f}" for v in pose7_from_matrix(object_T_tcp)]
+    return [f"{v:.12f}" for v in matrix_to_pose7(object_T_tcp)]
 
 
 def test_trial_json_in_object_frame(tmp_path) -> None:

@@ -36,7 +36,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.grasping.grasp import Grasp, pose7_from_matrix
+from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.scoring import (
     HANDLE_MARGIN,
     ON_HANDLE_THRESHOLD,
@@ -48,6 +48,7 @@ from simgrasp.grasping.scoring import (
     slip_distance,
 )
 from simgrasp.scenes.scene import Scene
+from simgrasp.transforms import matrix_to_pose7
 
 Failure = Literal[
     "approach_collision",
@@ -283,7 +284,7 @@ def run_trial(
         object=scene.object_name,
         gripper=scene.gripper.gripper.name,
         seed=scene.seed,
-        object_pose=pose7_from_matrix(scene.world_T_object).tolist(),
+        object_pose=matrix_to_pose7(scene.world_T_object).tolist(),
         grasp=grasp.to_pose7().tolist(),
         grasp_width=float(grasp.width),
         grasp_source=grasp.source,

@@ -92,10 +92,11 @@ def _manual_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> 
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import build_object_model
     from simgrasp.assets.registry import load_object
-    from simgrasp.grasping.grasp import Grasp, matrix_from_pose7
+    from simgrasp.grasping.grasp import Grasp
     from simgrasp.grasping.trial import run_trial
     from simgrasp.grippers import make_gripper
     from simgrasp.scenes.scene import SceneConfig, build_scene
+    from simgrasp.transforms import pose7_to_matrix
 
     gripper = make_gripper(args.gripper)
     object_model = build_object_model(load_object(args.object, args.ycb_dir))
@@ -106,7 +107,7 @@ def _manual_trial(args: argparse.Namespace, recorder: _FrameRecorder | None) -> 
             f"--width must be in (0, {gripper.max_opening}] m for gripper {gripper.name!r}, "
             f"got {width}"
         )
-    pose = matrix_from_pose7(args.grasp, "--grasp")
+    pose = pose7_to_matrix(args.grasp, "--grasp")
     if args.grasp_frame == "object":
         grasp = Grasp.from_object_frame(pose, scene.world_T_object, width, source="cli")
     else:

@@ -17,20 +17,14 @@ from functools import cache
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
 from simgrasp.grippers.base import Gripper
+from simgrasp.transforms import make_transform, matrix_to_pos_quat
 
 WELD_SOLREF = (0.02, 1.0)
 """Weld (mocap -> gripper base) time constant and damping: soft enough that contacts push the
 gripper back instead of teleporting it through the object, stiff enough to carry a 1 kg load
 with millimeter lag."""
-
-
-def matrix_to_pose(transform: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
-    """Position and ``[w, x, y, z]`` quaternion (w >= 0) of a 4x4 transform."""
-    quat = Rotation.from_matrix(transform[:3, :3]).as_quat(scalar_first=True)
-    return transform[:3, 3].copy(), quat if quat[0] >= 0 else -quat
 
 
 def attach_gripper(
@@ -56,7 +50,7 @@ def attach_gripper(
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
 
     world_T_root = np.asarray(world_T_tcp, float) @ np.linalg.inv(root_T_tcp(gripper))
-    pos, quat = matrix_to_pose(world_T_root)
+    pos, quat = matrix_to_pos_quat(world_T_root)
     mocap = spec.worldbody.add_body(name=f"{prefix}mocap", pos=pos, quat=quat, mocap=True)
     frame = spec.worldbody.add_frame(pos=pos, quat=quat)
     spec.attach(child, prefix=prefix, frame=frame)
@@ -174,14 +168,12 @@ class BoundGripper:
 
     def world_T_tcp(self, data: mujoco.MjData) -> NDArray[np.float64]:
         """Current TCP pose (4x4, world frame)."""
-        transform = np.eye(4)
-        transform[:3, :3] = data.site_xmat[self.tcp_site].reshape(3, 3)
-        transform[:3, 3] = data.site_xpos[self.tcp_site]
-        return transform
+        site = self.tcp_site
+        return make_transform(data.site_xmat[site].reshape(3, 3), data.site_xpos[site])
 
     def command_tcp(self, data: mujoco.MjData, world_T_tcp: NDArray[np.float64]) -> None:
         """Move the mocap target so the TCP is pulled toward ``world_T_tcp`` (world frame)."""
-        pos, quat = matrix_to_pose(world_T_tcp @ np.linalg.inv(self.root_T_tcp))
+        pos, quat = matrix_to_pos_quat(world_T_tcp @ np.linalg.inv(self.root_T_tcp))
         data.mocap_pos[self.mocap_id] = pos
         data.mocap_quat[self.mocap_id] = quat
 
@@ -221,10 +213,6 @@ def root_T_tcp(gripper: Gripper) -> NDArray[np.float64]:
     mujoco.mj_forward(model, data)
     root = model.body(gripper.root_body).id
     site = model.site(gripper.tcp_site).id
-    world_T_root = np.eye(4)
-    world_T_root[:3, :3] = data.xmat[root].reshape(3, 3)
-    world_T_root[:3, 3] = data.xpos[root]
-    world_T_site = np.eye(4)
-    world_T_site[:3, :3] = data.site_xmat[site].reshape(3, 3)
-    world_T_site[:3, 3] = data.site_xpos[site]
+    world_T_root = make_transform(data.xmat[root].reshape(3, 3), data.xpos[root])
+    world_T_site = make_transform(data.site_xmat[site].reshape(3, 3), data.site_xpos[site])
     return np.linalg.inv(world_T_root) @ world_T_site

@@ -20,6 +20,7 @@ from simgrasp.quadric.coefficients import (
     validate_coefficient_rows,
 )
 from simgrasp.quadric.kinds import CYLINDER_KINDS, HANDLE_KINDS, QuadricKind
+from simgrasp.transforms import invert_transform
 
 RIGID_TOLERANCE = 1e-6
 """Tolerance on RᵀR = I, det R = 1 and the last row [0, 0, 0, 1] of a rigid transform."""
@@ -176,9 +177,7 @@ class Quadric:
             raise ValueError(
                 "transform must be rigid (orthonormal rotation with det +1, last row 0 0 0 1)"
             )
-        inverse = np.eye(4)
-        inverse[:3, :3] = R.T
-        inverse[:3, 3] = -R.T @ T[:3, 3]
+        inverse = invert_transform(T)
         reference = None
         if self.reference_point is not None:
             reference = R @ self.reference_point + T[:3, 3]

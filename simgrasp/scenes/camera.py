@@ -18,6 +18,7 @@ import numpy as np
 
 from simgrasp.perception.camera import CameraIntrinsics, cv_T_mujoco
 from simgrasp.scenes.views import check_views
+from simgrasp.transforms import make_transform
 
 _WORLD_UP = np.array([0.0, 0.0, 1.0])
 
@@ -153,9 +154,7 @@ def world_T_cam(
     ``"mujoco"`` it is MuJoCo's own (x right, y up, looking along -z).
     """
     camera_id = camera_id_of(model, camera_name)
-    world_T_mjcam = np.eye(4)
-    world_T_mjcam[:3, :3] = data.cam_xmat[camera_id].reshape(3, 3)
-    world_T_mjcam[:3, 3] = data.cam_xpos[camera_id]
+    world_T_mjcam = make_transform(data.cam_xmat[camera_id].reshape(3, 3), data.cam_xpos[camera_id])
     if convention == "mujoco":
         return world_T_mjcam
     if convention != "opencv":

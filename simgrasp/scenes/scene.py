@@ -25,6 +25,7 @@ from simgrasp.grippers.mount import BoundGripper, attach_gripper
 from simgrasp.scenes.camera import CameraSpec, add_camera, default_viewpoints
 from simgrasp.scenes.views import check_views
 from simgrasp.seeding import rng_for
+from simgrasp.transforms import make_transform
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
@@ -103,10 +104,8 @@ class Scene:
 
     def object_pose(self) -> NDArray[np.float64]:
         """Current ``world_T_object`` (4x4) from ``data``."""
-        transform = np.eye(4)
-        transform[:3, :3] = self.data.xmat[self.object_body].reshape(3, 3)
-        transform[:3, 3] = self.data.xpos[self.object_body]
-        return transform
+        body = self.object_body
+        return make_transform(self.data.xmat[body].reshape(3, 3), self.data.xpos[body])
 
     def reset(self) -> None:
         """Back to the initial state (object at rest pose, gripper parked), kinematics updated."""
@@ -123,10 +122,8 @@ class Scene:
 
 def parked_tcp(config: SceneConfig) -> NDArray[np.float64]:
     """Parking pose of the TCP: above the table center, approach (+z) pointing down."""
-    world_T_tcp = np.eye(4)
-    world_T_tcp[:3, :3] = np.diag([1.0, -1.0, -1.0])
-    world_T_tcp[2, 3] = config.table_top_z + config.park_height
-    return world_T_tcp
+    height = config.table_top_z + config.park_height
+    return make_transform(np.diag([1.0, -1.0, -1.0]), [0.0, 0.0, height])
 
 
 def build_scene(
