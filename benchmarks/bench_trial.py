@@ -27,9 +27,9 @@ import sys
 import time
 from pathlib import Path
 
-import mujoco
 import numpy as np
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.trial import TrialConfig, run_trial

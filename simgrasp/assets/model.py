@@ -12,12 +12,12 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-import mujoco
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
 from PIL import Image
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.decompose import DecompositionConfig, decompose
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.transforms import rotation_to_quat_wxyz

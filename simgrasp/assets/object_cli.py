@@ -33,9 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _add_label_geoms(spec, body, model, name: str) -> None:  # noqa: ANN001 - mujoco types
-    import mujoco
-
+    from simgrasp._mujoco import mujoco
     from simgrasp.assets.labels import Capsule
+    from simgrasp.transforms import rotation_to_quat_wxyz
 
     for i, region in enumerate(model.asset.handle.regions):
         common = dict(
@@ -49,20 +49,19 @@ def _add_label_geoms(spec, body, model, name: str) -> None:  # noqa: ANN001 - mu
                 **common,
             )
         else:
-            from simgrasp.assets.model import _quat_wxyz
-
             body.add_geom(
                 type=mujoco.mjtGeom.mjGEOM_BOX,
                 pos=region.center,
-                quat=_quat_wxyz(region.object_R_box),
+                quat=rotation_to_quat_wxyz(region.object_R_box),
                 size=region.half_extents,
                 **common,
             )
 
 
 def _show(model, out: Path, size: int) -> None:  # noqa: ANN001
-    import mujoco
     from PIL import Image
+
+    from simgrasp._mujoco import mujoco
 
     spec = mujoco.MjSpec()
     spec.visual.headlight.ambient = [0.4, 0.4, 0.4]
@@ -95,8 +94,7 @@ def _show(model, out: Path, size: int) -> None:  # noqa: ANN001
 
 def export_mjcf(model, out_dir: Path) -> Path:  # noqa: ANN001
     """Write ``out_dir/<name>.xml`` plus mesh/texture files; return the XML path."""
-    import mujoco
-
+    from simgrasp._mujoco import mujoco
     from simgrasp.assets.stable import stable_poses
 
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -22,10 +22,10 @@ from dataclasses import dataclass, field, fields, replace
 from typing import Any, Literal, get_args
 
 import gymnasium
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import ObjectModel
 from simgrasp.assets.registry import default_objects
 from simgrasp.envs.action import action_space, grasp_from_action

@@ -32,10 +32,10 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.scoring import (
     HANDLE_MARGIN,

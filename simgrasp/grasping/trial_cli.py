@@ -154,7 +154,7 @@ class _FrameRecorder:
         from simgrasp.scenes.kept_renderer import kept_renderer
 
         if self._camera is None:
-            import mujoco
+            from simgrasp._mujoco import mujoco
 
             self._camera = mujoco.MjvCamera()
             self._camera.type = mujoco.mjtCamera.mjCAMERA_FREE

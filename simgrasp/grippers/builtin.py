@@ -5,8 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import mujoco
-
+from simgrasp._mujoco import mujoco
 from simgrasp.grippers.base import Gripper
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.resources import model_path

@@ -14,10 +14,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cache
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.grippers.base import Gripper
 from simgrasp.transforms import make_transform, matrix_to_pos_quat
 

@@ -21,10 +21,10 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.grippers.base import Gripper
 from simgrasp.grippers.geometry import GripperGeometry
 

@@ -13,9 +13,9 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
-import mujoco
 import numpy as np
 
+from simgrasp._mujoco import mujoco
 from simgrasp.perception.camera import CameraIntrinsics, cv_T_mujoco
 from simgrasp.scenes.views import check_views
 from simgrasp.transforms import make_transform

@@ -19,7 +19,7 @@ import atexit
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from simgrasp.scenes.render import SceneRenderer  # before mujoco: it picks the GL platform
+from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import Scene, SceneConfig
 
 if TYPE_CHECKING:

@@ -13,11 +13,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
 from simgrasp.assets.stable import sample_rest_pose
 from simgrasp.grippers.base import Gripper
