@@ -144,8 +144,7 @@ class ObjectModel:
             mass=0.0,
             rgba=GENERATED_RGBA,
         )
-        textured = asset.texture_file is not None and asset.mesh_file is not None
-        if textured:
+        if asset.texture_file is not None and asset.mesh_file is not None:
             # MuJoCo reads the OBJ's UVs itself; it cannot decode JPEG, so the texture goes
             # in as RGB pixels (or a PNG next to the exported MJCF).
             suffix = Path(asset.mesh_file).suffix.lower()

@@ -161,10 +161,13 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         self.config = replace(config or HandleGraspConfig(), **overrides)
         self.render_mode = render_mode
         self._gripper = make_gripper(self.config.gripper)
-        self.observation_space = observation_space(
+        # gymnasium types the spaces by their sample type; Dict and Box are not generic in it
+        self.observation_space = observation_space(  # type: ignore[assignment]
             camera_layout(self.config.scene_config), self.config.max_points
         )
-        self.action_space = action_space(self._gripper.max_opening, self.config.scene_config)
+        self.action_space = action_space(  # type: ignore[assignment]
+            self._gripper.max_opening, self.config.scene_config
+        )
         self._models: dict[str, ObjectModel] = {}
         self._episode: _Episode | None = None
         self._renderers = RendererKeeper()

@@ -11,12 +11,12 @@ from __future__ import annotations
 import functools
 import itertools
 import os
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from contextlib import closing
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.evaluation.trial_log import NOISE_DIGITS, TrialKey, TrialLog, trial_key
@@ -80,10 +80,12 @@ def prepare_object(name: str, ycb_dir: str | None) -> str:
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's key fields."""
-    from simgrasp.grasping.chain import ChainConfig, run_chain
+    from simgrasp.grasping.chain import ChainConfig, ChainDetector, run_chain
 
     config = (
-        ChainConfig(detector=spec.detector, gripper=spec.gripper, noise=spec.noise)
+        ChainConfig(
+            detector=cast(ChainDetector, spec.detector), gripper=spec.gripper, noise=spec.noise
+        )
         .with_placement(spec.placement)
         .with_views(spec.views)
     )
@@ -158,7 +160,7 @@ def run_trials(
     workers: int,
     backend: Backend,
     address: str | None,
-) -> Iterator[dict[str, Any]]:
+) -> Generator[dict[str, Any], None, None]:
     """Trial records from ``backend``, in completion order; starts no workers (nor Ray) when
     there is nothing to run."""
     if backend not in ("local", "ray"):

@@ -242,7 +242,7 @@ def _detection_scores(
     return (None if np.isnan(accuracy) else accuracy), handle_recall(in_object, label)
 
 
-def _moved(detection: Detection, a_T_b: NDArray[np.float64]) -> Detection:
+def _moved(detection: Detection, a_T_b: NDArray[np.floating]) -> Detection:
     """The detection's candidate and handle centers mapped by ``a_T_b`` (for label checks)."""
     rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
     candidates = tuple(

@@ -247,10 +247,12 @@ def grasps_from_handles(
                 around = np.cos(angle) * u + np.sin(angle) * v
                 closing = np.cross(around, handle.axis)
                 for approach in _pitched(around, handle.axis, config):
-                    pose = tcp_pose(position, closing, approach)
-                    pose = above_table(pose, geometry, table_z, config)
-                    if pose is None:
+                    lifted = above_table(
+                        tcp_pose(position, closing, approach), geometry, table_z, config
+                    )
+                    if lifted is None:
                         continue
+                    pose = lifted
                     distances = gripper_distances(pose, points_world, geometry)
                     if _inside_count(distances) > config.max_colliding_points:
                         continue
@@ -347,8 +349,12 @@ def antipodal_grasps(
         u, v = _orthonormal(line)
         angle = rng.uniform(0, 2 * np.pi)
         approach = np.cos(angle) * u + np.sin(angle) * v
-        pose = tcp_pose((points_world[i] + points_world[j]) / 2, line, approach)
-        pose = above_table(pose, geometry, table_z, config)
+        pose = above_table(
+            tcp_pose((points_world[i] + points_world[j]) / 2, line, approach),
+            geometry,
+            table_z,
+            config,
+        )
         if pose is None:
             continue
         if collides(pose, points_world, geometry, config.max_colliding_points):

@@ -132,13 +132,13 @@ def _view_directions(count: int) -> NDArray[np.float64]:
 def _view_frames(count: int) -> NDArray[np.float64]:
     """(count, 3, 3) orthographic view frames: rows u, v (pixel axes) and the unit direction
     toward the viewer, for the ``count`` directions of :func:`_view_directions`."""
-    frames = []
+    rows = []
     for toward_viewer in _view_directions(count):
         helper = np.array([1.0, 0, 0]) if abs(toward_viewer[0]) < 0.9 else np.array([0, 1.0, 0])
         u = np.cross(toward_viewer, helper)
         u /= np.linalg.norm(u)
-        frames.append([u, np.cross(toward_viewer, u), toward_viewer])
-    frames = np.array(frames)
+        rows.append([u, np.cross(toward_viewer, u), toward_viewer])
+    frames = np.array(rows)
     frames.setflags(write=False)
     return frames
 

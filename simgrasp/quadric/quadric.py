@@ -78,7 +78,9 @@ class Quadric:
     ) -> Quadric:
         """Validated quadric from ``[A..J]`` (ValueError on wrong count, non-finite values or an
         all-zero quadratic part)."""
-        return cls(np.asarray(coefficients), rtol=rtol, reference_point=reference_point)
+        return cls(
+            np.asarray(coefficients), rtol=rtol, reference_point=_point_or_none(reference_point)
+        )
 
     @classmethod
     def batch(
@@ -132,7 +134,9 @@ class Quadric:
         m = np.asarray(matrix, dtype=np.float64)
         if m.shape != (4, 4):
             raise ValueError(f"quadric matrix must be 4x4, got shape {m.shape}")
-        return cls(matrix_to_coefficients(m), rtol=rtol, reference_point=reference_point)
+        return cls(
+            matrix_to_coefficients(m), rtol=rtol, reference_point=_point_or_none(reference_point)
+        )
 
     @property
     def Q(self) -> NDArray[np.float64]:  # noqa: N802 - the standard symbol
@@ -266,3 +270,7 @@ def _points(points: ArrayLike, name: str) -> tuple[np.ndarray, bool]:
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise ValueError(f"{name}: points must have shape (N, 3) or (3,), got {pts.shape}")
     return pts, single
+
+
+def _point_or_none(point: ArrayLike | None) -> NDArray[np.float64] | None:
+    return None if point is None else np.asarray(point, dtype=np.float64)
