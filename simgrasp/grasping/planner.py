@@ -238,42 +238,70 @@ def grasps_from_handles(
     grasps = []
     for handle in handles:
         u, v = _downward_basis(handle.axis)
-        step = 2 * np.pi / config.approaches_per_handle
-        angles = np.arange(config.approaches_per_handle) * step
-        angles[1:] += rng.uniform(-step / 2, step / 2)
+        angles = _approach_angles(rng, config)
         for offset, lever in _grasp_offsets(handle, centroid, geometry):
             position = handle.center + offset * handle.axis
             for angle in angles:
                 around = np.cos(angle) * u + np.sin(angle) * v
                 closing = np.cross(around, handle.axis)
                 for approach in _pitched(around, handle.axis, config):
-                    lifted = above_table(
-                        tcp_pose(position, closing, approach), geometry, table_z, config
+                    grasp = _scored_grasp(
+                        (position, closing, approach),
+                        handle.score / best_score,
+                        lever,
+                        points_world,
+                        cameras,
+                        geometry,
+                        table_z,
+                        config,
+                        source,
                     )
-                    if lifted is None:
-                        continue
-                    pose = lifted
-                    distances = gripper_distances(pose, points_world, geometry)
-                    if _inside_count(distances) > config.max_colliding_points:
-                        continue
-                    clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
-                    shift = float(np.linalg.norm(pose[:3, 3] - position))
-                    score = (
-                        handle.score / best_score
-                        + _rank(approach, position, cameras, config)
-                        + config.clearance_weight * clearance / config.clearance_cap
-                        - config.shift_weight * shift / config.max_tcp_shift
-                        - config.lever_weight * lever / 0.1
-                    )
-                    grasps.append(
-                        Grasp(
-                            world_T_tcp=pose,
-                            width=geometry.max_opening,
-                            score=score,
-                            source=source,
-                        )
-                    )
+                    if grasp is not None:
+                        grasps.append(grasp)
     return sorted(grasps, key=lambda g: -g.score)
+
+
+def _approach_angles(rng: np.random.Generator, config: PlannerConfig) -> NDArray[np.floating]:
+    """Approach angles around a handle's axis (rad): 0 (the steepest downward approach) and
+    evenly spaced ones turned by one seeded jitter."""
+    step = 2 * np.pi / config.approaches_per_handle
+    angles = np.arange(config.approaches_per_handle) * step
+    angles[1:] += rng.uniform(-step / 2, step / 2)
+    return angles
+
+
+def _scored_grasp(
+    position_closing_approach: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    handle_score: float,
+    lever: float,
+    points_world: NDArray[np.float64],
+    cameras: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig,
+    source: str,
+) -> Grasp | None:
+    """The grasp at a TCP ``position`` with jaws ``closing`` and ``approach`` directions
+    (world frame; backed off to clear the table) with its rank score
+    (:func:`grasps_from_handles`), or None when it cannot clear the table or the open
+    gripper holds cloud points; ``handle_score`` is relative to the best handle's."""
+    position, closing, approach = position_closing_approach
+    pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
+    if pose is None:
+        return None
+    distances = gripper_distances(pose, points_world, geometry)
+    if _inside_count(distances) > config.max_colliding_points:
+        return None
+    clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
+    shift = float(np.linalg.norm(pose[:3, 3] - position))
+    score = (
+        handle_score
+        + _rank(approach, position, cameras, config)
+        + config.clearance_weight * clearance / config.clearance_cap
+        - config.shift_weight * shift / config.max_tcp_shift
+        - config.lever_weight * lever / 0.1
+    )
+    return Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
 
 
 def top_down_above_table(

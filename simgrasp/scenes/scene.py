@@ -135,27 +135,7 @@ def build_scene(
     world z; the object's footprint is centered on the table origin.
     """
     config = config or SceneConfig()
-    spec = mujoco.MjSpec()
-    spec.modelname = f"scene_{object_model.asset.name}"
-    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
-    spec.visual.quality.shadowsize = SHADOW_MAP_SIZE
-
-    hx, hy, hz = config.table_half_size
-    spec.worldbody.add_geom(
-        name=TABLE_NAME,
-        type=mujoco.mjtGeom.mjGEOM_BOX,
-        size=[hx, hy, hz],
-        pos=[0.0, 0.0, config.table_top_z - hz],
-        friction=[config.table_friction, 0.005, 0.0001],
-        rgba=[0.55, 0.45, 0.35, 1.0],
-    )
-    spec.worldbody.add_light(
-        name="key", pos=[0.4, -0.4, 1.5], dir=[-0.3, 0.3, -1.0], diffuse=[0.7, 0.7, 0.7]
-    )
-    spec.worldbody.add_light(
-        name="fill", pos=[-0.5, 0.5, 1.2], dir=[0.4, -0.4, -1.0], diffuse=[0.3, 0.3, 0.3]
-    )
-
+    spec = _table_spec(object_model.asset.name, config)
     world_T_object = _rest_pose(object_model, config, seed, sample_rest_pose)
     object_model.add_to(spec, world_T_object, name=OBJECT_NAME)
 
@@ -194,6 +174,31 @@ def build_scene(
         config=config,
         seed=seed,
     )
+
+
+def _table_spec(object_name: str, config: SceneConfig) -> mujoco.MjSpec:
+    """A new scene spec with the table (top at ``config.table_top_z``) and two lights."""
+    spec = mujoco.MjSpec()
+    spec.modelname = f"scene_{object_name}"
+    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
+    spec.visual.quality.shadowsize = SHADOW_MAP_SIZE
+
+    hx, hy, hz = config.table_half_size
+    spec.worldbody.add_geom(
+        name=TABLE_NAME,
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[hx, hy, hz],
+        pos=[0.0, 0.0, config.table_top_z - hz],
+        friction=[config.table_friction, 0.005, 0.0001],
+        rgba=[0.55, 0.45, 0.35, 1.0],
+    )
+    spec.worldbody.add_light(
+        name="key", pos=[0.4, -0.4, 1.5], dir=[-0.3, 0.3, -1.0], diffuse=[0.7, 0.7, 0.7]
+    )
+    spec.worldbody.add_light(
+        name="fill", pos=[-0.5, 0.5, 1.2], dir=[0.4, -0.4, -1.0], diffuse=[0.3, 0.3, 0.3]
+    )
+    return spec
 
 
 def _rest_pose(
