@@ -21,10 +21,10 @@ BACKENDS = ("egl", "osmesa", "raycast")
 
 def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float]:
     # Imports here: the GL platform must be set (by the parent) before mujoco is imported.
-    import mujoco
     import numpy as np
     import trimesh
 
+    from simgrasp._mujoco import mujoco
     from simgrasp.scenes.camera import add_camera, default_viewpoints
     from simgrasp.scenes.render import SceneRenderer
 

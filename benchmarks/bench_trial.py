@@ -27,14 +27,14 @@ import sys
 import time
 from pathlib import Path
 
-import mujoco
 import numpy as np
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.trial import run_trial
 from simgrasp.grasping.trial_config import TrialConfig
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from simgrasp.assets.model import model_for
 from simgrasp.grasping.chain_config import ChainConfig
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"

@@ -1,9 +1,9 @@
 """Choose mujoco's OpenGL platform (``MUJOCO_GL``) before mujoco is first imported.
 
 MuJoCo reads ``MUJOCO_GL`` once, at its first import, so the choice must happen before any
-simgrasp module imports mujoco: every sub-package that uses mujoco calls
-:func:`configure_mujoco_gl` in its ``__init__``. This module itself never imports mujoco (the
-probe runs in a subprocess). See :mod:`simgrasp.scenes.render` for how backends are used.
+simgrasp module imports mujoco: they all import it through :mod:`simgrasp._mujoco`, which
+calls :func:`configure_mujoco_gl` first. This module itself never imports mujoco (the probe
+runs in a subprocess). See :mod:`simgrasp.scenes.render` for how backends are used.
 """
 
 from __future__ import annotations

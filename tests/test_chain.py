@@ -10,12 +10,12 @@ from simgrasp.assets.model import model_for
 from simgrasp.grasping.chain import run_chain
 from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.grasping.planner import (
-    GripperGeometry,
     PlannerConfig,
     collides,
     grasps_from_handles,
     table_margin,
 )
+from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
 
 GEOMETRY = GripperGeometry(max_opening=0.085)

@@ -20,9 +20,9 @@ from simgrasp.grasping.chain import run_chain
 from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.grasping.trial import TrialResult
 from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.camera import CameraSpec
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.kept_renderer import kept_renderer
 from simgrasp.scenes.observe import observe, viewpoint_normals
 from simgrasp.scenes.scene import build_scene

@@ -2,21 +2,25 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import mujoco
 import numpy as np
 import pytest
 
 from simgrasp.grasping.grasp import tcp_pose
-from simgrasp.scenes.gripper import BoundGripper, make_gripper
-from simgrasp.scenes.robotiq import menagerie_mjcf
+from simgrasp.grippers import gripper_names, make_gripper
+from simgrasp.grippers.mount import BoundGripper, attach_gripper
+from simgrasp.grippers.robotiq_2f85 import menagerie_mjcf
 
-GRIPPERS = ("builtin", "robotiq_2f85")
+GRIPPERS = gripper_names()
 
 
 def bare_scene(name: str) -> tuple[mujoco.MjModel, mujoco.MjData, BoundGripper, np.ndarray]:
     spec = mujoco.MjSpec()
     world_T_tcp = tcp_pose([0.1, -0.2, 0.5], [1.0, 1.0, 0.0], [0.0, 0.0, -1.0])
-    handles = make_gripper(name).add_to(spec, world_T_tcp)
+    handles = attach_gripper(spec, make_gripper(name), world_T_tcp)
     model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
@@ -93,3 +97,25 @@ def test_robotiq_needs_menagerie_root(monkeypatch: pytest.MonkeyPatch, tmp_path)
     monkeypatch.setenv("MENAGERIE_ROOT", str(tmp_path))
     with pytest.raises(FileNotFoundError, match="2f85.xml"):
         menagerie_mjcf()
+
+
+def test_registry_names_every_gripper_without_importing_mujoco() -> None:
+    code = (
+        "import sys; from simgrasp.grippers import gripper_names; "
+        "print(','.join(gripper_names()), 'mujoco' in sys.modules)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
+    assert out.split() == [",".join(GRIPPERS), "False"]
+
+
+@pytest.mark.parametrize("name", GRIPPERS)
+def test_gripper_carries_its_planning_geometry(name: str) -> None:
+    """The planner's boxes match the model: the same stroke, and the fingertips past the TCP
+    at most ``finger_reach`` open and at most that when closed (the Robotiq's swing forward)."""
+    gripper = make_gripper(name)
+    geometry = gripper.planning_geometry()
+    assert gripper.name == name
+    assert geometry.max_opening == gripper.max_opening
+    assert max(geometry.pad_reach, geometry.closed_pad_reach) == gripper.finger_reach

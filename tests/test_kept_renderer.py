@@ -6,8 +6,8 @@ import numpy as np
 
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
 from simgrasp.scenes.observe import render_views
 from simgrasp.scenes.render import SceneRenderer

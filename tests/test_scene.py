@@ -10,11 +10,12 @@ import pytest
 
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
-from simgrasp.grasping.grasp import Grasp, matrix_from_pose7, tcp_pose
+from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.scoring import geoms_touching
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import build_scene
+from simgrasp.transforms import pose7_to_matrix
 
 
 @pytest.fixture(scope="module")
@@ -110,7 +111,7 @@ def test_grasp_pose7_and_object_frame_round_trip() -> None:
 )
 def test_bad_pose7_is_a_clear_error(bad) -> None:
     with pytest.raises(ValueError, match="grasp pose"):
-        matrix_from_pose7(bad, "grasp pose")
+        pose7_to_matrix(bad, "grasp pose")
 
 
 def test_bad_grasp_width_and_frame_are_clear_errors() -> None:

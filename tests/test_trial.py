@@ -18,10 +18,10 @@ from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.trial import run_trial
 from simgrasp.grasping.trial_config import TrialConfig
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import gripper_names, make_gripper
 from simgrasp.scenes.scene import Scene, build_scene
 
-GRIPPERS = ("builtin", "robotiq_2f85")
+GRIPPERS = gripper_names()
 TABLE_CLEARANCE = 0.005  # fingertips above the table top (m)
 DOWN = np.array([0.0, 0.0, -1.0])
 

@@ -18,10 +18,10 @@ from simgrasp.cli.trial import _print_summary
 from simgrasp.evaluation.sweep import TrialSpec, run_spec
 from simgrasp.grasping.chain import ChainResult
 from simgrasp.grasping.chain_config import ChainConfig
-from simgrasp.grasping.grasp import pose7_from_matrix
-from simgrasp.scenes.gripper import make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.key_frames import write_frames
 from simgrasp.scenes.scene import build_scene
+from simgrasp.transforms import matrix_to_pose7
 
 
 def handle_grasp_object_frame(seed: int) -> list[str]:
@@ -30,7 +30,7 @@ def handle_grasp_object_frame(seed: int) -> list[str]:
     model = build_object_model(load_object("gen_hammer"))
     scene = build_scene(model, make_gripper("builtin"), seed=seed)
     object_T_tcp = handle_grasp(scene).object_T_tcp(scene.world_T_object)
-    return [f"{v:.12f}" for v in pose7_from_matrix(object_T_tcp)]
+    return [f"{v:.12f}" for v in matrix_to_pose7(object_T_tcp)]
 
 
 def test_trial_json_in_object_frame(tmp_path) -> None:

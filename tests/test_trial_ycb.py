@@ -18,12 +18,12 @@ from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.trial import run_trial
 from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grippers import gripper_names, make_gripper
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import Scene, build_scene
 
 OBJECTS = ("048_hammer", "033_spatula")
-GRIPPERS = ("builtin", "robotiq_2f85")
+GRIPPERS = gripper_names()
 
 
 @pytest.fixture(scope="module", params=[(o, g) for o in OBJECTS for g in GRIPPERS], ids=str)

@@ -1,5 +1,1 @@
 """assets stage."""
-
-from simgrasp.gl_platform import configure_mujoco_gl
-
-configure_mujoco_gl()

@@ -16,6 +16,7 @@ import os
 import tempfile
 import zipfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import platformdirs
@@ -70,12 +71,10 @@ def save_hulls(path: Path, hulls: tuple[trimesh.Trimesh, ...]) -> None:
     handle, tmp_name = tempfile.mkstemp(dir=path.parent, prefix=path.stem, suffix=".tmp")
     try:
         with os.fdopen(handle, "wb") as tmp:
-            np.savez(
-                tmp,
-                format_version=np.array(FORMAT_VERSION),
-                checksum=np.array(checksum),
-                **arrays,
-            )
+            header = {"format_version": np.array(FORMAT_VERSION), "checksum": np.array(checksum)}
+            # dict[str, Any]: numpy's stub would match the arrays against savez's allow_pickle
+            entries: dict[str, Any] = {**header, **arrays}
+            np.savez(tmp, **entries)
             tmp.flush()
             os.fsync(tmp.fileno())
         os.replace(tmp_name, path)

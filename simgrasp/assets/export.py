@@ -7,8 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 from xml.etree import ElementTree
 
-import mujoco
-
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import ObjectModel
 from simgrasp.assets.stable import stable_poses
 

@@ -167,38 +167,52 @@ def download_resumable(
             offset = 0  # the server ignored the Range header: restart from scratch
         total = _total_size(response, offset, label)
         expected_md5 = _expected_md5(response)
-        received = offset
-        with (
-            part_path.open("ab" if offset else "wb") as out,
-            tqdm(
-                total=total,
-                initial=offset,
-                unit="B",
-                unit_scale=True,
-                unit_divisor=1024,
-                desc=label,
-                disable=not progress,
-            ) as bar,
-        ):
-            while True:
-                try:
-                    chunk = response.read(CHUNK_BYTES)
-                except (http.client.IncompleteRead, OSError) as exc:
-                    raise FetchError(
-                        f"{label}: download interrupted after {received} of {total or '?'} "
-                        f"bytes ({type(exc).__name__}); run the command again to resume"
-                    ) from None
-                if not chunk:
-                    break
-                out.write(chunk)
-                received += len(chunk)
-                bar.update(len(chunk))
+        received = _append_body(response, part_path, offset, total, label, progress)
     if total is not None and received != total:
         raise FetchError(
             f"{label}: download interrupted after {received} of {total} bytes ({url}); run "
             "the command again to resume"
         )
     return expected_md5
+
+
+def _append_body(
+    response: http.client.HTTPResponse,
+    part_path: Path,
+    offset: int,
+    total: int | None,
+    label: str,
+    progress: bool,
+) -> int:
+    """Stream ``response`` onto ``part_path`` (after its first ``offset`` bytes, or afresh for
+    0) with a progress bar; returns the bytes the file then holds."""
+    received = offset
+    with (
+        part_path.open("ab" if offset else "wb") as out,
+        tqdm(
+            total=total,
+            initial=offset,
+            unit="B",
+            unit_scale=True,
+            unit_divisor=1024,
+            desc=label,
+            disable=not progress,
+        ) as bar,
+    ):
+        while True:
+            try:
+                chunk = response.read(CHUNK_BYTES)
+            except (http.client.IncompleteRead, OSError) as exc:
+                raise FetchError(
+                    f"{label}: download interrupted after {received} of {total or '?'} "
+                    f"bytes ({type(exc).__name__}); run the command again to resume"
+                ) from None
+            if not chunk:
+                break
+            out.write(chunk)
+            received += len(chunk)
+            bar.update(len(chunk))
+    return received
 
 
 def _file_md5(path: Path) -> str:

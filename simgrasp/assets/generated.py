@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 import trimesh
@@ -335,7 +336,7 @@ def generate_tool(kind: str, seed: int) -> ObjectAsset:
     material density (``DENSITY_*``).
     """
     tool = generate_parts(kind, seed)
-    mesh = trimesh.util.concatenate([p.mesh for p in tool.parts])
+    mesh = cast(trimesh.Trimesh, trimesh.util.concatenate([p.mesh for p in tool.parts]))
     return ObjectAsset(
         name=tool.handle.object_name,
         mesh=mesh,

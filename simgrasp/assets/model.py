@@ -12,17 +12,17 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-import mujoco
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
 from PIL import Image
-from scipy.spatial.transform import Rotation
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.decompose import DecompositionConfig, decompose
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.registry import load_object
 from simgrasp.errors import SimgraspError
+from simgrasp.transforms import rotation_to_quat_wxyz
 
 VISUAL_GROUP = 2
 COLLISION_GROUP = 3
@@ -92,7 +92,7 @@ class ObjectModel:
         body = spec.worldbody.add_body(
             name=name,
             pos=world_T_object[:3, 3],
-            quat=_quat_wxyz(world_T_object[:3, :3]),
+            quat=rotation_to_quat_wxyz(world_T_object[:3, :3]),
         )
         body.add_freejoint(name=f"{name}_free")
         body.explicitinertial = True
@@ -146,8 +146,7 @@ class ObjectModel:
             mass=0.0,
             rgba=GENERATED_RGBA,
         )
-        textured = asset.texture_file is not None and asset.mesh_file is not None
-        if textured:
+        if asset.texture_file is not None and asset.mesh_file is not None:
             # MuJoCo reads the OBJ's UVs itself; it cannot decode JPEG, so the texture goes
             # in as RGB pixels (or a PNG next to the exported MJCF).
             suffix = Path(asset.mesh_file).suffix.lower()
@@ -205,11 +204,6 @@ def _texture_rgb(path: str, mtime_ns: int, size: int) -> tuple[int, int, bytes]:
         rgb = image.convert("RGB")
     rgb.thumbnail((MAX_TEXTURE_SIDE, MAX_TEXTURE_SIDE), Image.Resampling.LANCZOS)
     return rgb.width, rgb.height, rgb.tobytes()
-
-
-def _quat_wxyz(rotation: NDArray[np.float64]) -> NDArray[np.float64]:
-    x, y, z, w = Rotation.from_matrix(rotation).as_quat()
-    return np.array([w, x, y, z])
 
 
 def inertial_properties(asset: ObjectAsset, hulls: tuple[trimesh.Trimesh, ...]) -> Inertial:

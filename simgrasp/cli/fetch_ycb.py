@@ -10,10 +10,12 @@ import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 from simgrasp.assets.fetch import (
     SCAN_DIR,
     YCB_BASE_URL,
+    ArchiveKind,
     FetchError,
     ServerUnreachable,
     fetch_object,
@@ -47,14 +49,15 @@ def run(options: Options) -> int:
     if not options.timeout > 0:
         raise SimgraspError(f"--timeout must be positive, got {options.timeout}")
     dest = Path(dest_text).expanduser()
-    object_ids = resolve_object_ids(options.objects, options.kind)
+    kind = cast(ArchiveKind, options.kind)
+    object_ids = resolve_object_ids(options.objects, kind)
     failed: list[str] = []
     for index, object_id in enumerate(object_ids):
         try:
             result = fetch_object(
                 object_id,
                 dest,
-                options.kind,
+                kind,
                 base_url=options.base_url,
                 timeout=options.timeout,
                 progress=not options.no_progress,

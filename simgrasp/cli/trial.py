@@ -65,7 +65,7 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.given_grasp import trial_of_grasp
-    from simgrasp.scenes.gripper import make_gripper
+    from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
     result = trial_of_grasp(

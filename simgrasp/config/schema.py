@@ -57,7 +57,7 @@ def field_default(field: dataclasses.Field[Any]) -> Any:
     """The default value of ``field`` (calling its factory), or ``MISSING``."""
     if field.default is not MISSING:
         return field.default
-    if field.default_factory is not MISSING:
+    if callable(field.default_factory):
         return field.default_factory()
     return MISSING
 

@@ -53,7 +53,7 @@ def _build(
         if is_branch(annotation):
             if any(p[: len(path)] == path for p in values):
                 nested_base = getattr(base, field.name) if base is not None else None
-                if nested_base is None and field.default_factory is not MISSING:
+                if nested_base is None and callable(field.default_factory):
                     nested_base = field.default_factory()
                 kwargs[field.name] = _build(annotation, values, path, nested_base)
         elif path in values:

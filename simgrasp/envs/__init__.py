@@ -4,7 +4,3 @@ Modules: ``handle_grasp`` (the env and its config), ``observation`` and ``action
 spaces and their encodings), ``policy`` (:class:`~simgrasp.envs.policy.DetectorPolicy`). The
 env is registered by ``import simgrasp``, without importing this package.
 """
-
-from simgrasp.gl_platform import configure_mujoco_gl
-
-configure_mujoco_gl()

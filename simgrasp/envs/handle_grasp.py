@@ -21,10 +21,10 @@ from dataclasses import dataclass, field, fields, replace
 from typing import Any, Literal, get_args
 
 import gymnasium
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import ObjectModel, model_for
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.envs.action import action_space, grasp_from_action
@@ -37,8 +37,8 @@ from simgrasp.envs.observation import (
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trial import TrialResult, run_trial
 from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grippers import DEFAULT_GRIPPER, check_gripper_name, make_gripper
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import GripperName, make_gripper
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import Scene, build_scene
@@ -61,7 +61,7 @@ class HandleGraspConfig:
         objects: object names an episode draws from (YCB ids or names read from ``ycb_dir``,
             generated tools ``gen_<kind>[_s<N>]``, ``gen_<kind>`` being ``gen_<kind>_s0``);
             default: the generated tools. Models are built on first use.
-        gripper: ``"builtin"`` or ``"robotiq_2f85"``.
+        gripper: a registered gripper name (:func:`simgrasp.grippers.gripper_names`).
         noise: multiplicative noise sigma on the cloud, as ``ChainConfig.noise``.
         num_views: default scene cameras (1..4, default the chain's 4); replaces
             ``scene.num_views``. Explicit ``scene.cameras`` take precedence (V = their
@@ -76,7 +76,7 @@ class HandleGraspConfig:
     """
 
     objects: tuple[str, ...] = GENERATED_OBJECTS
-    gripper: GripperName = "builtin"
+    gripper: str = DEFAULT_GRIPPER
     noise: float = 0.0
     num_views: int = CHAIN_VIEWS
     max_points: int = 8192
@@ -90,10 +90,7 @@ class HandleGraspConfig:
         object.__setattr__(self, "objects", objects)
         if not objects:
             raise SimgraspError("HandleGraspConfig.objects must name at least one object")
-        if self.gripper not in get_args(GripperName):
-            raise SimgraspError(
-                f"unknown gripper {self.gripper!r}; use 'builtin' or 'robotiq_2f85'"
-            )
+        check_gripper_name(self.gripper)
         if not 0 <= self.noise < 1:
             raise SimgraspError(f"noise sigma must be in [0, 1), got {self.noise}")
         check_views(self.num_views)
@@ -168,10 +165,12 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         self.config = replace(config or HandleGraspConfig(), **overrides)
         self.render_mode = render_mode
         self._gripper = make_gripper(self.config.gripper)
-        self.observation_space = observation_space(
+        self.observation_space = observation_space(  # type: ignore[assignment]
             camera_layout(self.config.scene_config), self.config.max_points
         )
-        self.action_space = action_space(self._gripper.max_opening, self.config.scene_config)
+        self.action_space = action_space(  # type: ignore[assignment]
+            self._gripper.max_opening, self.config.scene_config
+        )
         self._models: dict[str, ObjectModel] = {}
         self._episode: _Episode | None = None
         self._renderers = RendererKeeper()

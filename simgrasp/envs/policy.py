@@ -26,13 +26,13 @@ from simgrasp.config import build as build_settings
 from simgrasp.envs.action import action_from_grasp
 from simgrasp.envs.handle_grasp import HandleGraspEnv
 from simgrasp.envs.observation import Observation
-from simgrasp.grasping.chain import gripper_geometry
 from simgrasp.grasping.chain_config import ChainDetector, ChainDetectorConfig
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import GripperGeometry, top_down_above_table
+from simgrasp.grasping.planner import top_down_above_table
 from simgrasp.grasping.planner_config import PlannerConfig
 from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
-from simgrasp.scenes.gripper import GripperName, make_gripper
+from simgrasp.grippers import DEFAULT_GRIPPER, make_gripper
+from simgrasp.grippers.geometry import GripperGeometry
 
 FALLBACK_SOURCE = "fallback"
 """``Grasp.source`` of the fallback grasp."""
@@ -46,7 +46,7 @@ class DetectorPolicy:
 
     detector: ChainDetector | ChainDetectorConfig = "quadric"
     """A proposer's name (with default thresholds) or its full settings."""
-    gripper: GripperName = "builtin"
+    gripper: str = DEFAULT_GRIPPER
     table_top_z: float = 0.0
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     geometry: GripperGeometry = field(init=False, repr=False)
@@ -56,7 +56,7 @@ class DetectorPolicy:
             object.__setattr__(
                 self, "detector", build_settings(ChainDetectorConfig, {"kind": self.detector})
             )
-        object.__setattr__(self, "geometry", gripper_geometry(make_gripper(self.gripper)))
+        object.__setattr__(self, "geometry", make_gripper(self.gripper).planning_geometry())
 
     @classmethod
     def for_env(

@@ -184,12 +184,13 @@ def accuracy_tables(records: Sequence[EvalRecord]) -> str:
         lines += [f"### {detector}: detection accuracy (mean ± std over {seeds} seeds)", ""]
         lines += [header, rule]
         for sigma in sigmas:
-            cells, means = [], []
+            cells: list[str] = []
+            means: list[float] = []
             for obj in objects:
                 values = [r.accuracy for r in mine if r.object == obj and r.sigma == sigma]
                 cells.append(_mean_std(values))
                 finite = [v for v in values if np.isfinite(v)]
-                means.append(np.mean(finite) if finite else 0.0)
+                means.append(float(np.mean(finite)) if finite else 0.0)
             lines.append(f"| {sigma:g} | " + " | ".join(cells) + f" | {np.mean(means):.2f} |")
         lines += ["", f"### {detector}: per object at σ = {sigmas[0]:g}", ""]
         lines += [

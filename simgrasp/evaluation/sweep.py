@@ -11,7 +11,7 @@ from __future__ import annotations
 import functools
 import itertools
 import os
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Generator, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from contextlib import closing
 from dataclasses import dataclass
@@ -180,7 +180,7 @@ def run_trials(
     workers: int,
     backend: Backend,
     address: str | None,
-) -> Iterator[dict[str, Any]]:
+) -> Generator[dict[str, Any], None, None]:
     """Trial records from ``backend``, in completion order; starts no workers (nor Ray) when
     there is nothing to run."""
     if backend not in ("local", "ray"):
@@ -235,7 +235,7 @@ def check_plan(specs: Sequence[TrialSpec], ycb_dir: str | None) -> None:
     """Fail before any worker starts on an unknown gripper or object (or missing YCB data),
     naming the offending value."""
     from simgrasp.assets.registry import load_object
-    from simgrasp.scenes.gripper import make_gripper
+    from simgrasp.grippers import make_gripper
 
     for gripper in dict.fromkeys(spec.config.gripper for spec in specs):
         make_gripper(gripper)

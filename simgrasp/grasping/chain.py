@@ -17,12 +17,12 @@ import numpy as np
 from simgrasp.assets.model import ObjectModel
 from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import GripperGeometry
 from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
 from simgrasp.grasping.trial import Phase, TrialResult, run_trial
+from simgrasp.grippers import make_gripper
+from simgrasp.grippers.base import Gripper
 from simgrasp.handles.accuracy import score_detection
 from simgrasp.handles.detection import Detection
-from simgrasp.scenes.gripper import Gripper, make_gripper
 from simgrasp.scenes.kept_renderer import kept_renderer
 from simgrasp.scenes.observe import ObjectCloud, observe, viewpoint_normals
 from simgrasp.scenes.scene import Scene, build_scene
@@ -75,28 +75,6 @@ _NO_GRASP_RECORD: dict[str, Any] = {
 }
 
 
-def gripper_geometry(gripper: Gripper) -> GripperGeometry:
-    """The planner's collision boxes for ``gripper`` (documented approximations).
-
-    The boxes are those of the open gripper (pre-grasp and approach). The Robotiq's pads swing
-    forward as they close (tips 9.5 mm past the TCP open, 21-23 mm once closed on a handle
-    narrower than 4 cm), so its grasps keep the closed fingertips above the table: closing
-    tips that hit the table top stall the jaws before they squeeze the handle.
-    """
-    if gripper.name == "robotiq_2f85":
-        from simgrasp.scenes.robotiq import OPEN_FINGER_REACH
-
-        return GripperGeometry(
-            max_opening=gripper.max_opening,
-            pad_reach=OPEN_FINGER_REACH,
-            closed_pad_reach=gripper.finger_reach,
-            finger_length=0.06,
-            finger_width=0.025,
-            palm_size=(0.07, 0.14, 0.06),
-        )
-    return GripperGeometry(max_opening=gripper.max_opening, pad_reach=gripper.finger_reach)
-
-
 def propose_grasps(
     scene: Scene, cloud: ObjectCloud, config: ChainConfig, seed: int
 ) -> tuple[list[Grasp], Detection | None]:
@@ -107,7 +85,7 @@ def propose_grasps(
         cloud.points_world,
         viewpoint_normals(cloud),
         np.unique(cloud.viewpoints_world, axis=0),
-        gripper_geometry(scene.gripper.gripper),
+        scene.gripper.gripper.planning_geometry(),
         scene.config.table_top_z,
         config.detector,
         config.planner,
@@ -139,7 +117,7 @@ def run_chain(
     lap("render")
     grasps, detection = propose_grasps(scene, cloud, config, seed)
     lap("detect_and_plan")
-    object_T_world = np.linalg.inv(scene.world_T_object)
+    object_T_world = np.linalg.inv(scene.world_T_object).astype(np.float64)
     accuracy, recall = score_detection(detection, object_T_world, object_model.asset.handle)
     trial = run_trial(scene, grasps[0], config.trial, on_phase) if grasps else None
     return ChainResult(

@@ -14,7 +14,7 @@ from simgrasp.config import build, setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.planner_config import PlannerConfig
 from simgrasp.grasping.trial_config import TrialConfig
-from simgrasp.grippers.registry import gripper_names
+from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.perception.sensor_config import SensorConfig
 from simgrasp.scenes.config import SceneConfig
@@ -47,7 +47,7 @@ class ChainConfig:
         exclude=("quadric.gripper_max_opening", "tenpas.gripper_max_opening"),
     )
     """The detectors' gripper opening is the chain gripper's."""
-    gripper: str = setting("builtin", choices=gripper_names)
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
     """The parallel-jaw gripper that executes the grasp."""
     noise: float = 0.0
     """The paper's multiplicative noise sigma on the observed cloud about its centroid

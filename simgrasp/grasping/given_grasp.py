@@ -10,12 +10,13 @@ from numpy.typing import ArrayLike
 
 from simgrasp.assets.model import ObjectModel
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.grasp import Grasp, matrix_from_pose7
+from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.trial import Phase, TrialResult, run_trial
 from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grippers.base import Gripper
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import Gripper
 from simgrasp.scenes.scene import Scene, build_scene
+from simgrasp.transforms import pose7_to_matrix
 
 GraspFrame = Literal["world", "object"]
 
@@ -42,7 +43,7 @@ def trial_of_grasp(
             f"--width must be in (0, {gripper.max_opening}] m for gripper {gripper.name!r}, "
             f"got {width}"
         )
-    pose = matrix_from_pose7(np.asarray(pose7, dtype=float), "--grasp")
+    pose = pose7_to_matrix(np.asarray(pose7, dtype=float), "--grasp")
     if frame == "object":
         grasp = Grasp.from_object_frame(pose, scene.world_T_object, width, source="cli")
     else:

@@ -11,29 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from simgrasp.errors import SimgraspError
-
-
-def pose7_from_matrix(transform: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``[x, y, z, qw, qx, qy, qz]`` of a 4x4 rigid transform (qw >= 0)."""
-    quat = Rotation.from_matrix(transform[:3, :3]).as_quat(scalar_first=True)
-    return np.concatenate([transform[:3, 3], quat if quat[0] >= 0 else -quat])
-
-
-def matrix_from_pose7(pose7: ArrayLike, what: str = "pose") -> NDArray[np.float64]:
-    """4x4 rigid transform of ``[x, y, z, qw, qx, qy, qz]``; the quaternion is normalized."""
-    pose = np.asarray(pose7, dtype=float)
-    if pose.shape != (7,) or not np.all(np.isfinite(pose)):
-        raise SimgraspError(f"{what} must be 7 finite numbers [x y z qw qx qy qz], got {pose7!r}")
-    norm = np.linalg.norm(pose[3:])
-    if norm < 1e-9:
-        raise SimgraspError(f"{what} has a zero quaternion: {pose.tolist()}")
-    transform = np.eye(4)
-    transform[:3, :3] = Rotation.from_quat(pose[3:] / norm, scalar_first=True).as_matrix()
-    transform[:3, 3] = pose[:3]
-    return transform
+from simgrasp.transforms import make_transform, matrix_to_pose7, pose7_to_matrix
 
 
 def tcp_pose(position: ArrayLike, closing: ArrayLike, approach: ArrayLike) -> NDArray[np.float64]:
@@ -51,10 +31,7 @@ def tcp_pose(position: ArrayLike, closing: ArrayLike, approach: ArrayLike) -> ND
     if np.linalg.norm(y) < 1e-9:
         raise SimgraspError("closing direction must not be parallel to the approach direction")
     y = y / np.linalg.norm(y)
-    pose = np.eye(4)
-    pose[:3, :3] = np.column_stack([np.cross(y, z), y, z])
-    pose[:3, 3] = np.asarray(position, dtype=float)
-    return pose
+    return make_transform(np.column_stack([np.cross(y, z), y, z]), np.asarray(position, float))
 
 
 def _check_rigid(transform: NDArray[np.float64], what: str) -> NDArray[np.float64]:
@@ -99,14 +76,14 @@ class Grasp:
 
     def to_pose7(self) -> NDArray[np.float64]:
         """The TCP pose as ``[x, y, z, qw, qx, qy, qz]`` (world frame)."""
-        return pose7_from_matrix(self.world_T_tcp)
+        return matrix_to_pose7(self.world_T_tcp)
 
     @staticmethod
     def from_pose7(
         pose7: ArrayLike, width: float, score: float = 0.0, source: str = "manual"
     ) -> Grasp:
         """A grasp from a world-frame ``[x, y, z, qw, qx, qy, qz]`` TCP pose."""
-        return Grasp(matrix_from_pose7(pose7, "grasp pose"), float(width), score, source)
+        return Grasp(pose7_to_matrix(pose7, "grasp pose"), float(width), score, source)
 
     def object_T_tcp(self, world_T_object: NDArray[np.float64]) -> NDArray[np.float64]:
         """The TCP pose in the object frame, given the object's pose ``world_T_object``."""

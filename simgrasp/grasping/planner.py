@@ -12,35 +12,14 @@ the table top, are rejected. All inputs are in the world frame, meters.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
-
-
-@dataclass(frozen=True)
-class GripperGeometry:
-    """Boxes swept by an open parallel-jaw gripper, in its TCP frame (meters).
-
-    Each finger is a box ``finger_thickness`` (y) x ``finger_width`` (x) x ``finger_length``
-    (z, from the TCP back toward the palm, plus ``pad_reach`` past the TCP); the palm is a box
-    ``palm_size`` (x, y, z) just behind the fingers. ``closed_pad_reach`` is how far the
-    fingertips reach past the TCP once the jaws have closed, for fingers that swing forward as
-    they close (the Robotiq's four-bar linkage); the table check at the grasp pose uses the
-    larger of it and ``pad_reach``, so closing fingertips do not jam against the table.
-    """
-
-    max_opening: float
-    finger_length: float = 0.05
-    finger_thickness: float = 0.012
-    finger_width: float = 0.022
-    pad_reach: float = 0.012
-    palm_size: tuple[float, float, float] = (0.05, 0.12, 0.04)
-    closed_pad_reach: float = 0.0
 
 
 def _orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -212,40 +191,70 @@ def grasps_from_handles(
     grasps = []
     for handle in handles:
         u, v = _downward_basis(handle.axis)
-        step = 2 * np.pi / config.approaches_per_handle
-        angles = np.arange(config.approaches_per_handle) * step
-        angles[1:] += rng.uniform(-step / 2, step / 2)
+        angles = _approach_angles(rng, config)
         for offset, lever in _grasp_offsets(handle, centroid, geometry):
             position = handle.center + offset * handle.axis
             for angle in angles:
                 around = np.cos(angle) * u + np.sin(angle) * v
                 closing = np.cross(around, handle.axis)
                 for approach in _pitched(around, handle.axis, config):
-                    pose = tcp_pose(position, closing, approach)
-                    pose = above_table(pose, geometry, table_z, config)
-                    if pose is None:
-                        continue
-                    distances = gripper_distances(pose, points_world, geometry)
-                    if _inside_count(distances) > config.max_colliding_points:
-                        continue
-                    clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
-                    shift = float(np.linalg.norm(pose[:3, 3] - position))
-                    score = (
-                        handle.score / best_score
-                        + _rank(approach, position, cameras, config)
-                        + config.clearance_weight * clearance / config.clearance_cap
-                        - config.shift_weight * shift / config.max_tcp_shift
-                        - config.lever_weight * lever / 0.1
+                    grasp = _scored_grasp(
+                        (position, closing, approach),
+                        handle.score / best_score,
+                        lever,
+                        points_world,
+                        cameras,
+                        geometry,
+                        table_z,
+                        config,
+                        source,
                     )
-                    grasps.append(
-                        Grasp(
-                            world_T_tcp=pose,
-                            width=geometry.max_opening,
-                            score=score,
-                            source=source,
-                        )
-                    )
+                    if grasp is not None:
+                        grasps.append(grasp)
     return sorted(grasps, key=lambda g: -g.score)
+
+
+def _approach_angles(rng: np.random.Generator, config: PlannerConfig) -> NDArray[np.floating]:
+    """Approach angles around a handle's axis (rad): 0 (the steepest downward approach) and
+    evenly spaced ones turned by one seeded jitter."""
+    step = 2 * np.pi / config.approaches_per_handle
+    angles = np.arange(config.approaches_per_handle) * step
+    angles[1:] += rng.uniform(-step / 2, step / 2)
+    return angles
+
+
+def _scored_grasp(
+    position_closing_approach: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    handle_score: float,
+    lever: float,
+    points_world: NDArray[np.float64],
+    cameras: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig,
+    source: str,
+) -> Grasp | None:
+    """The grasp at a TCP ``position`` with jaws ``closing`` and ``approach`` directions
+    (world frame; backed off to clear the table) with its rank score
+    (:func:`grasps_from_handles`), or None when it cannot clear the table or the open
+    gripper holds cloud points; ``handle_score`` is relative to the best handle's."""
+    position, closing, approach = position_closing_approach
+    pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
+    if pose is None:
+        return None
+    distances = gripper_distances(pose, points_world, geometry)
+    if _inside_count(distances) > config.max_colliding_points:
+        return None
+    clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
+    shift = float(np.linalg.norm(pose[:3, 3] - position))
+    score = (
+        handle_score
+        + _rank(approach, position, cameras, config)
+        + config.clearance_weight * clearance / config.clearance_cap
+        - config.shift_weight * shift / config.max_tcp_shift
+        - config.lever_weight * lever / 0.1
+    )
+    return Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
 
 
 def top_down_above_table(
@@ -321,8 +330,12 @@ def antipodal_grasps(
         u, v = _orthonormal(line)
         angle = rng.uniform(0, 2 * np.pi)
         approach = np.cos(angle) * u + np.sin(angle) * v
-        pose = tcp_pose((points_world[i] + points_world[j]) / 2, line, approach)
-        pose = above_table(pose, geometry, table_z, config)
+        pose = above_table(
+            tcp_pose((points_world[i] + points_world[j]) / 2, line, approach),
+            geometry,
+            table_z,
+            config,
+        )
         if pose is None:
             continue
         if collides(pose, points_world, geometry, config.max_colliding_points):

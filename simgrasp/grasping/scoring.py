@@ -9,10 +9,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
 from simgrasp.grasping.trial_config import HANDLE_MARGIN
 

@@ -32,11 +32,11 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.grasping.grasp import Grasp, pose7_from_matrix
+from simgrasp._mujoco import mujoco
+from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.scoring import (
     finger_contacts,
     geoms_touching,
@@ -47,6 +47,7 @@ from simgrasp.grasping.scoring import (
 )
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.scenes.scene import Scene
+from simgrasp.transforms import matrix_to_pose7
 
 Failure = Literal[
     "approach_collision",
@@ -212,7 +213,7 @@ def run_trial(
         object=scene.object_name,
         gripper=scene.gripper.gripper.name,
         seed=scene.seed,
-        object_pose=pose7_from_matrix(scene.world_T_object).tolist(),
+        object_pose=matrix_to_pose7(scene.world_T_object).tolist(),
         grasp=grasp.to_pose7().tolist(),
         grasp_width=float(grasp.width),
         grasp_source=grasp.source,

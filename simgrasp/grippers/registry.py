@@ -1,8 +1,67 @@
-"""The names of the grippers (no MuJoCo import)."""
+"""The grippers simgrasp knows, by name: the one list that ``make_gripper``, the CLI choices
+and the gymnasium env read. Importable without MuJoCo: a gripper's module (and its model) is
+loaded only by :func:`make_gripper`.
+"""
 
 from __future__ import annotations
 
+import importlib
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from simgrasp.errors import SimgraspError
+
+if TYPE_CHECKING:
+    from simgrasp.grippers.base import Gripper
+
+
+@dataclass(frozen=True)
+class GripperEntry:
+    """A registered gripper: its ``name``, the ``module:function`` returning it, a one-line
+    ``summary`` (for help texts)."""
+
+    name: str
+    loader: str
+    summary: str
+
+    def load(self) -> Gripper:
+        module, function = self.loader.split(":")
+        gripper: Gripper = getattr(importlib.import_module(module), function)()
+        return gripper
+
+
+GRIPPERS: dict[str, GripperEntry] = {
+    entry.name: entry
+    for entry in (
+        GripperEntry(
+            "builtin",
+            "simgrasp.grippers.builtin:builtin",
+            "simgrasp's parallel-jaw gripper, 0-8.5 cm, 60 N",
+        ),
+        GripperEntry(
+            "robotiq_2f85",
+            "simgrasp.grippers.robotiq_2f85:robotiq_2f85",
+            "the MuJoCo Menagerie Robotiq 2F-85 (needs $MENAGERIE_ROOT)",
+        ),
+    )
+}
+"""Registered grippers by name; the first is the default."""
+
+DEFAULT_GRIPPER = "builtin"
+
 
 def gripper_names() -> tuple[str, ...]:
-    """Every gripper a run can use."""
-    return ("builtin", "robotiq_2f85")
+    """Names of the registered grippers, the default first."""
+    return tuple(GRIPPERS)
+
+
+def check_gripper_name(name: str) -> str:
+    """``name`` if it is a registered gripper, else a ``ValueError`` naming the choices."""
+    if name not in GRIPPERS:
+        raise SimgraspError(f"unknown gripper {name!r}; choose one of {', '.join(GRIPPERS)}")
+    return name
+
+
+def make_gripper(name: str) -> Gripper:
+    """The gripper called ``name`` (one of :func:`gripper_names`), its module loaded now."""
+    return GRIPPERS[check_gripper_name(name)].load()

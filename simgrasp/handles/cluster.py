@@ -60,13 +60,7 @@ def cluster_handles(
         if len(members) < min_support:
             continue
         handle = _handle_from_members(handle_points[members], axes[members], widths[members], count)
-        if object_center is not None and centrality_length:
-            offset = np.linalg.norm(handle.center - object_center) / centrality_length
-            handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
-        if max_opening:
-            clearance = np.clip((max_opening - handle.width) / (max_opening / 2), 0.0, 1.0)
-            handle = _rescored(handle, handle.score * float(clearance))
-        found.append((handle, members))
+        found.append((_weighted(handle, object_center, centrality_length, max_opening), members))
     if not found:
         return (), ()
     best = max(h.score for h, _ in found)
@@ -75,6 +69,23 @@ def cluster_handles(
         key=lambda x: -x[0].score,
     )
     return tuple(h for h, _ in kept), tuple(m for _, m in kept)
+
+
+def _weighted(
+    handle: Handle,
+    object_center: NDArray[np.float64] | None,
+    centrality_length: float | None,
+    max_opening: float | None,
+) -> Handle:
+    """``handle`` with its score weighted by centrality and jaw clearance, each when its
+    parameters are given (see :func:`cluster_handles`)."""
+    if object_center is not None and centrality_length:
+        offset = np.linalg.norm(handle.center - object_center) / centrality_length
+        handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
+    if max_opening:
+        clearance = np.clip((max_opening - handle.width) / (max_opening / 2), 0.0, 1.0)
+        handle = _rescored(handle, handle.score * float(clearance))
+    return handle
 
 
 def _rescored(handle: Handle, score: float) -> Handle:

@@ -138,7 +138,9 @@ class QuadricDetectorConfig:
     @classmethod
     def paper(cls, **overrides: object) -> QuadricDetectorConfig:
         """The paper's criteria only: no eccentricity, width, shell or inside test."""
-        base = dict(eccentricity_test=False, width_test=False, shell_test=False, inside_test=False)
+        base: dict[str, object] = dict(
+            eccentricity_test=False, width_test=False, shell_test=False, inside_test=False
+        )
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]
 

@@ -10,6 +10,8 @@ normals step.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
@@ -18,7 +20,7 @@ import simgrasp.handles.criteria as criteria
 from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Candidate, Detection
+from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.perception import (
     estimate_normals,
@@ -75,70 +77,116 @@ def detect_quadric_handles(
         center_index = sample_centers(
             pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
         )
-        scales = [
-            gather_neighborhoods(
-                pts,
-                nrm,
-                pts[center_index],
-                config.neighborhood_half_size * scale,
-                shape=config.neighborhood_shape,
-                max_points=config.max_points,
-                min_points=config.min_points,
-                rng=rng,
-                tree=tree,
-            )
-            for scale in config.neighborhood_scales
-        ]
-        hood_points = _joined([h.points for h in scales])
-        hood_normals = _joined([h.normals for h in scales])
-        hood_mask = _joined([h.mask for h in scales])
-        hood_centers = _joined([h.centers for h in scales])
-        hood_source = _joined([h.source for h in scales])
-    sampled_centers = pts[center_index[np.unique(hood_source)]]
-    if len(hood_centers) == 0:
+        hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
+    sampled_centers = pts[center_index[np.unique(hoods.source)]]
+    if len(hoods.centers) == 0:
         return Detection((), (), sampled_centers, "quadric", timings, pts)
     with timed(timings, "fit"):
-        fit = fit_quadrics(hood_points, hood_normals, method=config.fit_method, mask=hood_mask)
+        fit = fit_quadrics(hoods.points, hoods.normals, method=config.fit_method, mask=hoods.mask)
     with timed(timings, "test"):
-        accepted, on_axis, analysis = _test(fit, hood_centers, tree, nrm, config)
-        rows = np.flatnonzero(accepted)
-        _, first = np.unique(hood_source[rows], return_index=True)
-        accepted = np.zeros_like(accepted)
-        accepted[rows[first]] = True  # one candidate per center: its smallest passing scale
+        accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
+        accepted = _first_per_center(accepted, hoods.source)
     with timed(timings, "cluster"):
-        index = np.flatnonzero(accepted)
-        centroid = pts.mean(axis=0)
-        handles, members = cluster_handles(
-            on_axis[index],
-            analysis.handle_axes[index],
-            2 * analysis.transverse_semi_axes[index, 0],
-            distance=config.cluster_distance,
-            min_support=config.min_support,
-            object_center=centroid if config.prefer_central else None,
-            centrality_length=max(
-                config.centrality_min_length,
-                config.centrality_scale
-                * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
-            ),
-            max_opening=config.gripper_max_opening if config.prefer_clearance else None,
-            min_relative_score=config.min_relative_score,
-        )
-        supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
-        quadrics = Quadric.batch(
-            fit.coefficients[supporting], config.kind_rtol, fit.centroids[supporting]
-        )
-        candidates = tuple(
-            Candidate(
-                center=hood_centers[i],
-                quadric=quadric,
-                kind=analysis.kinds[i].value,
-                axis=analysis.handle_axes[i],
-                width=float(2 * analysis.transverse_semi_axes[i, 0]),
-                handle_point=on_axis[i],
-            )
-            for i, quadric in zip(supporting, quadrics, strict=True)
-        )
+        handles, candidates = _cluster(pts, fit, analysis, accepted, on_axis, hoods.centers, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+
+
+@dataclass(frozen=True)
+class _Neighborhoods:
+    """Every scale's neighborhoods joined along the batch axis (see ``gather_neighborhoods``):
+    (B, K, 3) points and normals, (B, K) mask, (B, 3) centers, (B,) index of each one's
+    sampled center."""
+
+    points: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    mask: NDArray[np.bool_]
+    centers: NDArray[np.float64]
+    source: NDArray[np.int64]
+
+
+def _gather(
+    pts: NDArray[np.float64],
+    nrm: NDArray[np.float64],
+    centers: NDArray[np.float64],
+    tree: cKDTree,
+    rng: np.random.Generator,
+    config: QuadricDetectorConfig,
+) -> _Neighborhoods:
+    """The neighborhoods around ``centers`` at each of ``config.neighborhood_scales``."""
+    scales = [
+        gather_neighborhoods(
+            pts,
+            nrm,
+            centers,
+            config.neighborhood_half_size * scale,
+            shape=config.neighborhood_shape,
+            max_points=config.max_points,
+            min_points=config.min_points,
+            rng=rng,
+            tree=tree,
+        )
+        for scale in config.neighborhood_scales
+    ]
+    return _Neighborhoods(
+        points=_joined([h.points for h in scales]),
+        normals=_joined([h.normals for h in scales]),
+        mask=_joined([h.mask for h in scales]),
+        centers=_joined([h.centers for h in scales]),
+        source=_joined([h.source for h in scales]),
+    )
+
+
+def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """One candidate per sampled center: its first (smallest) passing scale."""
+    rows = np.flatnonzero(accepted)
+    _, first = np.unique(source[rows], return_index=True)
+    kept = np.zeros_like(accepted)
+    kept[rows[first]] = True
+    return kept
+
+
+def _cluster(
+    pts: NDArray[np.float64],
+    fit: QuadricFit,
+    analysis: QuadricAnalysis,
+    accepted: NDArray[np.bool_],
+    on_axis: NDArray[np.float64],
+    hood_centers: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
+    """Handles clustered from the accepted candidates, and the candidates supporting them."""
+    index = np.flatnonzero(accepted)
+    centroid = pts.mean(axis=0)
+    handles, members = cluster_handles(
+        on_axis[index],
+        analysis.handle_axes[index],
+        2 * analysis.transverse_semi_axes[index, 0],
+        distance=config.cluster_distance,
+        min_support=config.min_support,
+        object_center=centroid if config.prefer_central else None,
+        centrality_length=max(
+            config.centrality_min_length,
+            config.centrality_scale * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
+        ),
+        max_opening=config.gripper_max_opening if config.prefer_clearance else None,
+        min_relative_score=config.min_relative_score,
+    )
+    supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
+    quadrics = Quadric.batch(
+        fit.coefficients[supporting], config.kind_rtol, fit.centroids[supporting]
+    )
+    candidates = tuple(
+        Candidate(
+            center=hood_centers[i],
+            quadric=quadric,
+            kind=analysis.kinds[i].value,
+            axis=analysis.handle_axes[i],
+            width=float(2 * analysis.transverse_semi_axes[i, 0]),
+            handle_point=on_axis[i],
+        )
+        for i, quadric in zip(supporting, quadrics, strict=True)
+    )
+    return handles, candidates
 
 
 def _estimate_normals(

@@ -27,7 +27,7 @@ from simgrasp.handles.detection import TIMING_STEPS, Candidate, Detection, Handl
 from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception import gather_neighborhoods, sample_centers, voxel_downsample
-from simgrasp.quadric import Quadric, fit_quadrics
+from simgrasp.quadric import Quadric, QuadricFit, fit_quadrics
 from simgrasp.seeding import rng_for
 
 KIND = "cylinder_shell"
@@ -107,24 +107,35 @@ def detect_tenpas_handles(
             fit.coefficients, fit.valid, hoods.points, hoods.mask, hoods.centers, tree, config
         )
     with timed(timings, "cluster"):
-        index = np.flatnonzero(shells.accepted)
-        candidates = tuple(
-            Candidate(
-                center=hoods.centers[i],
-                quadric=quadric,
-                kind=KIND,
-                axis=shells.axes[i],
-                width=float(2 * shells.radii[i]),
-                handle_point=shells.axis_points[i],
-            )
-            for i, quadric in zip(
-                index, Quadric.batch(fit.coefficients[index], config.kind_rtol), strict=True
-            )
-        )
-        handles = align_shells(
-            shells.axis_points[index], shells.axes[index], shells.radii[index], config
-        )
+        candidates, handles = _candidates_and_handles(shells, fit, hoods.centers, config)
     return Detection(candidates, handles, pts[center_index], "tenpas", _complete(timings), pts)
+
+
+def _candidates_and_handles(
+    shells: Shells,
+    fit: QuadricFit,
+    hood_centers: NDArray[np.float64],
+    config: TenPasConfig,
+) -> tuple[tuple[Candidate, ...], tuple[Handle, ...]]:
+    """The accepted shells as candidates, and the handles aligned from them."""
+    index = np.flatnonzero(shells.accepted)
+    candidates = tuple(
+        Candidate(
+            center=hood_centers[i],
+            quadric=quadric,
+            kind=KIND,
+            axis=shells.axes[i],
+            width=float(2 * shells.radii[i]),
+            handle_point=shells.axis_points[i],
+        )
+        for i, quadric in zip(
+            index, Quadric.batch(fit.coefficients[index], config.kind_rtol), strict=True
+        )
+    )
+    handles = align_shells(
+        shells.axis_points[index], shells.axes[index], shells.radii[index], config
+    )
+    return candidates, handles
 
 
 def _complete(timings: dict[str, float]) -> dict[str, float]:

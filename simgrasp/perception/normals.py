@@ -83,18 +83,7 @@ def estimate_normals(
     pts = as_points(points)
     if len(pts) < 3:
         raise SimgraspError(f"normal estimation needs at least 3 points, got {len(pts)}")
-    if isinstance(max_nn, bool) or not isinstance(max_nn, int | np.integer) or max_nn < 3:
-        raise SimgraspError(f"max_nn must be an integer >= 3, got {max_nn!r}")
-    if orient not in ("outward", "viewpoint", "none"):
-        raise SimgraspError(f"orient must be 'outward', 'viewpoint' or 'none', got {orient!r}")
-    if orient == "viewpoint":
-        if viewpoint is None:
-            raise SimgraspError("orient='viewpoint' needs viewpoint, the camera position (3,)")
-        eye = np.asarray(viewpoint, dtype=np.float64)
-        if eye.shape != (3,) or not np.isfinite(eye).all():
-            raise SimgraspError(f"viewpoint must be a finite (3,) position, got {viewpoint!r}")
-    elif viewpoint is not None:
-        raise SimgraspError(f"viewpoint is only used with orient='viewpoint', not {orient!r}")
+    eye = _checked_viewpoint(max_nn, orient, viewpoint)
 
     if radius is None or orient == "outward":
         tree = kd_tree(pts, tree)
@@ -110,7 +99,7 @@ def estimate_normals(
     cloud.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=radius, max_nn=max_nn))
     normals = np.asarray(cloud.normals, dtype=np.float64)
     normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-12)[:, None]
-    if orient == "viewpoint":
+    if eye is not None:  # orient == "viewpoint"
         flip = np.einsum("ij,ij->i", normals, eye - pts) < 0
     elif orient == "outward":
         flip = _outward_flips(pts, normals, max(spacing, 1e-9), tree)
@@ -118,6 +107,27 @@ def estimate_normals(
         flip = np.zeros(len(pts), dtype=bool)
     normals[flip] *= -1
     return normals
+
+
+def _checked_viewpoint(
+    max_nn: int, orient: Orientation, viewpoint: ArrayLike | None
+) -> NDArray[np.float64] | None:
+    """Validate :func:`estimate_normals`' ``max_nn``, ``orient`` and ``viewpoint``; the
+    viewpoint as a (3,) array for ``orient="viewpoint"``, else None."""
+    if isinstance(max_nn, bool) or not isinstance(max_nn, int | np.integer) or max_nn < 3:
+        raise SimgraspError(f"max_nn must be an integer >= 3, got {max_nn!r}")
+    if orient not in ("outward", "viewpoint", "none"):
+        raise SimgraspError(f"orient must be 'outward', 'viewpoint' or 'none', got {orient!r}")
+    if orient == "viewpoint":
+        if viewpoint is None:
+            raise SimgraspError("orient='viewpoint' needs viewpoint, the camera position (3,)")
+        eye = np.asarray(viewpoint, dtype=np.float64)
+        if eye.shape != (3,) or not np.isfinite(eye).all():
+            raise SimgraspError(f"viewpoint must be a finite (3,) position, got {viewpoint!r}")
+        return eye
+    if viewpoint is not None:
+        raise SimgraspError(f"viewpoint is only used with orient='viewpoint', not {orient!r}")
+    return None
 
 
 def _view_directions(count: int) -> NDArray[np.float64]:
@@ -133,13 +143,13 @@ def _view_directions(count: int) -> NDArray[np.float64]:
 def _view_frames(count: int) -> NDArray[np.float64]:
     """(count, 3, 3) orthographic view frames: rows u, v (pixel axes) and the unit direction
     toward the viewer, for the ``count`` directions of :func:`_view_directions`."""
-    frames = []
+    rows = []
     for toward_viewer in _view_directions(count):
         helper = np.array([1.0, 0, 0]) if abs(toward_viewer[0]) < 0.9 else np.array([0, 1.0, 0])
         u = np.cross(toward_viewer, helper)
         u /= np.linalg.norm(u)
-        frames.append([u, np.cross(toward_viewer, u), toward_viewer])
-    frames = np.array(frames)
+        rows.append([u, np.cross(toward_viewer, u), toward_viewer])
+    frames = np.array(rows)
     frames.setflags(write=False)
     return frames
 

@@ -215,6 +215,20 @@ def _analyze(c: np.ndarray, rtol: float, rround: float) -> QuadricAnalysis:
     _orient_parabolic(axes, centers, vec, g_null, g_null_norm, j_prime, rank, g_zero)
     axes *= _canonical_signs(axes)[:, :, None]
 
+    return _analysis(code, axes, centers, lam_sorted, j_kept, central)
+
+
+def _analysis(
+    code: np.ndarray,
+    axes: np.ndarray,
+    centers: np.ndarray,
+    lam_sorted: np.ndarray,
+    j_kept: np.ndarray,
+    central: np.ndarray,
+) -> QuadricAnalysis:
+    """Semi-axes, handle geometry and the result of :func:`_analyze`; a quadric with no kind
+    or an overflowed center gets NaN geometry (``axes``, ``centers``, ``lam_sorted`` are
+    modified in place)."""
     semi = np.where(
         lam_sorted != 0,
         np.sqrt(np.abs(j_kept[:, None] / np.where(lam_sorted != 0, lam_sorted, 1))),

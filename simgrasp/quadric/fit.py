@@ -191,7 +191,7 @@ def _dense_inputs(
     return pts, nrm, valid
 
 
-def _as_float(values: ArrayLike, name: str) -> np.ndarray:
+def _as_float(values: ArrayLike | Sequence[ArrayLike], name: str) -> np.ndarray:
     try:
         return np.asarray(values, dtype=np.float64)
     except (TypeError, ValueError) as error:

@@ -54,8 +54,8 @@ def surface_mesh(
 
 def _grid_faces(rows: int, columns: int, wrap: bool) -> np.ndarray:
     """Two triangles per cell of a rows x columns vertex grid (columns wrap around if asked)."""
-    r, c = np.meshgrid(np.arange(rows - 1), np.arange(columns if wrap else columns - 1))
-    r, c = r.ravel(), c.ravel()
+    grid_r, grid_c = np.meshgrid(np.arange(rows - 1), np.arange(columns if wrap else columns - 1))
+    r, c = grid_r.ravel(), grid_c.ravel()
     c1 = (c + 1) % columns
     a, b = r * columns + c, r * columns + c1
     d, e = (r + 1) * columns + c, (r + 1) * columns + c1
@@ -136,7 +136,7 @@ def _marching_cubes(
 ) -> tuple[np.ndarray, np.ndarray]:
     ticks = np.linspace(-half, half, n)
     grid = np.stack(np.meshgrid(ticks, ticks, ticks, indexing="ij"), -1).reshape(-1, 3)
-    values = quadric.evaluate(grid + cube_center).reshape(n, n, n)
+    values = np.asarray(quadric.evaluate(grid + cube_center)).reshape(n, n, n)
     if not (values.min() < 0 < values.max()):
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     step = ticks[1] - ticks[0]

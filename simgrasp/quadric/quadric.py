@@ -21,6 +21,7 @@ from simgrasp.quadric.coefficients import (
     validate_coefficient_rows,
 )
 from simgrasp.quadric.kinds import CYLINDER_KINDS, HANDLE_KINDS, QuadricKind
+from simgrasp.transforms import invert_transform
 
 RIGID_TOLERANCE = 1e-6
 """Tolerance on RᵀR = I, det R = 1 and the last row [0, 0, 0, 1] of a rigid transform."""
@@ -78,7 +79,9 @@ class Quadric:
     ) -> Quadric:
         """Validated quadric from ``[A..J]`` (ValueError on wrong count, non-finite values or an
         all-zero quadratic part)."""
-        return cls(np.asarray(coefficients), rtol=rtol, reference_point=reference_point)
+        return cls(
+            np.asarray(coefficients), rtol=rtol, reference_point=_point_or_none(reference_point)
+        )
 
     @classmethod
     def batch(
@@ -132,7 +135,9 @@ class Quadric:
         m = np.asarray(matrix, dtype=np.float64)
         if m.shape != (4, 4):
             raise SimgraspError(f"quadric matrix must be 4x4, got shape {m.shape}")
-        return cls(matrix_to_coefficients(m), rtol=rtol, reference_point=reference_point)
+        return cls(
+            matrix_to_coefficients(m), rtol=rtol, reference_point=_point_or_none(reference_point)
+        )
 
     @property
     def Q(self) -> NDArray[np.float64]:  # noqa: N802 - the standard symbol
@@ -177,9 +182,7 @@ class Quadric:
             raise SimgraspError(
                 "transform must be rigid (orthonormal rotation with det +1, last row 0 0 0 1)"
             )
-        inverse = np.eye(4)
-        inverse[:3, :3] = R.T
-        inverse[:3, 3] = -R.T @ T[:3, 3]
+        inverse = invert_transform(T)
         reference = None
         if self.reference_point is not None:
             reference = R @ self.reference_point + T[:3, 3]
@@ -268,3 +271,7 @@ def _points(points: ArrayLike, name: str) -> tuple[np.ndarray, bool]:
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise SimgraspError(f"{name}: points must have shape (N, 3) or (3,), got {pts.shape}")
     return pts, single
+
+
+def _point_or_none(point: ArrayLike | None) -> NDArray[np.float64] | None:
+    return None if point is None else np.asarray(point, dtype=np.float64)

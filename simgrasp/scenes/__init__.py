@@ -1,5 +1,1 @@
-"""scenes stage: MuJoCo scenes, grippers, cameras and rendering."""
-
-from simgrasp.gl_platform import configure_mujoco_gl
-
-configure_mujoco_gl()
+"""scenes stage: MuJoCo scenes, cameras and rendering (grippers: simgrasp.grippers)."""

@@ -12,13 +12,14 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-import mujoco
 import numpy as np
 
+from simgrasp._mujoco import mujoco
 from simgrasp.errors import SimgraspError
 from simgrasp.perception.camera import CameraIntrinsics, cv_T_mujoco
 from simgrasp.scenes.camera_spec import CameraSpec
 from simgrasp.scenes.views import check_views
+from simgrasp.transforms import make_transform
 
 _WORLD_UP = np.array([0.0, 0.0, 1.0])
 
@@ -110,9 +111,7 @@ def world_T_cam(
     ``"mujoco"`` it is MuJoCo's own (x right, y up, looking along -z).
     """
     camera_id = camera_id_of(model, camera_name)
-    world_T_mjcam = np.eye(4)
-    world_T_mjcam[:3, :3] = data.cam_xmat[camera_id].reshape(3, 3)
-    world_T_mjcam[:3, 3] = data.cam_xpos[camera_id]
+    world_T_mjcam = make_transform(data.cam_xmat[camera_id].reshape(3, 3), data.cam_xpos[camera_id])
     if convention == "mujoco":
         return world_T_mjcam
     if convention != "opencv":

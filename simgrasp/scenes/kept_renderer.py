@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.render import SceneRenderer  # before mujoco: it picks the GL platform
+from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import Scene
 
 if TYPE_CHECKING:

@@ -8,9 +8,9 @@ import subprocess
 from pathlib import Path
 from typing import Any
 
-import mujoco
 import numpy as np
 
+from simgrasp._mujoco import mujoco
 from simgrasp.errors import SimgraspError
 from simgrasp.scenes.kept_renderer import kept_renderer
 

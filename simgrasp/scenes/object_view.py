@@ -5,12 +5,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import mujoco
 import numpy as np
 from PIL import Image
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.labels import Capsule
-from simgrasp.assets.model import ObjectModel, _quat_wxyz
+from simgrasp.assets.model import ObjectModel
+from simgrasp.transforms import rotation_to_quat_wxyz
 
 LABEL_GROUP = 4
 LABEL_RGBA = (1.0, 0.1, 0.1, 0.35)
@@ -32,7 +33,7 @@ def _add_label_geoms(body: mujoco.MjsBody, model: ObjectModel, name: str) -> Non
             body.add_geom(
                 type=mujoco.mjtGeom.mjGEOM_BOX,
                 pos=region.center,
-                quat=_quat_wxyz(region.object_R_box),
+                quat=rotation_to_quat_wxyz(region.object_R_box),
                 size=region.half_extents,
                 **common,
             )

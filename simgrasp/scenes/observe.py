@@ -99,7 +99,7 @@ def _view_points_world(
 ) -> np.ndarray:
     mask = np.isin(frame.body_ids, body_ids)
     points_cam, _ = depth_to_points_cam(frame.depth, frame.intrinsics, mask)
-    if noise is not None and len(points_cam) > 0:
+    if noise is not None and rng is not None and len(points_cam) > 0:
         points_cam, _ = depth_camera_noise(points_cam, rng, noise)
     return transform_points(frame.world_T_cam, points_cam)
 

@@ -8,14 +8,14 @@ Backends, in order of preference:
   pixel from the camera center through the pixel center.
 
 Choosing a backend. MuJoCo reads ``MUJOCO_GL`` once, when ``mujoco`` is first imported, so the
-GL platform is fixed per process. Importing this module *before anything imports mujoco*
-picks it: if ``MUJOCO_GL`` is unset, EGL and then OSMesa are probed, each in a subprocess
-rendering a tiny model under a timeout (a broken driver can hang), and the first that works is
-written to ``os.environ["MUJOCO_GL"]`` (so worker processes inherit the choice without probing
-again). :func:`select_backend` then confirms, once per process (cached), that the platform
-mujoco actually loaded renders, and otherwise falls back to ``"raycast"`` with a warning.
-``SIMGRASP_RENDER_BACKEND=egl|osmesa|raycast`` forces a backend (a GL one must match the
-platform mujoco loaded, else a clear error).
+GL platform is fixed per process. simgrasp imports mujoco through :mod:`simgrasp._mujoco`,
+which picks it before that first import: if ``MUJOCO_GL`` is unset, EGL and then OSMesa are
+probed, each in a subprocess rendering a tiny model under a timeout (a broken driver can hang),
+and the first that works is written to ``os.environ["MUJOCO_GL"]`` (so worker processes
+inherit the choice without probing again). :func:`select_backend` then confirms, once per
+process (cached), that the platform mujoco actually loaded renders, and otherwise falls back
+to ``"raycast"`` with a warning. ``SIMGRASP_RENDER_BACKEND=egl|osmesa|raycast`` forces a
+backend (a GL one must match the platform mujoco loaded, else a clear error).
 
 What the depth camera sees. All backends see exactly the geoms whose ``group`` is in
 ``geom_groups`` (default :data:`DEPTH_GEOM_GROUPS` = 0, 1, 2: MuJoCo's default visible groups;
@@ -39,24 +39,13 @@ import functools
 import warnings
 from dataclasses import dataclass
 
+import numpy as np
+
+from simgrasp._mujoco import mujoco
 from simgrasp.errors import SimgraspError
-from simgrasp.gl_platform import (  # noqa: E402  (chooses MUJOCO_GL before mujoco loads)
-    BACKENDS,
-    FORCE_ENV,
-    GL_BACKENDS,
-    configure_mujoco_gl,
-    forced_backend,
-    probe_gl,
-)
-
-configure_mujoco_gl()
-
-# mujoco must be imported after MUJOCO_GL is chosen.
-import mujoco  # noqa: E402
-import numpy as np  # noqa: E402
-
-from simgrasp.perception.camera import CameraIntrinsics  # noqa: E402
-from simgrasp.scenes.camera import (  # noqa: E402
+from simgrasp.gl_platform import BACKENDS, FORCE_ENV, GL_BACKENDS, forced_backend, probe_gl
+from simgrasp.perception.camera import CameraIntrinsics
+from simgrasp.scenes.camera import (
     camera_id_of,
     model_camera_intrinsics,
     world_T_cam,
@@ -84,7 +73,7 @@ def select_backend() -> str:
             raise RuntimeError(
                 f"{FORCE_ENV}={forced} but mujoco was imported with GL platform {platform!r}; "
                 f"set MUJOCO_GL={forced} before starting Python (or import "
-                "simgrasp.scenes.render before mujoco)"
+                "simgrasp._mujoco before mujoco)"
             )
         return forced
     if platform in GL_BACKENDS and probe_gl(platform):

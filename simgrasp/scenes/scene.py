@@ -13,18 +13,20 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simgrasp._mujoco import mujoco
 from simgrasp.assets.placement import Placement
 from simgrasp.assets.stable import sample_rest_pose
 from simgrasp.errors import SimgraspError
+from simgrasp.grippers.base import Gripper
+from simgrasp.grippers.mount import BoundGripper, attach_gripper
 from simgrasp.scenes.camera import add_camera, default_viewpoints
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gripper import BoundGripper, Gripper
 from simgrasp.seeding import rng_for
+from simgrasp.transforms import make_transform
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
@@ -67,10 +69,8 @@ class Scene:
 
     def object_pose(self) -> NDArray[np.float64]:
         """Current ``world_T_object`` (4x4) from ``data``."""
-        transform = np.eye(4)
-        transform[:3, :3] = self.data.xmat[self.object_body].reshape(3, 3)
-        transform[:3, 3] = self.data.xpos[self.object_body]
-        return transform
+        body = self.object_body
+        return make_transform(self.data.xmat[body].reshape(3, 3), self.data.xpos[body])
 
     def reset(self) -> None:
         """Back to the initial state (object at rest pose, gripper parked), kinematics updated."""
@@ -87,10 +87,8 @@ class Scene:
 
 def parked_tcp(config: SceneConfig) -> NDArray[np.float64]:
     """Parking pose of the TCP: above the table center, approach (+z) pointing down."""
-    world_T_tcp = np.eye(4)
-    world_T_tcp[:3, :3] = np.diag([1.0, -1.0, -1.0])
-    world_T_tcp[2, 3] = config.table_top_z + config.park_height
-    return world_T_tcp
+    height = config.table_top_z + config.park_height
+    return make_transform(np.diag([1.0, -1.0, -1.0]), [0.0, 0.0, height])
 
 
 def build_scene(
@@ -102,27 +100,7 @@ def build_scene(
     world z; the object's footprint is centered on the table origin.
     """
     config = config or SceneConfig()
-    spec = mujoco.MjSpec()
-    spec.modelname = f"scene_{object_model.asset.name}"
-    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
-    spec.visual.quality.shadowsize = SHADOW_MAP_SIZE
-
-    hx, hy, hz = config.table_half_size
-    spec.worldbody.add_geom(
-        name=TABLE_NAME,
-        type=mujoco.mjtGeom.mjGEOM_BOX,
-        size=[hx, hy, hz],
-        pos=[0.0, 0.0, config.table_top_z - hz],
-        friction=[config.table_friction, 0.005, 0.0001],
-        rgba=[0.55, 0.45, 0.35, 1.0],
-    )
-    spec.worldbody.add_light(
-        name="key", pos=[0.4, -0.4, 1.5], dir=[-0.3, 0.3, -1.0], diffuse=[0.7, 0.7, 0.7]
-    )
-    spec.worldbody.add_light(
-        name="fill", pos=[-0.5, 0.5, 1.2], dir=[0.4, -0.4, -1.0], diffuse=[0.3, 0.3, 0.3]
-    )
-
+    spec = _table_spec(object_model.asset.name, config)
     world_T_object = _rest_pose(object_model, config, seed, sample_rest_pose)
     object_model.add_to(spec, world_T_object, name=OBJECT_NAME)
 
@@ -131,7 +109,7 @@ def build_scene(
         add_camera(spec, camera)
 
     parked = parked_tcp(config)
-    handles = gripper.add_to(spec, parked, prefix=GRIPPER_PREFIX)
+    handles = attach_gripper(spec, gripper, parked, prefix=GRIPPER_PREFIX)
     try:
         model = spec.compile()
     except ValueError as exc:
@@ -161,6 +139,31 @@ def build_scene(
         config=config,
         seed=seed,
     )
+
+
+def _table_spec(object_name: str, config: SceneConfig) -> mujoco.MjSpec:
+    """A new scene spec with the table (top at ``config.table_top_z``) and two lights."""
+    spec = mujoco.MjSpec()
+    spec.modelname = f"scene_{object_name}"
+    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
+    spec.visual.quality.shadowsize = SHADOW_MAP_SIZE
+
+    hx, hy, hz = config.table_half_size
+    spec.worldbody.add_geom(
+        name=TABLE_NAME,
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[hx, hy, hz],
+        pos=[0.0, 0.0, config.table_top_z - hz],
+        friction=[config.table_friction, 0.005, 0.0001],
+        rgba=[0.55, 0.45, 0.35, 1.0],
+    )
+    spec.worldbody.add_light(
+        name="key", pos=[0.4, -0.4, 1.5], dir=[-0.3, 0.3, -1.0], diffuse=[0.7, 0.7, 0.7]
+    )
+    spec.worldbody.add_light(
+        name="fill", pos=[-0.5, 0.5, 1.2], dir=[0.4, -0.4, -1.0], diffuse=[0.3, 0.3, 0.3]
+    )
+    return spec
 
 
 def _rest_pose(

@@ -1,4 +1,4 @@
-"""The Robotiq 2F-85 (MuJoCo Menagerie model) behind the :class:`~simgrasp.scenes.gripper.Gripper`
+"""The Robotiq 2F-85 (MuJoCo Menagerie model) behind the :class:`~simgrasp.grippers.base.Gripper`
 interface.
 
 The model is read from ``$MENAGERIE_ROOT/robotiq_2f85/2f85.xml`` and never shipped with
@@ -17,15 +17,17 @@ with ``PAD_TORSIONAL_FRICTION``, like the built-in gripper's.
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp._mujoco import mujoco
 from simgrasp.errors import DataNotFoundError
-from simgrasp.scenes.gripper import Gripper
+from simgrasp.grippers.base import Gripper
+from simgrasp.grippers.geometry import GripperGeometry
 
 TCP_HEIGHT = 0.14
 """TCP above the ``base`` body origin (m): the middle of the two pad boxes at mid stroke (the
@@ -98,9 +100,31 @@ def _calibration() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     return gaps_arr[order], CALIBRATION_CTRLS[order]
 
 
-def _ctrl_for_opening(opening: float) -> float:
-    gaps, ctrls = _calibration()
-    return float(np.interp(opening, gaps, ctrls))
+@dataclass(frozen=True)
+class Robotiq2F85(Gripper):
+    """The Menagerie 2F-85 with a ``tcp`` site and torsional pad friction (module docstring)."""
+
+    def load_spec(self) -> mujoco.MjSpec:
+        return _load_spec()
+
+    def ctrl_for_opening(self, opening: float) -> float:
+        gaps, ctrls = _calibration()
+        return float(np.interp(opening, gaps, ctrls))
+
+    def planning_geometry(self) -> GripperGeometry:
+        """The boxes of the open gripper (pre-grasp and approach), the fingertips
+        ``OPEN_FINGER_REACH`` past the TCP. The pads swing forward as they close (21-23 mm
+        once closed on a handle narrower than 4 cm), so grasps keep the closed fingertips
+        (``finger_reach``) above the table: closing tips that hit the table top stall the jaws
+        before they squeeze the handle."""
+        return GripperGeometry(
+            max_opening=self.max_opening,
+            pad_reach=OPEN_FINGER_REACH,
+            closed_pad_reach=self.finger_reach,
+            finger_length=0.06,
+            finger_width=0.025,
+            palm_size=(0.07, 0.14, 0.06),
+        )
 
 
 @cache
@@ -108,16 +132,14 @@ def robotiq_2f85() -> Gripper:
     """The Menagerie Robotiq 2F-85: 0.085 m stroke; its actuator force limit (5 on the driver
     tendon) squeezes a 3 cm handle with about 45 N per jaw (the real one: 20-235 N)."""
     menagerie_mjcf()
-    return Gripper(
+    return Robotiq2F85(
         name="robotiq_2f85",
         max_opening=0.085,
-        load_spec=_load_spec,
         root_body="base_mount",
         tcp_site="tcp",
         fingers=(("left_driver", "left_spring_link"), ("right_driver", "right_spring_link")),
         pads=PADS,
         actuator="fingers_actuator",
-        ctrl_for_opening=_ctrl_for_opening,
         ctrl_closed=CTRL_CLOSED,
         grip_force=45.0,
         finger_reach=FINGER_REACH,

@@ -1,0 +1,41 @@
+"""The GL platform is chosen where MuJoCo is first imported (simgrasp._mujoco), never when a
+stage package is imported."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+PROBE_COUNTER = """
+import sys
+spawned = []
+sys.addaudithook(lambda event, args: spawned.append(args) if event == "subprocess.Popen" else None)
+{imports}
+import os
+print(len(spawned), "mujoco" in sys.modules, os.environ.get("MUJOCO_GL", ""))
+"""
+
+
+def _run(imports: str) -> list[str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
+    env.pop("SIMGRASP_RENDER_BACKEND", None)
+    code = PROBE_COUNTER.format(imports=imports)
+    result = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    return result.stdout.split()
+
+
+def test_importing_the_stage_packages_starts_no_probe() -> None:
+    packages = ("assets", "scenes", "grasping", "envs", "handles", "grippers", "evaluation")
+    out = _run("\n".join(f"import simgrasp.{p}" for p in packages))
+    assert out == ["0", "False"]
+
+
+def test_the_first_mujoco_import_chooses_the_platform() -> None:
+    """Through simgrasp._mujoco, MuJoCo is imported after a probe chose a platform (or none
+    worked: rendering then falls back to ray casting)."""
+    spawned, imported, *platform = _run("from simgrasp._mujoco import mujoco")
+    assert int(spawned) >= 1 and imported == "True"
+    assert platform in ([], ["egl"], ["osmesa"])
