@@ -5,12 +5,13 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from data_needs import ROBOTIQ
 
 from simgrasp.grasping.grasp import tcp_pose
 from simgrasp.scenes.gripper import BoundGripper, make_gripper
 from simgrasp.scenes.robotiq import menagerie_mjcf
 
-GRIPPERS = ("builtin", "robotiq_2f85")
+GRIPPERS = ("builtin", ROBOTIQ)
 
 
 def bare_scene(name: str) -> tuple[mujoco.MjModel, mujoco.MjData, BoundGripper, np.ndarray]:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from data_needs import ROBOTIQ
 from test_trial import handle_center_axis, top_down_grasp
 
 from simgrasp.assets.model import build_object_model
@@ -21,10 +22,17 @@ from simgrasp.scenes.gripper import make_gripper
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
 
 OBJECTS = ("048_hammer", "033_spatula")
-GRIPPERS = ("builtin", "robotiq_2f85")
+GRIPPERS = ("builtin", ROBOTIQ)
+OBJECT_GRIPPERS = [
+    pytest.param(
+        (o, g), marks=[pytest.mark.menagerie] if g == "robotiq_2f85" else [], id=str((o, g))
+    )
+    for o in OBJECTS
+    for g in ("builtin", "robotiq_2f85")
+]
 
 
-@pytest.fixture(scope="module", params=[(o, g) for o in OBJECTS for g in GRIPPERS], ids=str)
+@pytest.fixture(scope="module", params=OBJECT_GRIPPERS)
 def ycb_scene(request: pytest.FixtureRequest, ycb_dir: str) -> Scene:
     object_name, gripper = request.param
     model = build_object_model(load_object(object_name, ycb_dir))
