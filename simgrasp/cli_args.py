@@ -9,22 +9,39 @@ import numpy as np
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, PLACEMENTS
 from simgrasp.scenes.views import CHAIN_VIEWS, MAX_VIEWS
 
+MAX_RANGE_VALUES = 1000
+"""Most values a ``START:STOP:STEP`` range may expand to: every value is a sweep setting (a
+column of trials), so more is a typo (a tiny STEP), not a sweep."""
+
 
 def float_range(text: str) -> tuple[float, ...]:
-    """Parse ``START:STOP:STEP`` (inclusive of STOP) or a comma list, e.g. ``0:0.1:0.02``."""
+    """Parse ``START:STOP:STEP`` (inclusive of STOP) or a comma list, e.g. ``0:0.1:0.02``; all
+    values finite, a range at most :data:`MAX_RANGE_VALUES` long."""
     try:
-        if ":" in text:
-            start, stop, step = (float(v) for v in text.split(":"))
-            if step <= 0 or stop < start:
-                raise ValueError
-            count = int(np.floor((stop - start) / step + 1e-9)) + 1
-            return tuple(round(start + i * step, 10) for i in range(count))
-        return tuple(float(v) for v in text.split(","))
+        values = _expand_range(text) if ":" in text else tuple(float(v) for v in text.split(","))
     except ValueError:
         raise argparse.ArgumentTypeError(
             "expected START:STOP:STEP with STEP > 0 and STOP >= START, or a comma list; "
             f"got {text!r}"
         ) from None
+    if not all(np.isfinite(values)):
+        raise argparse.ArgumentTypeError(f"every value must be finite (no inf or nan): {text!r}")
+    return values
+
+
+def _expand_range(text: str) -> tuple[float, ...]:
+    start, stop, step = (float(v) for v in text.split(":"))
+    if not np.isfinite([start, stop, step]).all():
+        return (start, stop, step)  # refused by the finite check
+    if step <= 0 or stop < start:
+        raise ValueError
+    count = int(np.floor((stop - start) / step + 1e-9)) + 1
+    if count > MAX_RANGE_VALUES:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} expands to {count:.3g} values; at most {MAX_RANGE_VALUES} are allowed "
+            "(each is a sweep setting run for every object and seed): use a larger STEP"
+        )
+    return tuple(round(start + i * step, 10) for i in range(count))
 
 
 def comma_list(text: str) -> tuple[str, ...]:
