@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -28,6 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from simgrasp.assets.registry import default_objects
+    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.report import write_report
     from simgrasp.evaluation.sweep import TRIALS_FILE, plan_trials, run_sweep
     from simgrasp.handles.evaluation import PAPER_OBJECTS
@@ -38,9 +40,10 @@ def run(args: argparse.Namespace) -> int:
     if seeds < 1 or args.workers < 1:
         raise ValueError(f"--seeds and --workers must be >= 1, got {seeds} and {args.workers}")
     specs = plan_trials(objects, DETECTORS, ("builtin",), NOISE, range(seeds))
-    (args.out / TRIALS_FILE).unlink(missing_ok=True)  # the demo always runs afresh
     start = time.perf_counter()
-    records = run_sweep(specs, args.out, ycb_dir=ycb_dir, workers=args.workers)
+    with claim_out_dir(args.out, sys.argv[1:]):
+        (args.out / TRIALS_FILE).unlink(missing_ok=True)  # the demo always runs afresh
+        records = run_sweep(specs, args.out, ycb_dir=ycb_dir, workers=args.workers)
     print(write_report(records, args.out, title="simgrasp demo"))
     print(
         f"{len(records)} trials on {len(objects)} objects in "

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -106,15 +107,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from simgrasp.evaluation.report import write_report
-    from simgrasp.evaluation.sweep import plan_trials, run_sweep
+    from simgrasp.evaluation.out_dir import claim_out_dir
 
+    _check_counts(args)
+    with claim_out_dir(args.out, sys.argv[1:]):
+        return _run(args)
+
+
+def _check_counts(args: argparse.Namespace) -> None:
     if args.seeds < 1:
         raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
     if args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     if args.address and args.backend != "ray":
         raise ValueError(f"--address {args.address} needs --backend ray")
+
+
+def _run(args: argparse.Namespace) -> int:
+    from simgrasp.evaluation.report import write_report
+    from simgrasp.evaluation.sweep import plan_trials, run_sweep
+
     ycb_dir = args.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
     objects = expand_objects(args.objects)
     check_plan(objects, args.detector, args.gripper, args.noise, ycb_dir)
