@@ -44,6 +44,23 @@ def check_out_dir(out: Path) -> None:
         raise ValueError(f"--out {out}: {where} is not writable ({exc.strerror})") from None
 
 
+def check_output_file(path: Path, option: str) -> None:
+    """Prove a file can be written at ``path`` (its directory created if needed) before the
+    work that makes it runs; a ValueError naming ``option`` and ``path`` otherwise."""
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{option} {path}: is a directory, not writable as a file")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        probe = path.parent / f".write-probe-{os.getpid()}"
+        probe.write_bytes(b"probe")
+        probe.unlink()
+    except OSError as exc:
+        raise ValueError(
+            f"{option} {path}: its directory is not writable ({exc.strerror}: {exc.filename})"
+        ) from None
+
+
 def _holder_text(command: Sequence[str]) -> str:
     when = time.strftime("%Y-%m-%d %H:%M:%S %Z", time.localtime())
     holder = {"pid": os.getpid(), "host": socket.gethostname(), "since": when}

@@ -72,6 +72,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.width is not None and args.grasp is None:
+        raise ValueError("--width needs --grasp (the full chain plans its own jaw opening)")
     if args.render is not None:
         _check_render_target(args.render)
     frames: list[np.ndarray] = []
@@ -137,6 +139,9 @@ def _check_render_target(path: Path) -> None:
             f"--render {path}: writing mp4 needs the ffmpeg encoder, which is not installed; "
             "use a .png path for a grid of the key frames"
         )
+    from simgrasp.evaluation.out_dir import check_output_file
+
+    check_output_file(path, "--render")
 
 
 class _FrameRecorder:
