@@ -8,6 +8,7 @@ import sys
 
 from simgrasp.handles import DETECTORS, default_config, detect
 from simgrasp.perception.cloud_io import read_cloud
+from simgrasp.stdout_guard import stdout_to_stderr
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -35,15 +36,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.gripper_width is not None and not args.gripper_width > 0:
         raise ValueError(f"--gripper-width must be positive, got {args.gripper_width}")
-    points, normals = read_cloud(args.cloud)
-    config = default_config(args.detector, args.gripper_width)
-    detection = detect(
-        points, normals, config, args.seed, detector=args.detector, viewpoint=args.viewpoint
-    )
-    if args.plot:
-        from simgrasp.handles.plot import plot_detection
-
-        plot_detection(detection, args.plot, title=f"{args.cloud} ({args.detector})")
+    with stdout_to_stderr():  # library warnings must not mix with the output (--json)
+        detection = _detect(args)
     if args.json:
         json.dump(detection.to_json(), sys.stdout)
         sys.stdout.write("\n")
@@ -64,3 +58,16 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         print(f"  plot written to {args.plot}")
     return 0
+
+
+def _detect(args: argparse.Namespace):  # -> HandleDetection
+    points, normals = read_cloud(args.cloud)
+    config = default_config(args.detector, args.gripper_width)
+    detection = detect(
+        points, normals, config, args.seed, detector=args.detector, viewpoint=args.viewpoint
+    )
+    if args.plot:
+        from simgrasp.handles.plot import plot_detection
+
+        plot_detection(detection, args.plot, title=f"{args.cloud} ({args.detector})")
+    return detection
