@@ -8,11 +8,12 @@ import sys
 
 from simgrasp.handles import DETECTORS, default_config, detect
 from simgrasp.perception.cloud_io import read_cloud
+from simgrasp.perception.units import UNIT_SCALE, cloud_in_meters
 from simgrasp.stdout_guard import stdout_to_stderr
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("cloud", help="point cloud file: .ply, .pcd, .xyz or .npy (meters)")
+    parser.add_argument("cloud", help="point cloud file: .ply, .pcd, .xyz or .npy (see --units)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--seed", type=int, default=0, help="seed for neighborhood sampling")
     parser.add_argument("--detector", choices=DETECTORS, default="quadric")
@@ -31,6 +32,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="camera position for a single-view cloud (normals are turned toward it)",
     )
     parser.add_argument("--plot", metavar="OUT.png", help="write a picture of the detection")
+    parser.add_argument(
+        "--units",
+        choices=tuple(UNIT_SCALE),
+        default="m",
+        help="units of the file's coordinates and --viewpoint (results are in meters)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -62,9 +69,11 @@ def run(args: argparse.Namespace) -> int:
 
 def _detect(args: argparse.Namespace):  # -> HandleDetection
     points, normals = read_cloud(args.cloud)
+    points = cloud_in_meters(points, args.units, args.cloud)
+    viewpoint = args.viewpoint and [v * UNIT_SCALE[args.units] for v in args.viewpoint]
     config = default_config(args.detector, args.gripper_width)
     detection = detect(
-        points, normals, config, args.seed, detector=args.detector, viewpoint=args.viewpoint
+        points, normals, config, args.seed, detector=args.detector, viewpoint=viewpoint
     )
     if args.plot:
         from simgrasp.handles.plot import plot_detection
