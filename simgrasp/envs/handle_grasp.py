@@ -37,6 +37,7 @@ from simgrasp.envs.observation import (
 )
 from simgrasp.grasping.chain import cloud_from_views, model_for, render_views
 from simgrasp.grasping.trial import TrialConfig, TrialResult, run_trial
+from simgrasp.scenes.gl_fork import check_gl_allowed
 from simgrasp.scenes.gripper import GripperName, make_gripper
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.scene import Scene, SceneConfig, build_scene
@@ -178,6 +179,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         """Start an episode; info: ``object`` (the model's name), ``episode_seed`` and
         ``cloud_points`` (the cloud's size before subsampling). A reset that fails (an unknown
         object, say) has ended the previous episode: ``step`` then raises, naming it."""
+        check_gl_allowed()  # fail at once in a worker forked after its parent rendered
         super().reset(seed=seed)
         self._end_episode()
         try:
