@@ -110,8 +110,11 @@ def run(args: argparse.Namespace) -> int:
     from simgrasp.evaluation.out_dir import claim_out_dir
 
     _check_counts(args)
-    with claim_out_dir(args.out, sys.argv[1:]):
-        return _run(args)
+    ycb_dir = args.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
+    objects = expand_objects(args.objects)
+    check_plan(objects, args.detector, args.gripper, args.noise, ycb_dir)
+    with claim_out_dir(args.out, sys.argv[1:]):  # checked and held before any trial runs
+        return _run(args, objects, ycb_dir)
 
 
 def _check_counts(args: argparse.Namespace) -> None:
@@ -123,13 +126,10 @@ def _check_counts(args: argparse.Namespace) -> None:
         raise ValueError(f"--address {args.address} needs --backend ray")
 
 
-def _run(args: argparse.Namespace) -> int:
+def _run(args: argparse.Namespace, objects: list[str], ycb_dir: str | None) -> int:
     from simgrasp.evaluation.report import write_report
     from simgrasp.evaluation.sweep import plan_trials, run_sweep
 
-    ycb_dir = args.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
-    objects = expand_objects(args.objects)
-    check_plan(objects, args.detector, args.gripper, args.noise, ycb_dir)
     specs = plan_trials(
         objects,
         args.detector,
