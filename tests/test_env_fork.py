@@ -29,6 +29,9 @@ SCRIPT = textwrap.dedent(
     vector_env = gymnasium.make_vec(
         "simgrasp/HandleGrasp-v0", num_envs=2, vectorization_mode="async", **small
     )
+    from simgrasp.scenes.render import select_backend
+
+    print(select_backend())
     try:
         vector_env.reset(seed=0)
     except RuntimeError as exc:
@@ -64,5 +67,9 @@ def run_isolated(script: str, timeout_s: float) -> tuple[int, str, str]:
 def test_async_vector_env_after_a_parent_reset_fails_at_once_saying_what_to_do() -> None:
     code, out, err = run_isolated(SCRIPT, TIMEOUT_S)
     assert code == 0, err[-3000:]
-    assert out.startswith("ERROR"), out + err[-2000:]
-    assert 'vector_kwargs={"context": "spawn"}' in out
+    backend, result = out.splitlines()[-2:]
+    if backend == "raycast":  # no GL context was made: forked workers render as well
+        assert result == "OK", out + err[-2000:]
+        return
+    assert result.startswith("ERROR"), out + err[-2000:]
+    assert 'vector_kwargs={"context": "spawn"}' in result
