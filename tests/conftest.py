@@ -1,10 +1,11 @@
-"""Shared set-up: the GL platform for MuJoCo, and the YCB root every YCB test reads (CI sets
-SIMGRASP_YCB_DIR)."""
+"""Shared set-up: the GL platform for MuJoCo, and the external data tests need (YCB meshes,
+the Menagerie Robotiq, the real scenes; see ``data_needs.py``): a test that needs missing data
+is skipped, and one closing line says how many were and how to get the data."""
 
 from __future__ import annotations
 
-import os
 import sys
+from collections import Counter
 from pathlib import Path
 
 import pytest
@@ -18,13 +19,55 @@ configure_mujoco_gl()
 
 sys.path.insert(0, str(Path(__file__).parent))
 
+from data_needs import KINDS, REQUIRE_ENV, SKIP_PREFIX, require_data  # noqa: E402
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    for kind in KINDS.values():
+        config.addinivalue_line("markers", f"{kind.marker}: needs {kind.what} ({kind.env})")
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        if "ycb_dir" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.ycb)
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    for marker in KINDS:
+        if item.get_closest_marker(marker) is not None:
+            require_data(marker)
+
 
 @pytest.fixture(scope="session")
 def ycb_dir() -> str:
-    root = os.environ.get("SIMGRASP_YCB_DIR")
-    if not root or not Path(root).is_dir():
-        pytest.fail(
-            "SIMGRASP_YCB_DIR must point at a YCB download (CI sets it to ../shared/ycb); "
-            "run `simgrasp fetch-ycb` to get one"
-        )
-    return root
+    return str(require_data("ycb"))
+
+
+@pytest.fixture(scope="session")
+def real_dir() -> Path:
+    return require_data("real")
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Config):
+    """One closing line (after pytest's own short summary): how many tests were skipped for
+    missing data, which data, and how to get it."""
+    yield
+    counts: Counter[str] = Counter()
+    for report in terminalreporter.stats.get("skipped", []):
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else ""
+        reason = reason.removeprefix("Skipped: ")
+        if reason.startswith(SKIP_PREFIX):
+            counts[reason.removeprefix(SKIP_PREFIX).split(" (")[0].strip()] += 1
+    if not counts:
+        return
+    kinds = [kind for kind in KINDS.values() if counts[kind.what]]
+    what = ", ".join(f"{counts[k.what]} need {k.what} (no {k.env})" for k in kinds)
+    hows = "; ".join(k.how for k in kinds)
+    terminalreporter.write_line(
+        f"simgrasp: {sum(counts.values())} tests skipped for missing data: {what}. "
+        f"To run them: {hows}. {REQUIRE_ENV}=1 turns these skips into failures.",
+        yellow=True,
+        bold=True,
+    )

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from data_needs import ROBOTIQ
 
 from simgrasp.assets.model import model_for
 from simgrasp.grasping.chain import run_chain
@@ -165,7 +166,7 @@ def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_model) -> N
     assert result.success and result.on_handle, result.to_json()["failure"]
 
 
-@pytest.mark.parametrize("gripper", ["builtin", "robotiq_2f85"])
+@pytest.mark.parametrize("gripper", ["builtin", ROBOTIQ])
 def test_full_chain_holds_an_upright_mug_by_its_handle(gripper: str) -> None:
     config = ChainConfig.of(gripper=gripper, scene__placement="upright")
     result = run_chain(model_for("gen_mug"), config, seed=0)

@@ -102,3 +102,22 @@ def test_bad_inputs_name_the_problem() -> None:
     mesh.vertices[0] = np.nan
     with pytest.raises(ValueError, match="gen_can_s0.*non-finite"):
         decompose.run_coacd(mesh, CONFIG, "gen_can_s0")
+
+
+def test_a_directory_at_an_entry_path_is_a_clear_error(cache_dir: Path) -> None:
+    mesh = generate_tool("hammer", 3).mesh
+    path = cache.entry_path(cache.cache_key(mesh, CONFIG.__dict__))
+    path.mkdir(parents=True)
+    with pytest.raises(ValueError, match=rf"{path} is a directory.*remove it"):
+        decompose.decompose(mesh, CONFIG, "gen_hammer_s3")
+    assert path.is_dir()
+
+
+def test_a_cache_dir_variable_naming_a_file_is_a_clear_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    not_a_dir = tmp_path / "cache.txt"
+    not_a_dir.write_text("x")
+    monkeypatch.setenv(cache.CACHE_ENV, str(not_a_dir))
+    with pytest.raises(ValueError, match=rf"SIMGRASP_CACHE_DIR={not_a_dir}.*not a directory"):
+        decompose.decompose(generate_tool("hammer", 3).mesh, CONFIG, "gen_hammer_s3")

@@ -208,6 +208,18 @@ def test_bad_configuration_and_options_are_rejected(small_env: HandleGraspEnv) -
         small_env.reset(options={"episode_seed": -1})
 
 
+def test_a_step_after_a_failed_reset_names_the_failed_reset(small_env: HandleGraspEnv) -> None:
+    """A failed reset ends the previous episode: the next step must not grasp in it, and says
+    why there is no episode."""
+    small_env.reset(seed=0)
+    with pytest.raises(ValueError, match="no_such_thing"):
+        small_env.reset(options={"object": "no_such_thing"})
+    with pytest.raises(RuntimeError, match=r"the last reset\(\) failed .*no_such_thing"):
+        small_env.step(AIR_GRASP)
+    small_env.reset(seed=0, options={"object": "gen_can"})
+    assert small_env.step(AIR_GRASP)[2] is True
+
+
 def test_reward_kinds() -> None:
     held_elsewhere = _trial_record(on_handle=False, handle_fraction=0.0)
     dropped = _trial_record(success=False, failure="dropped_in_perturbation")

@@ -8,13 +8,14 @@ import sys
 import mujoco
 import numpy as np
 import pytest
+from data_needs import ROBOTIQ
 
 from simgrasp.grasping.grasp import tcp_pose
-from simgrasp.grippers import gripper_names, make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.grippers.mount import BoundGripper, attach_gripper
 from simgrasp.grippers.robotiq_2f85 import menagerie_mjcf
 
-GRIPPERS = gripper_names()
+GRIPPERS = ("builtin", ROBOTIQ)
 
 
 def bare_scene(name: str) -> tuple[mujoco.MjModel, mujoco.MjData, BoundGripper, np.ndarray]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
@@ -39,6 +40,7 @@ def test_a_scene_built_alike_is_drawn_as_by_a_fresh_renderer(ycb_dir: str) -> No
         np.testing.assert_array_equal(a.world_T_cam, b.world_T_cam)
 
 
+@pytest.mark.menagerie
 def test_a_scene_built_otherwise_replaces_the_kept_renderer() -> None:
     hammer = build_object_model(load_object("gen_hammer"))
     mug = build_object_model(load_object("gen_mug"))

@@ -149,3 +149,29 @@ def test_trial_reruns_the_evaluate_record_of_the_same_object_and_seed(capsys) ->
     assert rerun["object"] == swept["object_asset"] == "gen_mug_s0"
     for key in ("failure", "success", "on_handle", "candidates", "handles", "object_pose"):
         assert rerun[key] == swept[key], key
+
+
+@pytest.mark.parametrize("blocker", ["file", "dir"])
+def test_an_unwritable_render_target_is_refused_before_the_trial(
+    tmp_path, capsys, blocker: str
+) -> None:
+    """Its directory is a file, or the target is a directory: refused before the scene is built,
+    so a --json run prints an error line, not a record after a traceback."""
+    pose = ["0.3", "0.3", "0.2", "0", "1", "0", "0"]
+    if blocker == "file":
+        (tmp_path / "a_file").write_text("x")
+        target = tmp_path / "a_file" / "frames.png"
+    else:
+        target = tmp_path / "frames.png"
+        target.mkdir()
+    argv = ["trial", "gen_hammer", "--grasp", *pose, "--json", "--render", str(target)]
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert f"--render {target}" in captured.err
+    assert ("is a file, not a directory" if blocker == "file" else "not writable") in captured.err
+
+
+def test_width_without_grasp_is_an_error(capsys) -> None:
+    assert main(["trial", "gen_hammer", "--width", "0.05"]) == 2
+    assert "--width needs --grasp" in capsys.readouterr().err

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from data_needs import ROBOTIQ
 from test_trial import handle_center_axis, top_down_grasp
 
 from simgrasp.assets.model import build_object_model
@@ -18,15 +19,22 @@ from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.trial import run_trial
 from simgrasp.grasping.trial_config import TrialConfig
-from simgrasp.grippers import gripper_names, make_gripper
+from simgrasp.grippers import make_gripper
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.scene import Scene, build_scene
 
 OBJECTS = ("048_hammer", "033_spatula")
-GRIPPERS = gripper_names()
+GRIPPERS = ("builtin", ROBOTIQ)
+OBJECT_GRIPPERS = [
+    pytest.param(
+        (o, g), marks=[pytest.mark.menagerie] if g == "robotiq_2f85" else [], id=str((o, g))
+    )
+    for o in OBJECTS
+    for g in ("builtin", "robotiq_2f85")
+]
 
 
-@pytest.fixture(scope="module", params=[(o, g) for o in OBJECTS for g in GRIPPERS], ids=str)
+@pytest.fixture(scope="module", params=OBJECT_GRIPPERS)
 def ycb_scene(request: pytest.FixtureRequest, ycb_dir: str) -> Scene:
     object_name, gripper = request.param
     model = build_object_model(load_object(object_name, ycb_dir))

@@ -31,10 +31,18 @@ FORMAT_VERSION = 1
 
 
 def cache_dir() -> Path:
-    """The directory holding decomposition entries (created on demand)."""
-    root = os.environ.get(CACHE_ENV) or platformdirs.user_cache_dir("simgrasp")
+    """The directory holding decomposition entries (created on demand); a ValueError naming
+    it when it cannot be a directory (``SIMGRASP_CACHE_DIR`` naming a file, say)."""
+    variable = os.environ.get(CACHE_ENV)
+    root = variable or platformdirs.user_cache_dir("simgrasp")
     path = Path(root) / "decompositions"
-    path.mkdir(parents=True, exist_ok=True)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        where = f"{CACHE_ENV}={root}" if variable else f"the cache directory {root}"
+        raise SimgraspError(
+            f"{where}: {path} or a parent is not a directory; point {CACHE_ENV} at a directory"
+        ) from None
     return path
 
 
@@ -100,9 +108,14 @@ def _read(path: Path) -> tuple[trimesh.Trimesh, ...]:
 
 
 def load_hulls(path: Path) -> tuple[trimesh.Trimesh, ...] | None:
-    """Read an entry; ``None`` if absent. A corrupt entry is logged, deleted and ``None``."""
+    """Read an entry; ``None`` if absent. A corrupt entry is logged, deleted and ``None``; a
+    directory in its place (never written by simgrasp) is a ValueError naming it."""
     if not path.exists():
         return None
+    if not path.is_file():
+        raise SimgraspError(
+            f"decomposition cache entry {path} is a directory, not a cache file; remove it"
+        )
     try:
         return _read(path)
     except (OSError, EOFError, ValueError, KeyError, IndexError, zipfile.BadZipFile) as exc:

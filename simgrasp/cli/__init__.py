@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
 from types import ModuleType
@@ -69,6 +70,7 @@ def build_parser(command: str | None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    _INVOCATION[:] = argv
     command = next((a for a in argv if not a.startswith("-")), None)
     try:
         args = build_parser(command if command in COMMANDS else None).parse_args(argv)
@@ -80,7 +82,29 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_config:
             sys.stdout.write(effective_config_text(module.Options, args))
             return 0
-        return int(module.run(settings_from_args(module.Options, args)) or 0)
+        code = int(module.run(settings_from_args(module.Options, args)) or 0)
+        sys.stdout.flush()  # a closed pipe shows here, inside the handler below
+        return code
     except SimgraspError as exc:
         print(f"simgrasp {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        return _reader_gone()
+
+
+def _reader_gone() -> int:
+    """The reader of stdout has gone (``simgrasp detect c.npy | head -1``): end quietly with
+    exit status 1, as the Python docs recommend (SIGPIPE), pointing stdout at /dev/null so the
+    interpreter's final flush raises nothing either."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    return 1
+
+
+def invocation() -> list[str]:
+    """The command line of the running command (``["simgrasp", "evaluate", ...]``), e.g. for
+    the lock file naming the run that holds an output directory."""
+    return ["simgrasp", *_INVOCATION]
+
+
+_INVOCATION: list[str] = []

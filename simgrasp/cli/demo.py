@@ -15,6 +15,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from simgrasp.cli import invocation
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.chain_config import ChainConfig
@@ -38,6 +39,7 @@ class Options:
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import GENERATED_OBJECTS, PAPER_OBJECTS
+    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.report import write_report
     from simgrasp.evaluation.sweep import TRIALS_FILE, plan_trials, run_sweep
 
@@ -50,9 +52,10 @@ def run(options: Options) -> int:
         )
     axes = {"detector.kind": DETECTORS, "gripper": ("builtin",), "noise": NOISE}
     specs = plan_trials(objects, axes, range(seeds), options.chain)
-    (options.out / TRIALS_FILE).unlink(missing_ok=True)  # the demo always runs afresh
     start = time.perf_counter()
-    records = run_sweep(specs, options.out, ycb_dir=ycb_dir, workers=options.workers)
+    with claim_out_dir(options.out, invocation()):
+        (options.out / TRIALS_FILE).unlink(missing_ok=True)  # the demo always runs afresh
+        records = run_sweep(specs, options.out, ycb_dir=ycb_dir, workers=options.workers)
     print(write_report(records, options.out, title="simgrasp demo"))
     print(
         f"{len(records)} trials on {len(objects)} objects in "

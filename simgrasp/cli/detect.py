@@ -13,13 +13,17 @@ from pathlib import Path
 
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
+from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.perception.units import Units
 
 
 @dataclass(frozen=True, kw_only=True)
 class Options:
     cloud: Path = setting(positional=True, metavar="CLOUD")
-    """Point cloud file: .ply, .pcd, .xyz or .npy (meters)."""
+    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units)."""
+    units: Units = "m"
+    """Units of the file's coordinates and of --viewpoint (results are in meters)."""
     json: bool = False
     """Print one JSON object instead of a table."""
     seed: int = 0
@@ -35,23 +39,11 @@ class Options:
 
 
 def run(options: Options) -> int:
-    from simgrasp.handles import detect
-    from simgrasp.perception.cloud_io import read_cloud
+    from simgrasp.stdout_guard import stdout_to_stderr
 
-    config = options.detector.chosen()
-    if options.gripper_width is not None:
-        if not options.gripper_width > 0:
-            raise SimgraspError(f"--gripper-width must be positive, got {options.gripper_width}")
-        config = replace(config, gripper_max_opening=options.gripper_width)
-    points, normals = read_cloud(options.cloud)
+    with stdout_to_stderr():  # library warnings must not mix with the output (--json)
+        detection = _detect(options)
     kind = options.detector.kind
-    detection = detect(
-        points, normals, config, options.seed, detector=kind, viewpoint=options.viewpoint
-    )
-    if options.plot:
-        from simgrasp.handles.plot import plot_detection
-
-        plot_detection(detection, options.plot, title=f"{options.cloud} ({kind})")
     if options.json:
         json.dump(detection.to_json(), sys.stdout)
         sys.stdout.write("\n")
@@ -72,3 +64,26 @@ def run(options: Options) -> int:
     if options.plot:
         print(f"  plot written to {options.plot}")
     return 0
+
+
+def _detect(options: Options) -> Detection:
+    from simgrasp.handles import detect
+    from simgrasp.perception.cloud_io import read_cloud
+    from simgrasp.perception.units import UNIT_SCALE, cloud_in_meters
+
+    config = options.detector.chosen()
+    if options.gripper_width is not None:
+        if not options.gripper_width > 0:
+            raise SimgraspError(f"--gripper-width must be positive, got {options.gripper_width}")
+        config = replace(config, gripper_max_opening=options.gripper_width)
+    points, normals = read_cloud(options.cloud)
+    points = cloud_in_meters(points, options.units, str(options.cloud))
+    scale = UNIT_SCALE[options.units]
+    viewpoint = None if options.viewpoint is None else [v * scale for v in options.viewpoint]
+    kind = options.detector.kind
+    detection = detect(points, normals, config, options.seed, detector=kind, viewpoint=viewpoint)
+    if options.plot:
+        from simgrasp.handles.plot import plot_detection
+
+        plot_detection(detection, options.plot, title=f"{options.cloud} ({kind})")
+    return detection

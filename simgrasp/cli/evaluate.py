@@ -13,13 +13,17 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
+from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.chain_config import CHAIN_DETECTORS, ChainConfig, ChainDetector
 from simgrasp.grippers.registry import gripper_names
+
+if TYPE_CHECKING:
+    from simgrasp.evaluation.sweep import TrialSpec
 
 SWEPT = ("detector.kind", "gripper", "noise")
 
@@ -52,14 +56,22 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import expand_objects
-    from simgrasp.evaluation.report import write_report
-    from simgrasp.evaluation.sweep import check_plan, plan_trials, run_sweep
+    from simgrasp.evaluation.out_dir import claim_out_dir
+    from simgrasp.evaluation.sweep import check_plan, plan_trials
 
     _check(options)
     ycb_dir = options.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
     axes = {"detector.kind": options.detector, "gripper": options.gripper, "noise": options.noise}
     specs = plan_trials(expand_objects(options.objects), axes, range(options.seeds), options.chain)
     check_plan(specs, ycb_dir)
+    with claim_out_dir(options.out, invocation()):  # checked and held before any trial runs
+        return _run(options, specs, ycb_dir)
+
+
+def _run(options: Options, specs: list[TrialSpec], ycb_dir: str | None) -> int:
+    from simgrasp.evaluation.report import write_report
+    from simgrasp.evaluation.sweep import run_sweep
+
     start = time.perf_counter()
     records = run_sweep(
         specs,

@@ -23,22 +23,24 @@ class YcbSource:
 def float_range(text: str) -> tuple[float, ...]:
     """``START:STOP:STEP`` (inclusive of STOP) or a comma list, e.g. ``0:0.1:0.02``."""
     try:
-        if ":" not in text:
-            return tuple(float(v) for v in text.split(","))
-        start, stop, step = (float(v) for v in text.split(":"))
+        values = tuple(float(v) for v in text.split(":" if ":" in text else ","))
+        if ":" in text:
+            start, stop, step = values
     except ValueError:
         raise SimgraspError(
             f"expected START:STOP:STEP with STEP > 0 and STOP >= START, or a comma list; "
             f"got {text!r}"
         ) from None
-    if not all(math.isfinite(v) for v in (start, stop, step)) or step <= 0 or stop < start:
-        raise SimgraspError(
-            f"expected finite START:STOP:STEP with STEP > 0 and STOP >= START, got {text!r}"
-        )
+    if not all(math.isfinite(v) for v in values):
+        raise SimgraspError(f"every value must be finite (no inf or nan): {text!r}")
+    if ":" not in text:
+        return values
+    if step <= 0 or stop < start:
+        raise SimgraspError(f"expected START:STOP:STEP with STEP > 0 and STOP >= START: {text!r}")
     count = math.floor((stop - start) / step + 1e-9) + 1
     if count > MAX_RANGE_VALUES:
         raise SimgraspError(
-            f"{text!r} expands to {count} values, more than {MAX_RANGE_VALUES} (each is a sweep "
-            "point); use a larger STEP"
+            f"{text!r} expands to {count:.3g} values; at most {MAX_RANGE_VALUES} are allowed "
+            "(each is a sweep setting run for every object and seed): use a larger STEP"
         )
     return tuple(round(start + i * step, 10) for i in range(count))

@@ -47,9 +47,12 @@ def run(options: Options) -> int:
     from simgrasp.scenes.key_frames import FrameRecorder, check_frames_target, write_frames
 
     if options.width is not None and options.grasp is None:
-        raise SimgraspError("--width sets the jaw opening of --grasp; give --grasp too")
+        raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
     if options.render is not None:
+        from simgrasp.evaluation.out_dir import check_output_file
+
         check_frames_target(options.render)
+        check_output_file(options.render, "--render")
     recorder = FrameRecorder() if options.render is not None else None
     record = _given_trial(options, recorder) if options.grasp else _chain_trial(options, recorder)
     if options.render is not None and recorder is not None:

@@ -39,6 +39,7 @@ from simgrasp.grasping.trial import TrialResult, run_trial
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers import DEFAULT_GRIPPER, check_gripper_name, make_gripper
 from simgrasp.scenes.config import SceneConfig
+from simgrasp.scenes.gl_fork import check_gl_allowed
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import Scene, build_scene
@@ -173,16 +174,28 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         )
         self._models: dict[str, ObjectModel] = {}
         self._episode: _Episode | None = None
+        self._failed_reset: str | None = None
+        """Why the last reset() failed (it ended the episode before it), for step()."""
         self._renderers = RendererKeeper()
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[Observation, dict[str, Any]]:
         """Start an episode; info: ``object`` (the model's name), ``episode_seed`` and
-        ``cloud_points`` (the cloud's size before subsampling)."""
+        ``cloud_points`` (the cloud's size before subsampling). A reset that fails (an unknown
+        object, say) has ended the previous episode: ``step`` then raises, naming it."""
+        check_gl_allowed()  # fail at once in a worker forked after its parent rendered
         super().reset(seed=seed)
-        object_name, episode_seed = self._draw_episode(options or {})
         self._end_episode()
+        try:
+            self._failed_reset = None
+            return self._new_episode(options or {})
+        except Exception as exc:
+            self._failed_reset = f"{type(exc).__name__}: {exc}"
+            raise
+
+    def _new_episode(self, options: dict[str, Any]) -> tuple[Observation, dict[str, Any]]:
+        object_name, episode_seed = self._draw_episode(options)
         scene = build_scene(
             self._object_model(object_name), self._gripper, self.config.scene_config, episode_seed
         )
@@ -208,6 +221,11 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
     ) -> tuple[Observation, float, bool, bool, dict[str, Any]]:
         """Execute the grasp ``action`` and end the episode (see the class docstring)."""
         episode = self._episode
+        if episode is None and self._failed_reset is not None:
+            raise RuntimeError(
+                f"HandleGraspEnv.step(): the last reset() failed ({self._failed_reset}); "
+                "call reset() again"
+            )
         if episode is None:
             raise RuntimeError("HandleGraspEnv.step() called before reset()")
         if episode.terminated:

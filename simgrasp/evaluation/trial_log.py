@@ -1,16 +1,19 @@
 """The append-only trial log of a sweep: one JSON record per line in ``trials.jsonl``.
 
 Every finished trial is appended as one line and flushed to disk (``flush`` + ``fsync``) before
-the next, so a killed sweep loses at most the trial that was being written. A torn last line
-(no trailing newline: the process died mid-write) is cut off when the log is opened again;
-any other line that is not a trial record (a JSON object with the :data:`KEY_FIELDS`) is an
-error naming the file and line, raised before the file is changed.
+the next, so a killed sweep loses at most the trial that was being written. When the log is
+opened again, a last line without its newline is kept (the newline added) if it is a whole
+trial record, and otherwise cut off as torn (the process died mid-write) with a message on
+stderr saying what was cut; any other line that is not a trial record (a JSON object with every
+field of :data:`RECORD_FIELDS` the report reads, of its type) is an error naming the file and
+line, raised before the file is changed.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +24,25 @@ from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
 TrialKey = tuple[str, int, str]
 KEY_FIELDS = ("object", "seed")
+
+_NUMBER = (int, float)
+RECORD_FIELDS: dict[str, tuple[type, ...]] = {
+    "object": (str,),
+    "detector": (str,),
+    "gripper": (str,),
+    "noise": _NUMBER,
+    "seed": (int,),
+    "success": (bool, type(None)),
+    "failure": (str, type(None)),
+    "on_handle": (bool,),
+    "detection_accuracy": (*_NUMBER, type(None)),
+    "handle_recall": (bool, type(None)),
+    "candidates": (int,),
+    "handles": (int,),
+    "timings_s": (dict,),
+}
+"""The fields the report reads from every record, with their JSON types (``bool`` is not taken
+for a number)."""
 
 NOISE_DIGITS = 9
 """Noise levels are compared after rounding to this many decimals."""
@@ -74,6 +96,24 @@ def trial_key(record: Any) -> TrialKey:
     return str(record["object"]), seed, settings
 
 
+def check_record(record: Any) -> TrialKey:
+    """The key of a whole trial record; a ValueError naming the missing fields of
+    :data:`RECORD_FIELDS`, or the first mistyped one (or timing), otherwise."""
+    key = trial_key(record)
+    missing = [name for name in RECORD_FIELDS if name not in record]
+    if missing:
+        raise SimgraspError(f"trial record without {', '.join(missing)}, which the report needs")
+    for name, types in RECORD_FIELDS.items():
+        value = record[name]
+        if not isinstance(value, types) or (isinstance(value, bool) and bool not in types):
+            expected = " or ".join("null" if t is type(None) else t.__name__ for t in types)
+            raise SimgraspError(f"trial record field {name!r} is {value!r:.60}, not {expected}")
+    for stage, seconds in record["timings_s"].items():
+        if isinstance(seconds, bool) or not isinstance(seconds, _NUMBER):
+            raise SimgraspError(f"trial record timing {stage!r} is {seconds!r:.60}, not a number")
+    return key
+
+
 class TrialLog:
     """``trials.jsonl`` of one sweep directory (created on the first append)."""
 
@@ -89,16 +129,36 @@ class TrialLog:
         complete = data[: data.rfind(b"\n") + 1]
         lines = complete.split(b"\n")[:-1]
         records = [self._parse(line, n) for n, line in enumerate(lines, start=1) if line.strip()]
-        if len(complete) < len(data):
-            self._truncate(len(complete))
+        last = data[len(complete) :]
+        if last:
+            records += self._end_last_line(last, len(lines) + 1, len(complete))
         return records
+
+    def _end_last_line(self, last: bytes, number: int, start: int) -> list[dict[str, Any]]:
+        """A last line without its newline: kept (newline added) if it is a whole record,
+        else cut off with a message on stderr."""
+        try:
+            record = self._parse(last, number)
+        except ValueError as exc:
+            problem = str(exc).split(": ", 1)[1].split("; the trial log")[0]
+            sys.stderr.write(
+                f"{self.path}:{number}: cut a torn last line ({len(last)} bytes, {problem}): "
+                f"{last[:60].decode(errors='replace')!r}...; its trial runs again\n"
+            )
+            self._truncate(start)
+            return []
+        with self.path.open("ab") as handle:
+            handle.write(b"\n")
+            handle.flush()
+            os.fsync(handle.fileno())
+        return [record]
 
     def _parse(self, line: bytes, number: int) -> dict[str, Any]:
         """The trial record on line ``number``; a ValueError naming the file and line if the
         line is not one."""
         try:
             record = json.loads(line)
-            trial_key(record)
+            check_record(record)
         except json.JSONDecodeError as exc:
             problem = f"not a JSON record ({exc.msg})"
         except ValueError as exc:  # not UTF-8, or not a trial record

@@ -6,7 +6,13 @@
 Policy for bad data: reading refuses (``ValueError`` naming the file) an unknown extension, a
 missing or unreadable file, a wrong column count, an empty cloud, and any non-finite value,
 reporting how many points have NaN or inf: silently dropping points would change what a
-detector sees. Normals are rescaled to unit length; zero-length normals are refused.
+detector sees. Normals are rescaled to unit length; zero-length normals are refused. A cut or
+corrupted file is refused rather than read with points that are not in it: ``.ply`` and
+``.pcd`` by the strict readers of :mod:`simgrasp.perception.cloud_formats` (point counts must
+match the header, every value must parse), ``.npy`` when its size does not match its header or
+it is not a little-endian float32 / float64 array (as ``np.save`` writes one), and text
+(``.xyz``, ASCII PLY / PCD) whose last line has no newline (it may have been cut inside a
+number).
 """
 
 from __future__ import annotations
@@ -19,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d, to_open3d
+from simgrasp.perception.cloud_formats import read_pcd, read_ply
 
 FORMATS = (".ply", ".pcd", ".xyz", ".npy")
 
@@ -41,7 +48,7 @@ def read_cloud(path: str | Path) -> Cloud:
     if not path.is_file():
         raise SimgraspError(f"{path}: no such point-cloud file")
     if suffix in (".ply", ".pcd"):
-        points, normals = _read_open3d(path)
+        points, normals = _read_structured(path, suffix)
     else:
         points, normals = _split_columns(path, _read_table(path, suffix))
     return _checked(path, points, normals)
@@ -69,29 +76,62 @@ def write_cloud(path: str | Path, points: ArrayLike, normals: ArrayLike | None =
         np.savetxt(path, table, fmt="%.17g")
 
 
-def _read_open3d(path: Path) -> Cloud:
-    o3d = import_open3d()
-    cloud = o3d.io.read_point_cloud(str(path), format="auto")
-    points = np.asarray(cloud.points, dtype=np.float64)
-    if len(points) == 0:
-        raise SimgraspError(f"{path}: no points could be read (empty or not a valid {path.suffix})")
-    normals = np.asarray(cloud.normals, dtype=np.float64) if cloud.has_normals() else None
+NORMAL_NAMES = {".ply": ("nx", "ny", "nz"), ".pcd": ("normal_x", "normal_y", "normal_z")}
+NPY_DTYPES = ("<f4", "<f8")
+
+
+def _read_structured(path: Path, suffix: str) -> Cloud:
+    """Points (and normals, when the file has all three components) of a PLY or PCD file."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise SimgraspError(f"{path}: cannot read the point cloud ({exc.strerror})") from None
+    table = read_ply(path, data) if suffix == ".ply" else read_pcd(path, data)
+    missing = [axis for axis in "xyz" if axis not in table]
+    if missing:
+        raise SimgraspError(f"{path}: the cloud has no {', '.join(missing)} coordinates")
+    points = np.column_stack([table[axis] for axis in "xyz"])
+    names = NORMAL_NAMES[suffix]
+    normals = np.column_stack([table[n] for n in names]) if set(names) <= set(table) else None
     return points, normals
 
 
 def _read_table(path: Path, suffix: str) -> NDArray[np.float64]:
     try:
-        if suffix == ".npy":
-            table = np.load(path, allow_pickle=False)
-        else:
-            with warnings.catch_warnings():  # an empty file is reported below, not warned
-                warnings.simplefilter("ignore", UserWarning)
-                table = np.loadtxt(path, dtype=np.float64, comments="#", ndmin=2)
+        table = _read_npy(path) if suffix == ".npy" else _read_text(path)
     except (ValueError, OSError, EOFError) as exc:
         raise SimgraspError(f"{path}: not a readable {suffix} point cloud ({exc})") from exc
-    if table.dtype.kind not in "fiu":
-        raise SimgraspError(f"{path}: expected a numeric array, got dtype {table.dtype}")
     return np.asarray(table, dtype=np.float64)
+
+
+def _read_text(path: Path) -> NDArray[np.float64]:
+    """The numbers of a text cloud; its last line must end with a newline (or be a comment)."""
+    text = path.read_bytes()
+    tail = text[text.rfind(b"\n") + 1 :].strip()
+    if tail and not tail.startswith(b"#"):
+        raise SimgraspError("the last line has no newline: the file may be cut inside a number")
+    with warnings.catch_warnings():  # an empty file is reported later, not warned
+        warnings.simplefilter("ignore", UserWarning)
+        return np.loadtxt(path, dtype=np.float64, comments="#", ndmin=2)
+
+
+def _read_npy(path: Path) -> NDArray[np.float64]:
+    """An ``.npy`` array whose file size matches its header exactly, of a float dtype."""
+    npy = np.lib.format
+    with path.open("rb") as handle:
+        try:
+            version = npy.read_magic(handle)
+            reader = npy.read_array_header_1_0 if version == (1, 0) else npy.read_array_header_2_0
+            shape, _, dtype = reader(handle)
+        except Exception as exc:  # numpy parses the header with Python's tokenizer
+            raise SimgraspError(f"bad .npy header: {exc}") from None
+        data_size = int(np.prod(shape)) * dtype.itemsize
+        body = path.stat().st_size - handle.tell()
+    if dtype.str not in NPY_DTYPES:
+        raise SimgraspError(f"expected a little-endian float32 or float64 array, got {dtype.str}")
+    if body != data_size:
+        raise SimgraspError(f"its header declares {shape} ({data_size} bytes), it holds {body}")
+    return np.load(path, allow_pickle=False)
 
 
 def _split_columns(path: Path, table: NDArray[np.float64]) -> Cloud:

@@ -50,6 +50,7 @@ from simgrasp.scenes.camera import (
     model_camera_intrinsics,
     world_T_cam,
 )
+from simgrasp.scenes.gl_fork import note_gl_context  # noqa: E402
 
 DEPTH_GEOM_GROUPS: tuple[int, ...] = (0, 1, 2)
 
@@ -268,6 +269,7 @@ class SceneRenderer:
                     f"{global_.offwidth}x{global_.offheight}; add cameras with add_camera or "
                     "raise visual/global offwidth/offheight"
                 )
+            note_gl_context()  # a forked child of this process must not render
             self._renderers[key] = mujoco.Renderer(self.model, height=height, width=width)
         return self._renderers[key]
 

@@ -1,0 +1,107 @@
+"""A sweep's output directory: checked before any work starts, and held by one run at a time.
+
+:func:`claim_out_dir` refuses (``ValueError`` naming the directory) a path that is a file or a
+directory this process cannot create or write into (it creates and deletes a probe file, and
+opens an existing ``trials.jsonl`` for appending), then takes an exclusive ``flock`` on
+``DIR/.simgrasp.lock`` for as long as the run lasts. The lock is held by the open file
+descriptor, so the kernel releases it when its holder exits in any way, ``kill -9`` included:
+a dead run never leaves the directory locked. The holder writes its pid, host, start time and
+command line into the file, so a second run on the directory names the one that holds it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import json
+import os
+import shlex
+import socket
+import time
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+from simgrasp.errors import SimgraspError
+
+LOCK_FILE = ".simgrasp.lock"
+LOG_FILE = "trials.jsonl"
+
+
+def check_out_dir(out: Path) -> None:
+    """Create ``out`` if needed and prove it writable; a ValueError naming it otherwise."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise SimgraspError(f"--out {out}: is a file, not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / f".write-probe-{os.getpid()}"
+        probe.write_bytes(b"probe")
+        probe.unlink()
+        log = out / LOG_FILE
+        if log.exists() or log.is_symlink():
+            with log.open("ab"):
+                pass
+    except OSError as exc:
+        where = exc.filename or out
+        raise SimgraspError(f"--out {out}: {where} is not writable ({exc.strerror})") from None
+
+
+def check_output_file(path: Path, option: str) -> None:
+    """Prove a file can be written at ``path`` (its directory created if needed) before the
+    work that makes it runs; a ValueError naming ``option`` and ``path`` otherwise."""
+    path = Path(path)
+    if path.is_dir():
+        raise SimgraspError(f"{option} {path}: is a directory, not writable as a file")
+    blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+    if blocker is not None:
+        raise SimgraspError(f"{option} {path}: {blocker} is a file, not a directory")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        probe = path.parent / f".write-probe-{os.getpid()}"
+        probe.write_bytes(b"probe")
+        probe.unlink()
+    except OSError as exc:
+        raise SimgraspError(
+            f"{option} {path}: its directory is not writable ({exc.strerror}: {exc.filename})"
+        ) from None
+
+
+def _holder_text(command: Sequence[str]) -> str:
+    when = time.strftime("%Y-%m-%d %H:%M:%S %Z", time.localtime())
+    holder = {"pid": os.getpid(), "host": socket.gethostname(), "since": when}
+    return json.dumps({**holder, "command": shlex.join(["simgrasp", *command])}) + "\n"
+
+
+def _describe_holder(lock_path: Path) -> str:
+    try:
+        holder = json.loads(lock_path.read_text(encoding="utf-8"))
+        return (
+            f"pid {holder['pid']} on {holder['host']} since {holder['since']}: {holder['command']}"
+        )
+    except (OSError, ValueError, KeyError, TypeError):
+        return "a process that has not written its name yet"
+
+
+@contextlib.contextmanager
+def claim_out_dir(out: Path, command: Sequence[str]) -> Iterator[Path]:
+    """Check ``out`` (:func:`check_out_dir`) and hold its lock while the block runs; a
+    ValueError naming the running holder if another process holds it. ``command`` is this
+    run's argument list (written into the lock file for a second run to name)."""
+    out = Path(out)
+    check_out_dir(out)
+    lock_path = out / LOCK_FILE
+    fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise SimgraspError(
+                f"--out {out} is in use by another run ({_describe_holder(lock_path)}); wait "
+                "for it to finish or choose another --out"
+            ) from None
+        os.ftruncate(fd, 0)
+        os.write(fd, _holder_text(command).encode())
+        os.fsync(fd)
+        yield out
+    finally:
+        os.close(fd)  # releases the lock
