@@ -353,17 +353,22 @@ def summarize(
 
 
 def calibration_rows(
-    paths: list[Path], config: SensorConfig, seed: int, edges: tuple[float, ...] = DEPTH_BINS
-) -> list[CalibrationRow]:
-    """Compare the sensor of ``config`` with every labeled scan in ``paths`` (scan i simulated
-    with the generator ``rng_for(seed, "sensor-calibration", i)``) and pool the rows."""
+    paths: list[Path],
+    configs: list[SensorConfig],
+    seed: int,
+    edges: tuple[float, ...] = DEPTH_BINS,
+) -> list[list[CalibrationRow]]:
+    """Compare each sensor of ``configs`` with every labeled scan in ``paths`` (scan i
+    simulated with the generator ``rng_for(seed, "sensor-calibration", i)``, for every config)
+    and pool the rows: one list of rows per config."""
     from simgrasp.seeding import rng_for
 
     if not paths:
         raise ValueError("no scans to calibrate against")
-    comparisons = []
+    comparisons: list[list[ScanComparison]] = [[] for _ in configs]
     for index, path in enumerate(paths):
         prepared = prepare_scan(read_labeled_scan(path), edges)
-        rng = rng_for(seed, "sensor-calibration", index)
-        comparisons.append(compare_scan(prepared, config, rng, bins=len(edges) - 1))
-    return summarize(comparisons, edges)
+        for config, per_config in zip(configs, comparisons, strict=True):
+            rng = rng_for(seed, "sensor-calibration", index)
+            per_config.append(compare_scan(prepared, config, rng, bins=len(edges) - 1))
+    return [summarize(per_config, edges) for per_config in comparisons]
