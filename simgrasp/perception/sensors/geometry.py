@@ -53,19 +53,14 @@ def incidence_angle(z: Image, K: NDArray[np.float64], limit_deg: float = 89.0) -
 def _smaller_difference(z: Image, axis: int) -> Image:
     """Per pixel, the forward or backward difference along ``axis``, whichever is smaller in
     magnitude (the one difference there is on the image border)."""
-    step = np.diff(z, axis=axis)
-    forward = np.empty_like(z)
-    backward = np.empty_like(z)
-    body = [slice(None), slice(None)]
-    body[axis] = slice(None, -1)
-    forward[tuple(body)] = step
-    body[axis] = slice(1, None)
-    backward[tuple(body)] = step
-    first, last = [slice(None), slice(None)], [slice(None), slice(None)]
-    first[axis], last[axis] = 0, -1
-    backward[tuple(first)] = np.inf
-    forward[tuple(last)] = np.inf
-    return np.where(np.abs(forward) < np.abs(backward), forward, backward)
+    step = np.moveaxis(np.diff(z, axis=axis), axis, 0)
+    out = np.empty_like(z)
+    view = np.moveaxis(out, axis, 0)
+    magnitude = np.abs(step)
+    np.copyto(view[1:-1], step[:-1])
+    np.copyto(view[1:-1], step[1:], where=magnitude[1:] < magnitude[:-1])
+    view[0], view[-1] = step[0], step[-1]
+    return out
 
 
 def depth_edges(z: Image, relative_jump: float) -> NDArray[np.bool_]:

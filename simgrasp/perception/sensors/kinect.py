@@ -122,10 +122,16 @@ class KinectConfig(SensorConfig):
     def axial_sigma(self, z: NDArray[np.floating], theta: NDArray[np.floating]) -> NDArray:
         """Axial standard deviation (m) at depth ``z`` (m) and incidence angle ``theta``
         (rad, below pi/2)."""
-        slope = theta**2 / (math.pi / 2 - theta) ** 2
+        slope = theta / (math.pi / 2 - theta)
+        slope *= slope
         with np.errstate(divide="ignore", invalid="ignore"):
-            angular = self.axial_angle / np.sqrt(z) * slope
-        return self.axial_a + self.axial_b * (z - self.axial_c) ** 2 + angular
+            slope *= self.axial_angle / np.sqrt(z)
+        offset = z - self.axial_c
+        offset *= offset
+        offset *= self.axial_b
+        slope += offset
+        slope += self.axial_a
+        return slope
 
     def lateral_sigma_px(self, fx: float, theta: NDArray[np.floating]) -> NDArray[np.floating]:
         """Lateral standard deviation (px of an image of focal length ``fx`` px)."""
@@ -185,6 +191,7 @@ def kinect(
     in_range(out, config.min_range, config.max_range)
     out[shadow] = 0.0
     drop(out, config.missing_probability(theta), rng)
-    edge_band = band(edges, round(config.edge_dropout_px))
-    drop(out, np.where(edge_band, np.float32(config.edge_dropout), np.float32(0.0)), rng)
+    if config.edge_dropout > 0.0:
+        edge_band = band(edges, round(config.edge_dropout_px))
+        drop(out, np.where(edge_band, np.float32(config.edge_dropout), np.float32(0.0)), rng)
     return out
