@@ -164,6 +164,33 @@ def test_kinect_flying_pixels_lie_between_the_surfaces() -> None:
     assert floating.sum() == pytest.approx(0.5 * 0.95 * edges.sum(), rel=0.1)
 
 
+def test_kinect_lateral_noise_moves_silhouettes_by_its_sigma() -> None:
+    """The background pixel next to a vertical edge of a square takes the foreground depth
+    when its column offset round(N(0, sigma_L)) reaches the edge: P = 1 - Phi(0.5 / sigma_L)
+    with sigma_L = fx (lateral_rad + lateral_angle_rad theta / (pi/2 - theta)) pixels."""
+    from scipy.stats import norm
+
+    defaults = KinectConfig()
+    config = dataclasses.replace(
+        QUIET_KINECT,
+        lateral_rad=defaults.lateral_rad,
+        lateral_angle_rad=defaults.lateral_angle_rad,
+        projector_baseline=0.0,
+        registration_offset=0.0,
+    )
+    depth = np.full(SHAPE, 1.0, dtype=np.float32)
+    depth[40:440, 240:400] = 0.8
+    out = apply_sensor(depth, K, config, rng_for(6, "lateral"))
+    rows = np.arange(60, 420)
+    beside = np.concatenate([out[rows, 239], out[rows, 400]])
+    sigma = config.lateral_sigma_px(K[0, 0], incidence_deg(depth)[rows, 239] * math.pi / 180)
+    expected = 1.0 - norm.cdf(0.5 / sigma).mean()
+    assert 0.15 < expected < 0.35
+    tolerance = 4 * math.sqrt(expected * (1 - expected) / beside.size)
+    assert np.mean(beside == np.float32(0.8)) == pytest.approx(expected, abs=tolerance)
+    assert np.all(out[rows, 236] == 1.0)  # beyond the 2 px jitter zone
+
+
 def test_stereo_noise_follows_intels_rms_formula() -> None:
     config = StereoConfig(depth_resolution=0.0, edge_dropout=0.0)
     for z in (0.5, 1.0, 2.0):

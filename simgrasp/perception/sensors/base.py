@@ -80,7 +80,19 @@ def drop(
     """Set each pixel of ``z`` to 0 (no return) with its own ``probability`` (an (H, W)
     image), in place. One uniform number is drawn per pixel of positive probability."""
     rows, cols = np.nonzero(probability > 0.0)
-    dropped = rng.random(rows.size, dtype=np.float32) < probability[rows, cols]
+    drop_at(z, (rows, cols), probability[rows, cols], rng)
+
+
+def drop_at(
+    z: NDArray[np.floating],
+    pixels: tuple[NDArray[np.intp], NDArray[np.intp]],
+    probability: NDArray[np.floating],
+    rng: np.random.Generator,
+) -> None:
+    """Set each of the ``pixels`` (rows, columns) of ``z`` to 0 with its own ``probability``,
+    in place; draws one uniform number per pixel."""
+    rows, cols = pixels
+    dropped = rng.random(rows.size, dtype=np.float32) < probability
     z[rows[dropped], cols[dropped]] = 0.0
 
 
@@ -90,8 +102,12 @@ def in_range(z: NDArray[np.floating], min_range: float, max_range: float) -> Non
 
 
 def round_depth(z: NDArray[np.floating], resolution: float) -> None:
-    """Round depths to multiples of ``resolution`` (m; a sensor's depth unit), in place; 0 keeps
-    them."""
+    """Round depths to multiples of ``resolution`` (m; a sensor's depth unit), in place (0
+    stays 0, nothing returns less than one unit); ``resolution`` 0 keeps them."""
     if resolution > 0.0:
-        valid = z > 0.0
-        z[valid] = np.maximum(np.rint(z[valid] * (1.0 / resolution)), 1.0) * resolution
+        zero = z <= 0.0
+        z *= 1.0 / resolution
+        np.rint(z, out=z)
+        np.maximum(z, 1.0, out=z)
+        z *= resolution
+        z[zero] = 0.0

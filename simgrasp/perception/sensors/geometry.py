@@ -46,8 +46,11 @@ def incidence_angle(z: Image, K: NDArray[np.float64], limit_deg: float = 89.0) -
     """Angle (rad) between each pixel's viewing ray and its surface normal (see
     :func:`incidence_cos`), at most ``limit_deg``; 0 where there is no return."""
     cos = incidence_cos(z, K)
-    np.nan_to_num(cos, copy=False, nan=1.0)
-    return np.minimum(np.arccos(np.clip(cos, 0.0, 1.0)), np.radians(limit_deg)).astype(z.dtype)
+    np.clip(cos, 0.0, 1.0, out=cos)
+    theta = np.arccos(cos, out=cos)
+    np.fmin(theta, np.float32(np.radians(limit_deg)), out=theta)
+    theta[z <= 0.0] = 0.0
+    return theta
 
 
 def _smaller_difference(z: Image, axis: int) -> Image:

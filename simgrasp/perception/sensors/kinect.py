@@ -13,6 +13,7 @@ from simgrasp.perception.sensors.base import (
     SensorConfig,
     check_probability,
     drop,
+    drop_at,
     in_range,
     round_depth,
 )
@@ -148,10 +149,14 @@ def quantize_inverse_depth(z: NDArray[np.floating], step: float) -> NDArray[np.f
     if step <= 0.0:
         return z
     with np.errstate(divide="ignore"):
-        levels = np.rint((1.0 / step) / z)
+        levels = np.reciprocal(z)
+    levels *= 1.0 / step
+    np.rint(levels, out=levels)
     np.maximum(levels, 1.0, out=levels)
     levels *= step
-    return np.where(z > 0.0, 1.0 / levels, 0.0).astype(z.dtype)
+    quantized = np.reciprocal(levels, out=levels)
+    quantized[z <= 0.0] = 0.0
+    return quantized
 
 
 def unseen(
@@ -182,15 +187,16 @@ def kinect(
     zone = np.nonzero(band(edges, round(config.edge_jitter_px)))
     out = lateral_jitter(z, zone, config.lateral_sigma_px(K[0, 0], theta[zone]), rng)
     out = flying_pixels(out, edges, config.flying_probability, rng)
-    valid = out > 0.0
     noise = rng.standard_normal(z.shape, dtype=np.float32)
-    noise *= config.axial_sigma(np.where(valid, out, 1.0), theta)
-    out = np.where(valid, np.maximum(out + noise, 1e-3), 0.0).astype(z.dtype)
+    noise *= config.axial_sigma(np.where(out > 0.0, out, 1.0), theta)
+    noise += out
+    out = np.where(out > 0.0, np.fmax(noise, 1e-3), 0.0).astype(z.dtype)
     out = quantize_inverse_depth(out, config.inverse_depth_step)
     round_depth(out, config.depth_resolution)
     in_range(out, config.min_range, config.max_range)
     out[shadow] = 0.0
-    drop(out, config.missing_probability(theta), rng)
+    grazing = np.nonzero(theta > math.radians(config.grazing_start_deg))
+    drop_at(out, grazing, config.missing_probability(theta[grazing]), rng)
     if config.edge_dropout > 0.0:
         edge_band = band(edges, round(config.edge_dropout_px))
         drop(out, np.where(edge_band, np.float32(config.edge_dropout), np.float32(0.0)), rng)
