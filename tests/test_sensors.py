@@ -235,6 +235,22 @@ def test_stereo_needs_texture_when_given_an_intensity_image() -> None:
     assert np.all(textured > 0)
 
 
+@pytest.mark.parametrize("name", sorted(SENSORS))
+def test_no_return_pixels_stay_without_return(name: str) -> None:
+    """0, NaN, inf and negative depths are no return: the models give 0 there (edge effects
+    may spread a few pixels into a hole, not further), never NaN or inf."""
+    depth = np.full(SHAPE, 1.0)
+    for i, value in enumerate([0.0, np.nan, np.inf, -1.0]):
+        depth[100:140, 100 + 40 * i : 140 + 40 * i] = value
+    out = apply_sensor(depth, K, sensor_config(name), rng_for(0))
+    if name == "ideal":
+        assert np.array_equal(out, depth, equal_nan=True)
+        return
+    assert np.all(np.isfinite(out))
+    for i in range(4):
+        assert np.all(out[105:135, 105 + 40 * i : 135 + 40 * i] == 0.0)
+
+
 @pytest.mark.parametrize(
     ("depth", "K_bad", "message"),
     [
