@@ -21,11 +21,12 @@ from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.chain_config import CHAIN_DETECTORS, ChainConfig, ChainDetector
 from simgrasp.grippers.registry import gripper_names
+from simgrasp.perception.sensors.settings import sensor_names
 
 if TYPE_CHECKING:
     from simgrasp.evaluation.sweep import TrialSpec
 
-SWEPT = ("detector.kind", "gripper", "noise")
+SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -38,6 +39,8 @@ class Options(YcbSource):
     """Grippers to sweep (builtin, robotiq_2f85)."""
     noise: tuple[float, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
     """Multiplicative cloud-noise sigmas: START:STOP:STEP or a comma list."""
+    sensor: tuple[str, ...] = setting(("ideal",), choices=None)
+    """Depth sensors to sweep (ideal, kinect, stereo)."""
     seeds: int = 3
     """Seeds 0..N-1 per setting."""
     workers: int = 2
@@ -61,7 +64,12 @@ def run(options: Options) -> int:
 
     _check(options)
     ycb_dir = options.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
-    axes = {"detector.kind": options.detector, "gripper": options.gripper, "noise": options.noise}
+    axes = {
+        "detector.kind": options.detector,
+        "gripper": options.gripper,
+        "noise": options.noise,
+        "sensor.kind": options.sensor,
+    }
     specs = plan_trials(expand_objects(options.objects), axes, range(options.seeds), options.chain)
     check_plan(specs, ycb_dir)
     with claim_out_dir(options.out, invocation()):  # checked and held before any trial runs
@@ -105,6 +113,11 @@ def _check(options: Options) -> None:
     if unknown:
         raise SimgraspError(
             f"unknown --gripper {unknown[0]!r}; choose from {', '.join(gripper_names())}"
+        )
+    unknown = [s for s in options.sensor if s not in sensor_names()]
+    if unknown:
+        raise SimgraspError(
+            f"unknown --sensor {unknown[0]!r}; choose from {', '.join(sensor_names())}"
         )
     bad = [sigma for sigma in options.noise if not 0 <= sigma < 1]
     if bad:

@@ -38,6 +38,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trial import TrialResult, run_trial
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers import DEFAULT_GRIPPER, check_gripper_name, make_gripper
+from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.gl_fork import check_gl_allowed
 from simgrasp.scenes.kept_renderer import RendererKeeper
@@ -64,6 +65,8 @@ class HandleGraspConfig:
             default: the generated tools. Models are built on first use.
         gripper: a registered gripper name (:func:`simgrasp.grippers.gripper_names`).
         noise: multiplicative noise sigma on the cloud, as ``ChainConfig.noise``.
+        sensor: the depth sensor each view passes through (``ChainConfig.sensor``); the
+            observation's ``depth`` is what it returns.
         num_views: default scene cameras (1..4, default the chain's 4); replaces
             ``scene.num_views``. Explicit ``scene.cameras`` take precedence (V = their
             number; they must share one size).
@@ -79,6 +82,7 @@ class HandleGraspConfig:
     objects: tuple[str, ...] = GENERATED_OBJECTS
     gripper: str = DEFAULT_GRIPPER
     noise: float = 0.0
+    sensor: SensorSettings = field(default_factory=SensorSettings)
     num_views: int = CHAIN_VIEWS
     max_points: int = 8192
     reward: RewardKind = "on_handle"
@@ -199,7 +203,8 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         scene = build_scene(
             self._object_model(object_name), self._gripper, self.config.scene_config, episode_seed
         )
-        seen = observe(scene, self._renderers.renderer_for(scene), self.config.noise, episode_seed)
+        renderer = self._renderers.renderer_for(scene)
+        seen = observe(scene, renderer, self.config.noise, episode_seed, self.config.sensor)
         cloud = seen.cloud
         observation = make_observation(
             seen.frames,

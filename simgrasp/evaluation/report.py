@@ -94,6 +94,15 @@ def summary_rows(records: Sequence[Record]) -> list[dict[str, Any]]:
     return rows
 
 
+def sensor_labeled(records: Sequence[Record]) -> list[Record]:
+    """``records``, each detector named ``detector+sensor`` when the records span several
+    depth sensors (records without a sensor were seen by the ideal one)."""
+    sensors = {r.get("sensor", "ideal") for r in records}
+    if len(sensors) < 2:
+        return list(records)
+    return [{**r, "detector": f"{r['detector']}+{r.get('sensor', 'ideal')}"} for r in records]
+
+
 def write_summary_csv(records: Sequence[Record], path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="", encoding="utf-8") as handle:
@@ -311,7 +320,9 @@ def write_plots(records: Sequence[Record], out_dir: Path) -> list[Path]:
 
 
 def write_report(records: Sequence[Record], out_dir: Path, title: str = "Grasp sweep") -> str:
-    """Write ``summary.csv``, ``report.md`` and the plots into ``out_dir``; return the report."""
+    """Write ``summary.csv``, ``report.md`` and the plots into ``out_dir``; return the report.
+    Records of more than one depth sensor are told apart as ``detector+sensor``."""
+    records = sensor_labeled(records)
     text = report_markdown(records, title)
     write_summary_csv(records, out_dir / "summary.csv")
     (out_dir / "report.md").write_text(text + "\n", encoding="utf-8")

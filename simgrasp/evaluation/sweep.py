@@ -55,7 +55,7 @@ class TrialSpec:
 
     def summary_fields(self) -> dict[str, Any]:
         """The record fields that name the trial for reports (object, detector, gripper,
-        noise, seed, placement, views) and its ``settings``."""
+        noise, seed, placement, views, sensor) and its ``settings``."""
         config = self.config
         return {
             "object": self.object,
@@ -65,6 +65,7 @@ class TrialSpec:
             "seed": self.seed,
             "placement": config.scene.placement,
             "views": config.scene.num_views,
+            "sensor": config.sensor.kind,
             "settings": self.settings,
         }
 

@@ -16,7 +16,7 @@ from simgrasp.grasping.planner_config import PlannerConfig
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 from simgrasp.handles.detector_config import DetectorConfig
-from simgrasp.perception.sensor_config import SensorConfig
+from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.views import CHAIN_VIEWS
 
@@ -52,7 +52,7 @@ class ChainConfig:
     noise: float = 0.0
     """The paper's multiplicative noise sigma on the observed cloud about its centroid
     (Table II's model), so detection and grasp sweeps share one noise axis."""
-    sensor: SensorConfig = field(default_factory=SensorConfig)
+    sensor: SensorSettings = field(default_factory=SensorSettings)
     scene: SceneConfig = field(default_factory=_chain_scene)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     trial: TrialConfig = field(default_factory=TrialConfig)

@@ -4,7 +4,7 @@ object's pixels into one world-frame cloud with normals turned toward the camera
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -13,7 +13,8 @@ from simgrasp.errors import SimgraspError
 from simgrasp.perception.camera import depth_to_points_cam, transform_points
 from simgrasp.perception.noise import DepthNoiseConfig, depth_camera_noise, multiplicative_noise
 from simgrasp.perception.normals import estimate_normals
-from simgrasp.perception.sensor_config import SensorConfig
+from simgrasp.perception.sensors import apply_sensor
+from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.perception.voxel import voxel_downsample
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
 from simgrasp.scenes.scene import Scene
@@ -110,17 +111,31 @@ def render_views(scene: Scene, renderer: SceneRenderer) -> list[DepthFrame]:
     return [renderer.depth(scene.data, camera) for camera in scene.cameras]
 
 
+def sensed_views(frames: list[DepthFrame], sensor: SensorSettings, seed: int) -> list[DepthFrame]:
+    """``frames`` as the ``sensor`` returns them: each view's depth image through the sensor
+    model (seeded by ``seed`` and the view's index), pixels it returns nothing for at 0 depth
+    (they give no points); the segmentation stays the rendered one. An ideal sensor returns
+    ``frames`` themselves."""
+    if sensor.kind == "ideal":
+        return frames
+    model = sensor.model()
+    return [
+        replace(
+            frame,
+            depth=apply_sensor(
+                frame.depth, frame.intrinsics.matrix, model, rng_for(seed, "sensor", index)
+            ),
+        )
+        for index, frame in enumerate(frames)
+    ]
+
+
 def cloud_from_views(
-    scene: Scene,
-    frames: list[DepthFrame],
-    noise: float,
-    seed: int,
-    sensor: SensorConfig | None = None,
+    scene: Scene, frames: list[DepthFrame], noise: float, seed: int
 ) -> ObjectCloud:
-    """Fuse the object's pixels of ``frames``, as ``sensor`` (default ideal) sees them, into a
-    world-frame cloud (``CLOUD_VOXEL`` voxels) and apply the multiplicative noise ``noise``
-    about its centroid (seeded by ``seed``)."""
-    assert sensor is None or sensor.kind == "ideal"
+    """Fuse the object's pixels of ``frames`` into a world-frame cloud (``CLOUD_VOXEL``
+    voxels) and apply the multiplicative noise ``noise`` about its centroid (seeded by
+    ``seed``)."""
     cloud = object_cloud(frames, [scene.object_body], voxel_size=CLOUD_VOXEL)
     if noise == 0 or len(cloud) == 0:
         return cloud
@@ -143,12 +158,13 @@ def observe(
     renderer: SceneRenderer,
     noise: float,
     seed: int,
-    sensor: SensorConfig | None = None,
+    sensor: SensorSettings | None = None,
 ) -> SceneObservation:
-    """Render every scene camera with ``renderer`` (reset to the scene's initial state) and
-    fuse the object's pixels into a world-frame cloud (see :func:`cloud_from_views`)."""
-    frames = render_views(scene, renderer)
-    return SceneObservation(frames, cloud_from_views(scene, frames, noise, seed, sensor))
+    """Render every scene camera with ``renderer`` (reset to the scene's initial state), pass
+    each view through ``sensor`` (default ideal; :func:`sensed_views`) and fuse the object's
+    pixels into a world-frame cloud (see :func:`cloud_from_views`)."""
+    frames = sensed_views(render_views(scene, renderer), sensor or SensorSettings(), seed)
+    return SceneObservation(frames, cloud_from_views(scene, frames, noise, seed))
 
 
 def viewpoint_normals(cloud: ObjectCloud) -> np.ndarray:

@@ -85,7 +85,7 @@ def drop(
 
 def drop_at(
     z: NDArray[np.floating],
-    pixels: tuple[NDArray[np.intp], NDArray[np.intp]],
+    pixels: tuple[NDArray[np.intp], ...],
     probability: NDArray[np.floating],
     rng: np.random.Generator,
 ) -> None:

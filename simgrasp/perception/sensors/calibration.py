@@ -209,7 +209,7 @@ def bin_index(depth: NDArray[np.float64], edges: tuple[float, ...] = DEPTH_BINS)
     return np.where((index >= 0) & (index < len(edges) - 1), index, -1)
 
 
-def points_from_depth(depth: NDArray[np.float64], K: NDArray[np.float64]) -> NDArray:
+def points_from_depth(depth: NDArray[np.floating], K: NDArray[np.floating]) -> NDArray:
     """(H, W, 3) camera-frame points (m) of a depth image, NaN where there is no return."""
     height, width = depth.shape
     z = np.where(depth > 0, depth, np.nan)
@@ -329,9 +329,9 @@ def summarize(
 
     real_bins = bin_index(pooled("real_patch_depth"), edges)
     sim_bins = bin_index(pooled("sim_patch_depth"), edges)
-    band_pixels = sum(c.band_pixels for c in comparisons)
-    real_invalid = sum(c.real_band_invalid for c in comparisons)
-    sim_invalid = sum(c.sim_band_invalid for c in comparisons)
+    band_pixels = np.sum([c.band_pixels for c in comparisons], axis=0)
+    real_invalid = np.sum([c.real_band_invalid for c in comparisons], axis=0)
+    sim_invalid = np.sum([c.sim_band_invalid for c in comparisons], axis=0)
     rows = []
     for i, (low, high) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
         real = pooled("real_patch_rms")[real_bins == i]

@@ -8,7 +8,7 @@ from numpy.typing import NDArray
 
 def lateral_jitter(
     z: NDArray[np.floating],
-    pixels: tuple[NDArray[np.int64], NDArray[np.int64]],
+    pixels: tuple[NDArray[np.intp], ...],
     sigma_px: NDArray[np.floating],
     rng: np.random.Generator,
 ) -> NDArray[np.floating]:

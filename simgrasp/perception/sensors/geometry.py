@@ -15,7 +15,7 @@ from scipy import ndimage
 Image = NDArray[np.floating]
 
 
-def incidence_cos(z: Image, K: NDArray[np.float64]) -> Image:
+def incidence_cos(z: Image, K: NDArray[np.floating]) -> Image:
     """|cos| of the angle between each pixel's viewing ray and its surface normal.
 
     With the ray ``r = ((u - cx)/fx, (v - cy)/fy, 1)`` and the point ``P = z r``, the cross
@@ -42,7 +42,7 @@ def incidence_cos(z: Image, K: NDArray[np.float64]) -> Image:
     return cos
 
 
-def incidence_angle(z: Image, K: NDArray[np.float64], limit_deg: float = 89.0) -> Image:
+def incidence_angle(z: Image, K: NDArray[np.floating], limit_deg: float = 89.0) -> Image:
     """Angle (rad) between each pixel's viewing ray and its surface normal (see
     :func:`incidence_cos`), at most ``limit_deg``; 0 where there is no return."""
     cos = incidence_cos(z, K)
@@ -88,7 +88,7 @@ def band(mask: NDArray[np.bool_], width_px: int) -> NDArray[np.bool_]:
     return ndimage.maximum_filter(mask.view(np.uint8), size=2 * width_px + 1).view(bool)
 
 
-def baseline_shadow(z: Image, K: NDArray[np.float64], baseline: float) -> NDArray[np.bool_]:
+def baseline_shadow(z: Image, K: NDArray[np.floating], baseline: float) -> NDArray[np.bool_]:
     """Pixels hidden from a second center of projection ``baseline`` meters along +x of the
     camera (negative: along -x), such as a structured-light projector or a stereo pair's
     second imager.
