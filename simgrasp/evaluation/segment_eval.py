@@ -7,6 +7,7 @@ part (label >= 20) is scored by its best IoU with any predicted object (label >=
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -101,3 +102,16 @@ def summarize(scores: Iterable[SceneScore]) -> dict[str, float]:
         "median_ms": float(np.median(ms)) if len(ms) else 0.0,
         "mean_ms": float(ms.mean()) if len(ms) else 0.0,
     }
+
+
+def real_data_dir() -> Path:
+    """The real-sensor data folder: ``$SIMGRASP_REAL_DIR``, else ``<repo>/../shared/real``."""
+    configured = os.environ.get("SIMGRASP_REAL_DIR")
+    if configured:
+        return Path(configured)
+    return Path(__file__).resolve().parents[3] / "shared" / "real"
+
+
+def osd_scenes(folder: Path) -> list[Path]:
+    """The ``learn<N>.pcd`` scenes of an osd-learn folder, by N."""
+    return sorted(Path(folder).glob("learn*.pcd"), key=lambda p: int(p.stem[5:] or -1))

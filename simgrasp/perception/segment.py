@@ -216,8 +216,11 @@ def _dbscan_segments(
     index = np.flatnonzero(above)
     if len(index) == 0:
         return segments
-    keys = np.floor(scene.points[index] / config.cluster_voxel).astype(np.int64)
-    _, voxel_of, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    cells = np.floor(scene.points[index] / config.cluster_voxel).astype(np.int64)
+    cells -= cells.min(axis=0)
+    span = cells.max(axis=0) + 1
+    keys = (cells[:, 0] * span[1] + cells[:, 1]) * span[2] + cells[:, 2]
+    _, voxel_of, counts = np.unique(keys, return_inverse=True, return_counts=True)
     centers = np.zeros((len(counts), 3))
     np.add.at(centers, voxel_of.reshape(-1), scene.points[index])
     o3d = import_open3d()

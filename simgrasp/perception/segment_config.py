@@ -26,7 +26,7 @@ class SegmentConfig:
     """RANSAC plane hypotheses."""
     refine_samples: int = 20000
     """Valid points drawn (seeded) to refine the plane by least squares on its inliers."""
-    min_plane_share: float = 0.05
+    min_plane_share: float = 0.2
     """The plane must hold at least this share of the valid points, else the scene has no
     table (``ValueError``)."""
     floor_share: float = 0.05
