@@ -122,8 +122,10 @@ def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any
 
 def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
     name = scene.source or "scene"
-    offset = scene.points - scene.viewpoint.astype(np.float32)
-    squared = np.einsum("ij,ij->i", offset, offset)
+    points, eye = scene.points, scene.viewpoint.astype(np.float32)
+    squared = np.einsum("ij,ij->i", points, points)
+    if eye.any():
+        squared += eye @ eye - 2.0 * (points @ eye)
     finite = np.isfinite(squared)
     if not finite.any():
         raise ValueError(f"{name}: no valid point (every point is NaN or inf)")
@@ -147,9 +149,9 @@ def fit_table_plane(
     if len(index) < 3:
         raise ValueError(f"{name}: too few valid points ({len(index)}) to find a table plane")
     rng = rng_for(config.seed, "segment", "plane")
-    sample = points[rng.choice(index, min(len(index), config.plane_samples), replace=False)]
+    sample = points[index[rng.integers(0, len(index), config.plane_samples)]]
     plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
-    refine = points[rng.choice(index, min(len(index), config.refine_samples), replace=False)]
+    refine = points[index[rng.integers(0, len(index), config.refine_samples)]]
     plane = _refined_plane(refine, plane, config)
     share = float(np.mean(np.abs(refine @ plane[:3] + plane[3]) <= config.plane_distance))
     if share < config.min_plane_share:
@@ -251,10 +253,10 @@ def _ordered_labels(
     relabel = np.zeros(len(counts), dtype=np.int32)
     relabel[kept[order]] = np.arange(FIRST_OBJECT, FIRST_OBJECT + len(kept), dtype=np.int32)
     labels[index] = np.where(relabel[ids] > 0, relabel[ids], labels[index])
-    objects = tuple(
-        _object(int(label), points[index[relabel[ids] == label]])
-        for label in range(FIRST_OBJECT, FIRST_OBJECT + len(kept))
-    )
+    order_of = np.argsort(labels[index], kind="stable")
+    ends = np.cumsum(np.bincount(labels[index], minlength=FIRST_OBJECT + len(kept)))
+    members = np.split(index[order_of], ends[FIRST_OBJECT - 1 : -1])
+    objects = tuple(_object(FIRST_OBJECT + k, points[members[k + 1]]) for k in range(len(kept)))
     return labels, objects
 
 
