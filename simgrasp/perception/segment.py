@@ -153,15 +153,28 @@ def fit_table_plane(
     plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
     refine = points[index[rng.integers(0, len(index), config.refine_samples)]]
     plane = _refined_plane(refine, plane, config)
-    share = float(np.mean(np.abs(refine @ plane[:3] + plane[3]) <= config.plane_distance))
+    _check_table(np.abs(refine @ plane[:3] + plane[3]), config, name)
+    if plane[:3] @ scene.viewpoint + plane[3] < 0:
+        plane = -plane
+    return plane
+
+
+def _check_table(distance: NDArray[np.float64], config: SegmentConfig, name: str) -> None:
+    """``ValueError`` unless the plane, at ``distance`` (m) from sampled points, is a table:
+    enough inliers (``min_plane_share``) and flat (``min_plane_flatness``)."""
+    inliers = distance <= config.plane_distance
+    share = float(np.mean(inliers))
     if share < config.min_plane_share:
         raise ValueError(
             f"{name}: no table plane (the best plane holds {share:.1%} of the valid points, "
             f"min_plane_share is {config.min_plane_share:.0%})"
         )
-    if plane[:3] @ scene.viewpoint + plane[3] < 0:
-        plane = -plane
-    return plane
+    flatness = float(np.mean(distance[inliers] <= config.table_distance))
+    if flatness < config.min_plane_flatness:
+        raise ValueError(
+            f"{name}: no table plane (the best plane is curved: {flatness:.0%} of its inliers "
+            f"lie within table_distance, min_plane_flatness is {config.min_plane_flatness:.0%})"
+        )
 
 
 def _ransac_plane(
