@@ -123,8 +123,8 @@ def _read_open3d(path: Path, suffix: str) -> SceneCloud:
     labels = (
         cloud.point.label.numpy().reshape(-1).astype(np.int64) if "label" in cloud.point else None
     )
-    scene = scene_from_array(points.reshape(height, width, 3) if height > 1 else points)
-    return SceneCloud(scene.points, width, height, _viewpoint(path, header), labels, str(path))
+    points = np.ascontiguousarray(points, dtype=np.float32)
+    return SceneCloud(points, width, height, _viewpoint(path, header), labels, str(path))
 
 
 def _pcd_header(path: Path) -> dict[str, list[str]]:
