@@ -92,7 +92,10 @@ def _crop_components(
     cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
     interior = candidates & ~cut
     segments, _ = ndimage.label(interior)
-    return _attach_edges(segments.astype(np.int32), points, candidates, config)
+    segments = segments.astype(np.int32)
+    for _ in range(config.attach_passes):
+        segments = _attach_edges(segments, points, candidates, config)
+    return segments
 
 
 def _binned(points: Grid, mask: NDArray[np.bool_], size: int) -> tuple[Grid, NDArray[np.bool_]]:

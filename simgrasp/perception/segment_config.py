@@ -65,6 +65,9 @@ class SegmentConfig:
     ``attach_radius_px`` if that pixel is within this distance (m) ..."""
     attach_radius_px: int = 5
     """... and this many pixels in the image (px)."""
+    attach_passes: int = 2
+    """Attaching is repeated this many times, so a run of mixed pixels along an occluding edge
+    joins one pixel-step at a time."""
     min_object_points: int = 150
     """Segments with fewer points are dropped (label 0)."""
     cluster_voxel: float = 0.005
