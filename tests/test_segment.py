@@ -14,6 +14,7 @@ from simgrasp.evaluation.segment_eval import part_ious, real_data_dir
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segment import segment_scene
+from simgrasp.perception.segment_config import SegmentConfig
 
 OSD = real_data_dir() / "osd-learn"
 needs_osd = pytest.mark.skipif(
@@ -71,6 +72,15 @@ def test_synthetic_tabletop_gives_two_objects_nearest_first(tmp_path: Path) -> N
     diameters = sorted(float(obj.extent.max()) for obj in result.objects)
     assert diameters == pytest.approx([0.08, 0.10], abs=0.01)
     assert result.plane[3] == pytest.approx(0.6, abs=0.005)  # camera 0.6 m above the table
+
+
+def test_binned_normals_find_the_same_objects(tmp_path: Path) -> None:
+    scene = read_scene(_save_npy(tmp_path, tabletop()))
+    config = SegmentConfig(normal_bin_px=2, normal_window_px=3, normal_step_px=1, concave_step_px=2)
+    full, binned = segment_scene(scene), segment_scene(scene, config)
+    assert len(binned.objects) == 2
+    for a, b in zip(full.objects, binned.objects, strict=True):
+        assert abs(a.points - b.points) < 0.02 * a.points
 
 
 def test_unorganized_ply_keeps_order_and_clusters(tmp_path: Path) -> None:

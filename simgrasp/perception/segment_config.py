@@ -46,7 +46,8 @@ class SegmentConfig:
     times the squared range in meters (Kinect depth steps grow with the square of range)."""
     normal_bin_px: int = 1
     """Normals and concavity are computed on blocks of this many pixels a side (px), each
-    the mean of its object pixels (4 x fewer for 2: the normals are smoothed anyway)."""
+    the mean of its object pixels: 2 (with window 3, step 1, concave step 2) computes them
+    on 4 x fewer blocks (osd-learn mean part IoU 0.913 instead of 0.915); for larger images."""
     normal_window_px: int = 5
     """Edge of the window of blocks averaged before normals are taken (blocks)."""
     normal_step_px: int = 2
@@ -57,9 +58,6 @@ class SegmentConfig:
     """Cut between pixels ``i`` and ``j`` when ``(n_j - n_i) . u_ij < -concave_threshold``
     (unit normals toward the sensor, ``u_ij`` the unit direction i -> j): a concave crease
     sharper than about 2 asin(threshold / 2) (0.35: 20 degrees) over ``concave_step_px``."""
-    cut_grow_px: int = 0
-    """Cuts are widened by this many pixels before the components are taken, so that noise
-    gaps a few pixels wide in a crease do not join two objects (px)."""
     attach_distance: float = 0.015
     """A cut-edge pixel joins the segment of its 3-D nearest pixel within
     ``attach_radius_px`` if that pixel is within this distance (m) ..."""
