@@ -27,7 +27,8 @@ from simgrasp.errors import SimgraspError
 # name -> one-line help; the module is simgrasp.cli.<name with - as _>
 COMMANDS: dict[str, str] = {
     "demo": "run the main job on the embedded default",
-    "detect": "detect handles in a point cloud file",
+    "detect": "detect handles in a point cloud file (or in each object of a scene)",
+    "segment": "find the table and the objects on it in a sensor scene cloud",
     "detect-eval": "detection accuracy on YCB meshes (paper Tables I and II)",
     "labels": "render objects with their labeled handles",
     "fetch-ycb": "download YCB objects from the official site",

@@ -13,8 +13,11 @@ from pathlib import Path
 
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
+from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.perception.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
 
 
@@ -36,10 +39,21 @@ class Options:
     toward it."""
     plot: Path | None = setting(None, metavar="OUT.png")
     """Write a picture of the detection."""
+    segment: bool = False
+    """CLOUD is a whole scene: segment it (as `simgrasp segment`) and detect on each object;
+    normals face the file's VIEWPOINT unless --viewpoint is given."""
+    object: str = setting("all", metavar="K|all")
+    """With --segment: only the object with label K."""
+    segmentation: SegmentConfig = field(default_factory=SegmentConfig)
 
 
 def run(options: Options) -> int:
     from simgrasp.stdout_guard import stdout_to_stderr
+
+    if options.segment:
+        return _run_segmented(options)
+    if options.object != "all":
+        raise SimgraspError("--object needs --segment")
 
     with stdout_to_stderr():  # library warnings must not mix with the output (--json)
         detection = _detect(options)
@@ -66,16 +80,54 @@ def run(options: Options) -> int:
     return 0
 
 
+def _run_segmented(options: Options) -> int:
+    """``--segment``: detect on each object of the scene (``simgrasp.handles.scene_detect``)."""
+    from simgrasp.handles.scene_detect import detect_in_scene, parse_object_choice
+    from simgrasp.stdout_guard import stdout_to_stderr
+
+    if options.plot:
+        raise SimgraspError(
+            "--plot is not available with --segment (use `simgrasp segment --plot`)"
+        )
+    with stdout_to_stderr():
+        result = detect_in_scene(
+            options.cloud,
+            _detector_config(options),
+            options.seed,
+            detector=options.detector.kind,
+            viewpoint=options.viewpoint,
+            only_object=parse_object_choice(options.object),
+            segment_config=options.segmentation,
+        )
+    report = result.to_json()
+    if options.json:
+        json.dump(report, sys.stdout)
+        sys.stdout.write("\n")
+        return 0
+    kind = options.detector.kind
+    print(f"{kind}: {len(result.detections)} objects, {len(report['handles'])} handles")
+    for handle in report["handles"]:
+        center = ", ".join(f"{v:+.4f}" for v in handle["center"])
+        print(f"  object {handle['object']}: center [{center}] m, score {handle['score']:.2f}")
+    return 0
+
+
+def _detector_config(options: Options) -> QuadricDetectorConfig | TenPasConfig:
+    """The chosen detector's settings, with --gripper-width applied."""
+    config = options.detector.chosen()
+    if options.gripper_width is None:
+        return config
+    if not options.gripper_width > 0:
+        raise SimgraspError(f"--gripper-width must be positive, got {options.gripper_width}")
+    return replace(config, gripper_max_opening=options.gripper_width)
+
+
 def _detect(options: Options) -> Detection:
     from simgrasp.handles import detect
     from simgrasp.perception.cloud_io import read_cloud
     from simgrasp.perception.units import UNIT_SCALE, cloud_in_meters
 
-    config = options.detector.chosen()
-    if options.gripper_width is not None:
-        if not options.gripper_width > 0:
-            raise SimgraspError(f"--gripper-width must be positive, got {options.gripper_width}")
-        config = replace(config, gripper_max_opening=options.gripper_width)
+    config = _detector_config(options)
     points, normals = read_cloud(options.cloud)
     points = cloud_in_meters(points, options.units, str(options.cloud))
     scale = UNIT_SCALE[options.units]

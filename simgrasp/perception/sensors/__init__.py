@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception.sensors.base import SensorConfig, checked_depth
 from simgrasp.perception.sensors.ideal import IdealConfig
 from simgrasp.perception.sensors.kinect import KinectConfig, kinect
@@ -30,7 +31,7 @@ SENSORS: dict[str, type[SensorConfig]] = {
 def sensor_config(name: str) -> SensorConfig:
     """The default config of the sensor model ``name`` (a key of ``SENSORS``)."""
     if name not in SENSORS:
-        raise ValueError(f"unknown sensor {name!r}; choose one of {', '.join(SENSORS)}")
+        raise SimgraspError(f"unknown sensor {name!r}; choose one of {', '.join(SENSORS)}")
     return SENSORS[name]()
 
 
@@ -64,7 +65,7 @@ def apply_sensor(
         return kinect(z, K, config, rng).astype(dtype)
     if isinstance(config, StereoConfig):
         return stereo(z, K, config, rng, _checked_intensity(intensity, z.shape)).astype(dtype)
-    raise ValueError(f"no sensor model for config {type(config).__name__}")
+    raise SimgraspError(f"no sensor model for config {type(config).__name__}")
 
 
 def _checked_intensity(
@@ -74,7 +75,7 @@ def _checked_intensity(
         return None
     image = np.asarray(intensity, dtype=np.float64)
     if image.shape != shape or not np.all(np.isfinite(image)):
-        raise ValueError(f"intensity must be a finite image of shape {shape}, got {image.shape}")
+        raise SimgraspError(f"intensity must be a finite image of shape {shape}, got {image.shape}")
     return image
 
 

@@ -14,6 +14,8 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.errors import SimgraspError
+
 
 @dataclass(frozen=True)
 class SensorConfig:
@@ -29,7 +31,7 @@ class SensorConfig:
         for field in fields(self):
             value = getattr(self, field.name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise ValueError(
+                raise SimgraspError(
                     f"{type(self).__name__}.{field.name} must be a finite number >= 0, "
                     f"got {value!r}"
                 )
@@ -43,7 +45,7 @@ def check_probability(config: SensorConfig, *names: str) -> None:
     """Raise ``ValueError`` unless each named field of ``config`` lies in [0, 1]."""
     for name in names:
         if getattr(config, name) > 1.0:
-            raise ValueError(f"{type(config).__name__}.{name} is a probability, got > 1")
+            raise SimgraspError(f"{type(config).__name__}.{name} is a probability, got > 1")
 
 
 def checked_depth(depth: ArrayLike, K: ArrayLike) -> tuple[NDArray[np.float32], NDArray]:
@@ -60,14 +62,14 @@ def checked_depth(depth: ArrayLike, K: ArrayLike) -> tuple[NDArray[np.float32], 
     """
     depth = np.asarray(depth)
     if depth.ndim != 2 or min(depth.shape, default=0) == 0:
-        raise ValueError(f"depth must be an (H, W) image, got shape {depth.shape}")
+        raise SimgraspError(f"depth must be an (H, W) image, got shape {depth.shape}")
     if not np.issubdtype(depth.dtype, np.floating):
-        raise ValueError(f"depth must be a float image in meters, got dtype {depth.dtype}")
+        raise SimgraspError(f"depth must be a float image in meters, got dtype {depth.dtype}")
     K = np.asarray(K, dtype=np.float64)
     if K.shape != (3, 3) or not np.all(np.isfinite(K)):
-        raise ValueError(f"K must be a finite 3x3 camera matrix, got {K.tolist()}")
+        raise SimgraspError(f"K must be a finite 3x3 camera matrix, got {K.tolist()}")
     if K[0, 0] <= 0 or K[1, 1] <= 0 or K[2, 2] != 1.0:
-        raise ValueError(f"K must have positive fx, fy and K[2, 2] = 1, got {K.tolist()}")
+        raise SimgraspError(f"K must have positive fx, fy and K[2, 2] = 1, got {K.tolist()}")
     z = depth.astype(np.float32)
     with np.errstate(invalid="ignore"):
         z[~(np.isfinite(z) & (z > 0.0))] = 0.0

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
+from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.perception.sensors import SensorConfig, apply_sensor
 from simgrasp.perception.sensors.geometry import band
 
@@ -64,10 +65,10 @@ def read_labeled_scan(path: str | Path) -> LabeledScan:
 
     path = Path(path)
     if not path.is_file():
-        raise FileNotFoundError(f"no scan file {path}")
+        raise DataNotFoundError(f"no scan file {path}")
     cloud = import_open3d().t.io.read_point_cloud(str(path))
     if "label" not in cloud.point:
-        raise ValueError(f"{path} has no 'label' field")
+        raise SimgraspError(f"{path} has no 'label' field")
     points = cloud.point.positions.numpy().astype(np.float64)
     labels = cloud.point.label.numpy().astype(np.int32).ravel()
     height, width = _organized_size(path, len(points))
@@ -84,7 +85,7 @@ def _organized_size(path: Path, count: int) -> tuple[int, int]:
                 break
     width, height = int(header.get("WIDTH", count)), int(header.get("HEIGHT", 1))
     if height <= 1 or width * height != count:
-        raise ValueError(f"{path} is not an organized cloud (WIDTH {width}, HEIGHT {height})")
+        raise SimgraspError(f"{path} is not an organized cloud (WIDTH {width}, HEIGHT {height})")
     return height, width
 
 
@@ -94,7 +95,7 @@ def scan_intrinsics(scan: LabeledScan) -> NDArray[np.float64]:
     height, width = scan.labels.shape
     valid = scan.depth > 0
     if valid.sum() < 100:
-        raise ValueError("scan has fewer than 100 valid points; cannot recover intrinsics")
+        raise SimgraspError("scan has fewer than 100 valid points; cannot recover intrinsics")
     v, u = np.nonzero(valid)
     p = scan.points_cam[valid]
     fx, cx = np.linalg.lstsq(np.column_stack([p[:, 0] / p[:, 2], np.ones(len(u))]), u, None)[0]
@@ -239,7 +240,7 @@ class PreparedScan:
 def prepare_scan(scan: LabeledScan, edges: tuple[float, ...] = DEPTH_BINS) -> PreparedScan:
     """Measure the real scan and build its ideal geometry (see :class:`PreparedScan`)."""
     if scan.table.sum() < 1000 or not scan.objects.any():
-        raise ValueError("scan needs a labeled table (>= 1000 points) and labeled objects")
+        raise SimgraspError("scan needs a labeled table (>= 1000 points) and labeled objects")
     K = scan_intrinsics(scan)
     plane = fit_plane(scan.points_cam[scan.table])
     ideal, objects = ideal_scene(scan, K)
@@ -364,7 +365,7 @@ def calibration_rows(
     from simgrasp.seeding import rng_for
 
     if not paths:
-        raise ValueError("no scans to calibrate against")
+        raise SimgraspError("no scans to calibrate against")
     comparisons: list[list[ScanComparison]] = [[] for _ in configs]
     for index, path in enumerate(paths):
         prepared = prepare_scan(read_labeled_scan(path), edges)

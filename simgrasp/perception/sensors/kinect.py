@@ -9,6 +9,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception.sensors.base import (
     SensorConfig,
     check_probability,
@@ -116,9 +117,9 @@ class KinectConfig(SensorConfig):
     def _check(self) -> None:
         check_probability(self, "flying_probability", "edge_dropout")
         if not self.min_range < self.max_range:
-            raise ValueError("KinectConfig.min_range must be below max_range")
+            raise SimgraspError("KinectConfig.min_range must be below max_range")
         if not self.grazing_start_deg < self.grazing_end_deg <= 90.0:
-            raise ValueError("KinectConfig needs grazing_start_deg < grazing_end_deg <= 90")
+            raise SimgraspError("KinectConfig needs grazing_start_deg < grazing_end_deg <= 90")
 
     def axial_sigma(self, z: NDArray[np.floating], theta: NDArray[np.floating]) -> NDArray:
         """Axial standard deviation (m) at depth ``z`` (m) and incidence angle ``theta``

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
+from simgrasp.errors import SimgraspError
 from simgrasp.perception.sensors.base import (
     SensorConfig,
     check_probability,
@@ -77,13 +78,13 @@ class StereoConfig(SensorConfig):
     def _check(self) -> None:
         check_probability(self, "edge_dropout")
         if not self.min_range < self.max_range:
-            raise ValueError("StereoConfig.min_range must be below max_range")
+            raise SimgraspError("StereoConfig.min_range must be below max_range")
         if not self.oblique_start_deg < self.oblique_end_deg <= 90.0:
-            raise ValueError("StereoConfig needs oblique_start_deg < oblique_end_deg <= 90")
+            raise SimgraspError("StereoConfig needs oblique_start_deg < oblique_end_deg <= 90")
         if not self.texture_min < self.texture_full:
-            raise ValueError("StereoConfig.texture_min must be below texture_full")
+            raise SimgraspError("StereoConfig.texture_min must be below texture_full")
         if self.focal_px <= 0 or self.baseline <= 0:
-            raise ValueError("StereoConfig.focal_px and baseline must be positive")
+            raise SimgraspError("StereoConfig.focal_px and baseline must be positive")
 
     def axial_sigma(self, z: NDArray[np.floating]) -> NDArray[np.floating]:
         """Axial standard deviation (m) at depth ``z`` (m): Intel's RMS error formula."""

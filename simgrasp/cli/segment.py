@@ -1,0 +1,62 @@
+"""``simgrasp segment SCENE``: the table plane and the objects on it, as a table or JSON.
+
+Labels: 0 invalid, 1 table, 2.. objects ordered by distance to the sensor; every segmentation
+setting is a ``--segment.*`` flag.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from simgrasp.config import setting
+from simgrasp.errors import SimgraspError
+from simgrasp.perception.segment_config import SegmentConfig
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options:
+    scene: Path = setting(positional=True, metavar="SCENE")
+    """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters)."""
+    json: bool = False
+    """Print one JSON object."""
+    labels: Path | None = setting(None, metavar="OUT.npy")
+    """Write one int32 label per input point, in the input's order (0 invalid, 1 table, 2..
+    objects nearest first)."""
+    plot: Path | None = setting(None, metavar="OUT.png")
+    """Write a picture of the labels."""
+    segment: SegmentConfig = field(default_factory=SegmentConfig)
+
+
+def run(options: Options) -> int:
+    import numpy as np
+
+    from simgrasp.perception.scene_cloud import read_scene
+    from simgrasp.perception.segment import segment_scene
+
+    if options.labels and options.labels.suffix != ".npy":
+        raise SimgraspError(f"--labels must name a .npy file, got {options.labels}")
+    scene = read_scene(options.scene)
+    result = segment_scene(scene, options.segment)
+    if options.labels:
+        np.save(options.labels, result.labels)
+    if options.plot:
+        from simgrasp.perception.segment_plot import plot_segmentation
+
+        plot_segmentation(scene, result, options.plot)
+    if options.json:
+        json.dump(result.to_json(), sys.stdout)
+        sys.stdout.write("\n")
+        return 0
+    plane = ", ".join(f"{v:+.4f}" for v in result.plane)
+    print(f"table: plane [{plane}], {result.table_points} points")
+    for obj in result.objects:
+        center = ", ".join(f"{v:+.3f}" for v in obj.center)
+        extent = " x ".join(f"{v * 100:.1f}" for v in obj.extent)
+        print(f"  object {obj.label}: {obj.points} points, center [{center}] m, {extent} cm")
+    if not result.objects:
+        print("  no object on the table")
+    print(f"  {result.timings_s['total'] * 1000:.0f} ms")
+    return 0

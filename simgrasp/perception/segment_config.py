@@ -1,0 +1,78 @@
+"""Every setting of the scene segmentation, in one frozen dataclass (meters, pixels)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SegmentConfig:
+    """Parameters of :func:`simgrasp.perception.segment.segment_scene`.
+
+    Defaults suit a Kinect-class sensor 0.4 - 2 m from a tabletop. Lengths are meters,
+    ``*_px`` settings are image pixels of an organized cloud.
+    """
+
+    max_range: float = 4.0
+    """Points farther than this from the sensor (m) are ignored (label 0)."""
+    plane_distance: float = 0.012
+    """RANSAC inlier distance to the table plane (m)."""
+    table_distance: float = 0.005
+    """Points within this distance of the final, least-squares plane (m) are the table; points
+    higher are object candidates (a pan's handle lies 1 cm above the table)."""
+    plane_samples: int = 2000
+    """Valid points drawn (seeded) for the plane RANSAC."""
+    plane_iterations: int = 100
+    """RANSAC plane hypotheses."""
+    refine_samples: int = 10000
+    """Valid points drawn (seeded) to refine the plane by least squares on its inliers."""
+    min_plane_share: float = 0.2
+    """The plane must hold at least this share of the valid points, else the scene has no
+    table (``ValueError``)."""
+    min_plane_flatness: float = 0.8
+    """At least this share of the plane's inliers (within ``plane_distance``) must lie within
+    ``table_distance``, else the best plane is a curved surface (an object filling the view),
+    not a table (``ValueError``). Real tables at 0.6 - 1.6 m measure 0.97 - 0.99."""
+    floor_share: float = 0.05
+    """Organized clouds: a connected patch of table points smaller than this share of the
+    largest patch ..."""
+    floor_enclosed: float = 0.5
+    """... with at least this share of its one-pixel ring on objects is an object's own
+    floor (the inner bottom of a bowl, labeled as a part of its own), not the table."""
+    max_object_height: float = 1.0
+    """Points higher than this above the table (m) are not objects (label 0)."""
+    depth_jump: float = 0.02
+    """Neighbouring pixels are disconnected when their ranges differ by more than this (m)
+    times the squared range in meters (Kinect depth steps grow with the square of range)."""
+    normal_bin_px: int = 1
+    """Normals and concavity are computed on blocks of this many pixels a side (px), each
+    the mean of its object pixels: 2 (with window 3, step 1, concave step 2) computes them
+    on 4 x fewer blocks (osd-learn mean part IoU 0.913 instead of 0.915); for larger images."""
+    normal_window_px: int = 5
+    """Edge of the window of blocks averaged before normals are taken (blocks)."""
+    normal_step_px: int = 2
+    """Half baseline of the central differences that give the normals (blocks)."""
+    concave_step_px: int = 3
+    """Baseline (blocks) over which neighbouring normals are compared for concavity."""
+    concave_threshold: float = 0.25
+    """Cut between pixels ``i`` and ``j`` when ``(n_j - n_i) . u_ij < -concave_threshold``
+    (unit normals toward the sensor, ``u_ij`` the unit direction i -> j): a concave crease
+    sharper than about 2 asin(threshold / 2) (0.35: 20 degrees) over ``concave_step_px``."""
+    attach_distance: float = 0.015
+    """A cut-edge pixel joins the segment of its 3-D nearest pixel within
+    ``attach_radius_px`` if that pixel is within this distance (m) ..."""
+    attach_radius_px: int = 5
+    """... and this many pixels in the image (px)."""
+    attach_passes: int = 2
+    """Attaching is repeated this many times, so a run of mixed pixels along an occluding edge
+    joins one pixel-step at a time."""
+    min_object_points: int = 150
+    """Segments with fewer points are dropped (label 0)."""
+    cluster_voxel: float = 0.005
+    """Unorganized clouds: voxel edge (m) of the grid DBSCAN clusters."""
+    cluster_eps: float = 0.015
+    """Unorganized clouds: DBSCAN neighbour distance (m) between voxels of one object."""
+    cluster_min_points: int = 10
+    """Unorganized clouds: DBSCAN core-point neighbour count (voxels)."""
+    seed: int = 0
+    """Seed of the plane RANSAC sample."""
