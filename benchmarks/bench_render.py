@@ -19,14 +19,12 @@ import time
 BACKENDS = ("egl", "osmesa", "raycast")
 
 
-def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float]:
-    # Imports here: the GL platform must be set (by the parent) before mujoco is imported.
-    import numpy as np
+def tabletop_model(mesh_subdivisions: int):  # -> mujoco.MjModel (mujoco imported late)
+    """A table with a box, a mesh sphere and a floating bar, and one default camera."""
     import trimesh
 
     from simgrasp._mujoco import mujoco
     from simgrasp.scenes.camera import add_camera, default_viewpoints
-    from simgrasp.scenes.render import SceneRenderer
 
     sphere = trimesh.creation.icosphere(subdivisions=mesh_subdivisions, radius=0.05)
     spec = mujoco.MjSpec()
@@ -38,7 +36,17 @@ def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float
     blob.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname="blob")
     spec.worldbody.add_body(pos=[-0.03, -0.04, 0.16]).add_geom(type=box, size=[0.01, 0.04, 0.02])
     add_camera(spec, default_viewpoints((0.0, 0.0, 0.05), n=1)[0])
-    model = spec.compile()
+    return spec.compile()
+
+
+def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float]:
+    # Imports here: the GL platform must be set (by the parent) before mujoco is imported.
+    import numpy as np
+
+    from simgrasp._mujoco import mujoco
+    from simgrasp.scenes.render import SceneRenderer
+
+    model = tabletop_model(mesh_subdivisions)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     with SceneRenderer(model, backend=backend) as renderer:
@@ -51,7 +59,7 @@ def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float
     return {
         "ms_per_frame": 1000.0 * float(np.median(times)),
         "hit_fraction": float(np.mean(frame.depth > 0)),
-        "triangles": int(len(sphere.faces)),
+        "triangles": int(model.mesh_facenum[0]),
     }
 
 

@@ -13,28 +13,13 @@ from __future__ import annotations
 import argparse
 import time
 
-import mujoco  # noqa: E402  (after the renderer module chose MUJOCO_GL)
 import numpy as np  # noqa: E402
-import trimesh  # noqa: E402
+from bench_render import tabletop_model  # noqa: E402  (this folder)
 
+from simgrasp._mujoco import mujoco  # noqa: E402
 from simgrasp.perception.sensors import SENSORS, apply_sensor, sensor_config  # noqa: E402
-from simgrasp.scenes.camera import add_camera, default_viewpoints  # noqa: E402
 from simgrasp.scenes.render import SceneRenderer  # first: chooses the GL platform
 from simgrasp.seeding import rng_for  # noqa: E402
-
-
-def _scene() -> mujoco.MjModel:
-    sphere = trimesh.creation.icosphere(subdivisions=5, radius=0.05)
-    spec = mujoco.MjSpec()
-    spec.add_mesh(name="blob", uservert=sphere.vertices.ravel(), userface=sphere.faces.ravel())
-    box = mujoco.mjtGeom.mjGEOM_BOX
-    spec.worldbody.add_geom(type=box, size=[0.5, 0.5, 0.02], pos=[0, 0, -0.02])
-    spec.worldbody.add_body(pos=[0, 0, 0.05]).add_geom(type=box, size=[0.04, 0.03, 0.05])
-    blob = spec.worldbody.add_body(pos=[0.1, 0.08, 0.05])
-    blob.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname="blob")
-    spec.worldbody.add_body(pos=[-0.03, -0.04, 0.16]).add_geom(type=box, size=[0.01, 0.04, 0.02])
-    add_camera(spec, default_viewpoints((0.0, 0.0, 0.05), n=1)[0])
-    return spec.compile()
 
 
 def _median_ms(function, runs: int) -> float:
@@ -50,7 +35,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=15)
     args = parser.parse_args()
-    model = _scene()
+    model = tabletop_model(mesh_subdivisions=5)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     with SceneRenderer(model) as renderer:
