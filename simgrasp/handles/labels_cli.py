@@ -29,6 +29,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--ycb-dir", default=None, help="YCB root (default: $SIMGRASP_YCB_DIR)")
     parser.add_argument("--seed", type=int, default=0, help="seed for generated tools")
+    parser.add_argument(
+        "--osd",
+        type=comma_list,
+        default=None,
+        help="draw the labeled pot handles of osd-learn scenes instead (learn33,... or 'all')",
+    )
+    parser.add_argument(
+        "--real-dir", default=None, help="real data root (default: $SIMGRASP_REAL_DIR)"
+    )
     parser.add_argument("--out", type=Path, default=Path("out/labels"), help="output directory")
 
 
@@ -51,9 +60,30 @@ def draw_label(asset: ObjectAsset, out: Path, points: int = 20000) -> Path:
     return out
 
 
+def run_osd(args: argparse.Namespace) -> int:
+    """Draw the labeled handles of the chosen osd-learn scenes."""
+    from simgrasp.assets.real import osd_scene_file, read_labeled_scene
+    from simgrasp.assets.scene_labels import load_scene_labels
+    from simgrasp.handles.scene_label_plot import draw_scene_label
+
+    labels = load_scene_labels()
+    names = tuple(labels) if args.osd == ("all",) else args.osd
+    unknown = [n for n in names if n not in labels]
+    if unknown:
+        raise ValueError(f"no handle label for osd scene(s) {', '.join(unknown)}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        scene = read_labeled_scene(osd_scene_file(name, args.real_dir))
+        path = draw_scene_label(scene, labels[name], args.out / f"{name}.png")
+        print(f"{name}: {path} ({len(labels[name].label.regions)} handle region(s))")
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     from simgrasp.assets.registry import load_object
 
+    if args.osd:
+        return run_osd(args)
     names = args.objects
     if names == ("paper",):
         names = PAPER_OBJECTS
