@@ -73,7 +73,11 @@ def detect_quadric_handles(
     rng = rng_for(seed, "quadric_detector", "sample")
     with timed(timings, "sample"):
         center_index = sample_centers(
-            pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
+            pts,
+            rng,
+            count=config.neighborhoods,
+            voxel_size=max(config.voxel_size, 1e-4),
+            per_voxels=config.voxels_per_neighborhood,
         )
         scales = [
             gather_neighborhoods(
@@ -122,6 +126,7 @@ def detect_quadric_handles(
             ),
             max_opening=config.gripper_max_opening if config.prefer_clearance else None,
             min_relative_score=config.min_relative_score,
+            anchors=hood_centers[index] if config.handle_anchor == "surface" else None,
         )
         supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
         quadrics = Quadric.batch(
