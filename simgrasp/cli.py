@@ -16,6 +16,7 @@ from collections.abc import Sequence
 COMMANDS: dict[str, tuple[str, str]] = {
     "demo": ("simgrasp.evaluation.demo_cli", "run the main job on the embedded default"),
     "detect": ("simgrasp.handles.detect_cli", "detect handles in a point cloud file"),
+    "segment": ("simgrasp.perception.segment_cli", "split a scene cloud into table and objects"),
     "detect-eval": (
         "simgrasp.handles.eval_cli",
         "detection accuracy on YCB meshes (paper Tables I and II)",

@@ -1,0 +1,117 @@
+"""Handles in a whole scene: segment the scene cloud, then detect on each object's points.
+
+Normals of a single-view scene are turned toward the sensor: the file's ``VIEWPOINT`` unless
+the caller gives another viewpoint. Results are in the scene cloud's frame (m).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from simgrasp.handles import DetectorName, default_config, detect
+from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.detection import TIMING_STEPS, Detection
+from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.perception.scene_cloud import read_scene
+from simgrasp.perception.segment import Segmentation, segment_scene
+from simgrasp.perception.segment_config import SegmentConfig
+
+
+@dataclass(frozen=True)
+class SceneDetection:
+    """The segmentation of a scene and the detection on each chosen object.
+
+    Attributes:
+        segmentation: the scene's segmentation (labels, table plane, objects).
+        detections: ``(object label, detection)`` pairs, by label.
+        viewpoint: (3,) sensor position the normals were turned toward (m, cloud frame).
+    """
+
+    segmentation: Segmentation
+    detections: tuple[tuple[int, Detection], ...]
+    viewpoint: tuple[float, float, float]
+
+    def to_json(self) -> dict[str, Any]:
+        """As ``simgrasp detect --json``, each handle and candidate with its ``object``, plus
+        the segmentation (as ``simgrasp segment --json``)."""
+        handles = [
+            {**h.to_json(), "object": label} for label, d in self.detections for h in d.handles
+        ]
+        candidates = [
+            {**c.to_json(), "object": label} for label, d in self.detections for c in d.candidates
+        ]
+        timings = {
+            step: float(sum(d.timings_s.get(step, 0.0) for _, d in self.detections))
+            for step in TIMING_STEPS
+        }
+        timings["segment"] = float(self.segmentation.timings_s["total"])
+        return {
+            "detector": self.detections[0][1].detector if self.detections else None,
+            "handles": sorted(handles, key=lambda h: -h["score"]),
+            "candidates": candidates,
+            "neighborhoods": int(sum(d.neighborhoods for _, d in self.detections)),
+            "timings_s": timings,
+            "viewpoint": list(self.viewpoint),
+            "segmentation": self.segmentation.to_json(),
+        }
+
+
+def parse_object_choice(text: str) -> int | None:
+    """``--object`` value: ``all`` -> None, else an object label >= 2."""
+    if text == "all":
+        return None
+    try:
+        label = int(text)
+    except ValueError:
+        raise ValueError(
+            f"--object must be an object label (2, 3, ...) or 'all', got {text!r}"
+        ) from None
+    if label < 2:
+        raise ValueError(f"--object must be an object label (2, 3, ...) or 'all', got {label}")
+    return label
+
+
+def detect_in_scene(
+    path: str | Path,
+    config: QuadricDetectorConfig | TenPasConfig | None = None,
+    seed: int = 0,
+    *,
+    detector: DetectorName = "quadric",
+    viewpoint: ArrayLike | None = None,
+    only_object: int | None = None,
+    segment_config: SegmentConfig | None = None,
+) -> SceneDetection:
+    """Segment the scene file at ``path`` and detect handles on each object (or only on
+    ``only_object``, a label of the segmentation); ``ValueError`` for an unknown label."""
+    scene = read_scene(path)
+    segmentation = segment_scene(scene, segment_config)
+    labels = [obj.label for obj in segmentation.objects]
+    if only_object is not None:
+        if only_object not in labels:
+            raise ValueError(
+                f"{path}: no object {only_object}; the segmentation found "
+                f"{len(labels)} (labels {', '.join(map(str, labels)) or 'none'})"
+            )
+        labels = [only_object]
+    eye = scene.viewpoint if viewpoint is None else np.asarray(viewpoint, dtype=np.float64)
+    config = config if config is not None else default_config(detector)
+    detections = tuple(
+        (
+            label,
+            detect(
+                scene.points[segmentation.labels == label].astype(np.float64),
+                None,
+                config,
+                seed,
+                detector=detector,
+                viewpoint=eye,
+            ),
+        )
+        for label in labels
+    )
+    return SceneDetection(segmentation, detections, tuple(float(v) for v in eye))

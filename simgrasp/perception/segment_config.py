@@ -1,0 +1,67 @@
+"""Every setting of the scene segmentation, in one frozen dataclass (meters, pixels)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SegmentConfig:
+    """Parameters of :func:`simgrasp.perception.segment.segment_scene`.
+
+    Defaults suit a Kinect-class sensor 0.4 - 2 m from a tabletop. Lengths are meters,
+    ``*_px`` settings are image pixels of an organized cloud.
+    """
+
+    max_range: float = 4.0
+    """Points farther than this from the sensor (m) are ignored (label 0)."""
+    plane_distance: float = 0.012
+    """RANSAC inlier distance to the table plane (m)."""
+    table_distance: float = 0.005
+    """Points within this distance of the final, least-squares plane (m) are the table; points
+    higher are object candidates (a pan's handle lies 1 cm above the table)."""
+    plane_samples: int = 2000
+    """Valid points drawn (seeded) for the plane RANSAC."""
+    plane_iterations: int = 200
+    """RANSAC plane hypotheses."""
+    refine_samples: int = 20000
+    """Valid points drawn (seeded) to refine the plane by least squares on its inliers."""
+    min_plane_share: float = 0.2
+    """The plane must hold at least this share of the valid points, else the scene has no
+    table (``ValueError``)."""
+    floor_share: float = 0.05
+    """Organized clouds: a connected patch of table points smaller than this share of the
+    largest patch ..."""
+    floor_enclosed: float = 0.5
+    """... with at least this share of its one-pixel ring on objects is an object's own
+    floor (the inner bottom of a bowl, labeled as a part of its own), not the table."""
+    max_object_height: float = 1.0
+    """Points higher than this above the table (m) are not objects (label 0)."""
+    depth_jump: float = 0.02
+    """Neighbouring pixels are disconnected when their ranges differ by more than this (m)
+    times the squared range in meters (Kinect depth steps grow with the square of range)."""
+    normal_window_px: int = 5
+    """Edge of the pixel window averaged before normals are taken (px)."""
+    normal_step_px: int = 2
+    """Half baseline of the central differences that give the normals (px)."""
+    concave_step_px: int = 3
+    """Baseline (px) over which neighbouring normals are compared for concavity."""
+    concave_threshold: float = 0.25
+    """Cut between pixels ``i`` and ``j`` when ``(n_j - n_i) . u_ij < -concave_threshold``
+    (unit normals toward the sensor, ``u_ij`` the unit direction i -> j): a concave crease
+    sharper than about 2 asin(threshold / 2) (0.35: 20 degrees) over ``concave_step_px``."""
+    cut_grow_px: int = 0
+    """Cuts are widened by this many pixels before the components are taken, so that noise
+    gaps a few pixels wide in a crease do not join two objects (px)."""
+    attach_distance: float = 0.015
+    """A cut-edge pixel joins the nearest segment in the image if within this (m) in 3-D."""
+    min_object_points: int = 150
+    """Segments with fewer points are dropped (label 0)."""
+    cluster_voxel: float = 0.005
+    """Unorganized clouds: voxel edge (m) of the grid DBSCAN clusters."""
+    cluster_eps: float = 0.015
+    """Unorganized clouds: DBSCAN neighbour distance (m) between voxels of one object."""
+    cluster_min_points: int = 10
+    """Unorganized clouds: DBSCAN core-point neighbour count (voxels)."""
+    seed: int = 0
+    """Seed of the plane RANSAC sample."""

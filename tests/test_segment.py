@@ -1,0 +1,174 @@
+"""Scene clouds: reading keeps every point in order, segmentation against real labels, and
+bad scenes give one clear line (or an empty result), never a traceback."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from simgrasp.cli import main
+from simgrasp.evaluation.segment_eval import part_ious, real_data_dir
+from simgrasp.perception._arrays import import_open3d
+from simgrasp.perception.scene_cloud import read_scene, scene_from_array
+from simgrasp.perception.segment import segment_scene
+
+OSD = real_data_dir() / "osd-learn"
+needs_osd = pytest.mark.skipif(
+    not (OSD / "learn0.pcd").is_file(), reason=f"no osd-learn scenes in {OSD}"
+)
+FOCAL, WIDTH, HEIGHT = 525.0, 640, 480
+
+
+def _rays() -> np.ndarray:
+    """(H, W, 3) pinhole ray directions (z = 1), OpenCV axes."""
+    cols, rows = np.meshgrid(np.arange(WIDTH), np.arange(HEIGHT))
+    return np.stack(
+        [(cols - 319.5) / FOCAL, (rows - 239.5) / FOCAL, np.ones((HEIGHT, WIDTH))], axis=2
+    )
+
+
+def tabletop(sphere_radii: tuple[float, ...] = (0.05, 0.04)) -> np.ndarray:
+    """An organized (H, W, 3) scene (m): a 0.8 m square table 0.6 m under the camera, seen
+    40 degrees down, with spheres of the given radii resting on it 0.15 m apart; NaN where
+    a ray hits nothing."""
+    rays = _rays()
+    up = np.array([0.0, -np.cos(np.radians(50)), -np.sin(np.radians(50))])  # table normal
+    center = np.array([0.0, 0.0, -0.6 / up[2]])  # where the optical axis meets the table
+    depth = -0.6 / (rays @ up)
+    on_table = (np.abs(depth[..., None] * rays - center) < 0.4).all(axis=2) & (depth > 0)
+    depth = np.where(on_table, depth, np.inf)
+    squared = (rays * rays).sum(axis=2)
+    for k, radius in enumerate(sphere_radii):
+        middle = center + [0.15 * (k - (len(sphere_radii) - 1) / 2), 0.0, 0.0] + radius * up
+        b = rays @ middle
+        disc = b * b - squared * (middle @ middle - radius * radius)
+        t = (b - np.sqrt(np.maximum(disc, 0.0))) / squared
+        depth = np.where((disc > 0) & (t < depth), t, depth)
+    points = depth[..., None] * rays
+    points[~np.isfinite(depth)] = np.nan
+    return points
+
+
+def _save_npy(tmp_path: Path, points: np.ndarray, name: str = "scene.npy") -> Path:
+    path = tmp_path / name
+    np.save(path, points)
+    return path
+
+
+def test_synthetic_tabletop_gives_two_objects_nearest_first(tmp_path: Path) -> None:
+    grid = tabletop()
+    scene = read_scene(_save_npy(tmp_path, grid))
+    assert scene.organized and (scene.width, scene.height) == (WIDTH, HEIGHT)
+    result = segment_scene(scene)
+    assert result.labels.dtype == np.int32 and result.labels.shape == (WIDTH * HEIGHT,)
+    assert (result.labels[~scene.valid] == 0).all()
+    assert [obj.label for obj in result.objects] == [2, 3]
+    distances = [np.linalg.norm(obj.center) for obj in result.objects]
+    assert distances == sorted(distances)
+    diameters = sorted(float(obj.extent.max()) for obj in result.objects)
+    assert diameters == pytest.approx([0.08, 0.10], abs=0.01)
+    assert result.plane[3] == pytest.approx(0.6, abs=0.005)  # camera 0.6 m above the table
+
+
+def test_unorganized_ply_keeps_order_and_clusters(tmp_path: Path) -> None:
+    points = tabletop().reshape(-1, 3)
+    keep = np.isfinite(points).all(axis=1)
+    o3d = import_open3d()
+    path = tmp_path / "scene.ply"
+    o3d.t.io.write_point_cloud(str(path), o3d.t.geometry.PointCloud(points[keep]))
+    scene = read_scene(path)
+    assert not scene.organized
+    np.testing.assert_allclose(scene.points, points[keep], atol=1e-6)
+    result = segment_scene(scene)
+    assert len(result.objects) == 2
+
+
+def test_part_ious_scores_each_part_by_its_best_object() -> None:
+    truth = np.array([0, 1, 20, 20, 20, 20, 30, 30, 31])
+    predicted = np.array([0, 1, 2, 2, 2, 3, 3, 3, 0])
+    np.testing.assert_allclose(part_ious(truth, predicted), [0.75, 2 / 3, 0.0])
+
+
+@needs_osd
+def test_read_scene_keeps_the_organized_grid_and_viewpoint() -> None:
+    scene = read_scene(OSD / "learn0.pcd")
+    assert (scene.width, scene.height) == (640, 480) and len(scene.points) == 307200
+    np.testing.assert_array_equal(scene.viewpoint, [0.0, 0.0, 0.0])
+    assert (scene.labels[~scene.valid] == 0).all() and (scene.labels[scene.valid] > 0).all()
+    grid = scene.grid()
+    rows, cols = np.nonzero(np.isfinite(grid[..., 2]))
+    u = grid[rows, cols, 0] / grid[rows, cols, 2] * FOCAL + 319.5  # pixel column from x / z
+    np.testing.assert_allclose(u, cols, atol=0.6)
+
+
+@needs_osd
+@pytest.mark.parametrize("name", ["learn17", "learn30", "learn43"])
+def test_osd_scene_matches_its_labels(name: str) -> None:
+    scene = read_scene(OSD / f"{name}.pcd")
+    result = segment_scene(scene)
+    ious = part_ious(scene.labels, result.labels)
+    assert ious.min() >= 0.8, ious
+    table = scene.labels[(result.labels == 1)]
+    assert np.mean((table >= 1) & (table < 10)) > 0.99
+
+
+@needs_osd
+def test_detect_segment_on_a_real_pot_scene(capsys: pytest.CaptureFixture[str]) -> None:
+    path = str(OSD / "learn40.pcd")
+    assert main(["detect", path, "--segment", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    objects = {obj["label"]: obj for obj in report["segmentation"]["objects"]}
+    assert report["handles"] and report["viewpoint"] == [0.0, 0.0, 0.0]
+    for handle in report["handles"]:
+        obj = objects[handle["object"]]
+        low = np.subtract(obj["center"], obj["extent"]) - 0.02
+        high = np.add(obj["center"], obj["extent"]) + 0.02
+        assert (low <= handle["center"]).all() and (handle["center"] <= high).all()
+    first = report["handles"][0]["object"]
+    assert main(["detect", path, "--segment", "--object", str(first), "--json"]) == 0
+    only = json.loads(capsys.readouterr().out)
+    assert {h["object"] for h in only["handles"]} == {first}
+
+
+def _one_error_line(capsys: pytest.CaptureFixture[str], argv: list[str], words: str) -> None:
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith(f"simgrasp {argv[0]}: error:"), err
+    assert words in err, err
+
+
+def test_bad_scenes_give_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    grid = tabletop()
+    blob = np.random.default_rng(0).normal(size=(HEIGHT, WIDTH, 3)) * 0.1 + [0, 0, 1.0]
+    cases = {
+        "no table plane": _save_npy(tmp_path, blob, "blob.npy"),
+        "no valid point": _save_npy(tmp_path, np.full_like(grid, np.nan), "nan.npy"),
+        "millimetres": _save_npy(tmp_path, grid * 1000.0, "mm.npy"),
+        "no such scene-cloud file": tmp_path / "missing.pcd",
+    }
+    for words, path in cases.items():
+        _one_error_line(capsys, ["segment", str(path)], words)
+        _one_error_line(capsys, ["detect", str(path), "--segment"], words)
+
+
+def test_a_wall_filling_the_view_is_an_empty_result(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    wall = _rays() * 0.5  # a plane 0.5 m ahead fills every pixel: it is the table
+    path = _save_npy(tmp_path, wall)
+    labels = tmp_path / "labels.npy"
+    assert main(["segment", str(path), "--json", "--labels", str(labels)]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["objects"] == [] and report["table"]["points"] == WIDTH * HEIGHT
+    assert set(report) == {"table", "objects", "timings_s"}
+    assert (np.load(labels) == 1).all()
+    assert main(["detect", str(path), "--segment", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["handles"] == []
+
+
+def test_scene_from_array_refuses_a_wrong_shape() -> None:
+    with pytest.raises(ValueError, match="expected"):
+        scene_from_array(np.zeros((10, 2)))
