@@ -8,8 +8,9 @@ import pytest
 from scipy.spatial import cKDTree
 
 from simgrasp.handles import QuadricDetectorConfig, detect
+from simgrasp.perception import estimate_normals, voxel_downsample
 
-from shapes import hammer_like
+from shapes import hammer_like, mug_like
 
 
 def test_voxels_per_neighborhood_sets_the_sampling_density() -> None:
@@ -44,3 +45,22 @@ def test_bad_option_values_are_refused(field: str, value: object) -> None:
 def test_real_depth_preset_keeps_overrides() -> None:
     config = QuadricDetectorConfig.real_depth(gripper_max_opening=0.05)
     assert config.handle_anchor == "surface" and config.gripper_max_opening == 0.05
+
+
+def test_own_normals_replace_the_given_directions_and_keep_their_signs() -> None:
+    cloud = mug_like()
+    points, outward = voxel_downsample(cloud.points, 0.003, normals=cloud.normals)
+    # Given normals on the right side of the surface but tilted at random by up to ~60 deg.
+    rng = np.random.default_rng(0)
+    tilted = outward + rng.normal(size=outward.shape) * 0.7
+    tilted /= np.linalg.norm(tilted, axis=1)[:, None]
+    tilted[np.einsum("ij,ij->i", tilted, outward) < 0] *= -1
+    own = detect(
+        points, tilted, QuadricDetectorConfig(voxel_size=0, own_normals=True, normal_radius=6e-3)
+    )
+    # ... equal to handing in a fresh 6 mm estimate signed as the given normals:
+    fresh = estimate_normals(points, radius=6e-3, orient="none")
+    fresh[np.einsum("ij,ij->i", fresh, tilted) < 0] *= -1
+    expected = detect(points, fresh, QuadricDetectorConfig(voxel_size=0, normal_radius=6e-3))
+    assert np.array_equal(own.candidate_centers, expected.candidate_centers)
+    assert cloud.handle_share(own.handles[0].center[None]) == 1.0

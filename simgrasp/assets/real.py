@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.perception._arrays import import_open3d
+from simgrasp.perception.scene_cloud import SceneCloud, read_scene
 
 REAL_DIR_ENV = "SIMGRASP_REAL_DIR"
 OSD_LEARN = "osd-learn"
@@ -52,10 +52,12 @@ class LabeledScene:
     Attributes:
         points: (N, 3) float64, NaN rows for invalid pixels, row-major image order.
         labels: (N,) int64 ground-truth part label of each point (0 invalid).
+        cloud: the scene as read (its grid and viewpoint), for segmentation.
     """
 
     points: NDArray[np.float64]
     labels: NDArray[np.int64]
+    cloud: SceneCloud
 
     def object_points(self, object_id: int) -> NDArray[np.float64]:
         """(M, 3) points of ground-truth object ``object_id`` (labels ``10 k`` .. ``10 k + 9``)."""
@@ -68,13 +70,8 @@ class LabeledScene:
 
 
 def read_labeled_scene(path: str | os.PathLike[str]) -> LabeledScene:
-    """Read an organized PCD with a ``label`` field, keeping invalid points in place."""
-    o3d = import_open3d()
-    cloud = o3d.t.io.read_point_cloud(
-        str(path), remove_nan_points=False, remove_infinite_points=False
-    )
-    if "positions" not in cloud.point or "label" not in cloud.point:
-        raise ValueError(f"{path}: not a labeled point cloud (needs x y z and a label field)")
-    points = cloud.point.positions.numpy().astype(np.float64)
-    labels = cloud.point.label.numpy().reshape(-1).astype(np.int64)
-    return LabeledScene(points, labels)
+    """Read a scene cloud with a ``label`` field, keeping invalid points in place."""
+    cloud = read_scene(path)
+    if cloud.labels is None:
+        raise ValueError(f"{path}: not a labeled point cloud (no label field)")
+    return LabeledScene(cloud.points.astype(np.float64), cloud.labels, cloud)

@@ -20,6 +20,7 @@ from simgrasp.assets.real import LabeledScene, osd_scene_file, read_labeled_scen
 from simgrasp.assets.scene_labels import SceneHandleLabel, load_scene_labels
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.perception.segment import segment_scene
 
 SENSOR_ORIGIN = np.zeros(3)
 
@@ -30,6 +31,9 @@ class PotResult:
 
     Attributes:
         scene: scene name (``learn34``); seed: the detection seed.
+        cut: how the pot was cut from the scene (``"labels"`` or ``"segment"``).
+        cut_iou: IoU of the cut pot with the ground-truth pot (1 for ``"labels"``).
+        handle_kept: share of the labeled pot's handle points that the cut kept.
         points: points of the pot cloud handed to the detector.
         candidates: candidate count; on_handle: how many of their centers are in a label.
         top_on_handle: the top-scored handle's center lies in a labeled handle (False when
@@ -39,6 +43,9 @@ class PotResult:
 
     scene: str
     seed: int
+    cut: str
+    cut_iou: float
+    handle_kept: float
     points: int
     candidates: int
     on_handle: int
@@ -57,14 +64,32 @@ def labeled_pot(scene: LabeledScene, label: SceneHandleLabel) -> NDArray[np.floa
     return scene.object_points(label.object_id)
 
 
+def segmented_pot(
+    scene: LabeledScene, label: SceneHandleLabel
+) -> tuple[NDArray[np.float64], float]:
+    """The pot's points as the scene segmentation (:func:`segment_scene`) cuts them: the
+    segmented object overlapping the ground-truth pot most (the labels only pick which object
+    is the pot). Returns its points (sensor frame, m) and its IoU with the labeled pot."""
+    predicted = segment_scene(scene.cloud).labels
+    truth = scene.labels // 10 == label.object_id
+    candidates, overlap = np.unique(predicted[truth & (predicted >= 2)], return_counts=True)
+    if len(candidates) == 0:
+        return np.zeros((0, 3)), 0.0
+    pot = predicted == candidates[np.argmax(overlap)]
+    iou = float((pot & truth).sum() / (pot | truth).sum())
+    return scene.points[pot], iou
+
+
 def score_pot(
     points: NDArray[np.float64],
     label: SceneHandleLabel,
     config: QuadricDetectorConfig,
     seed: int,
     detector: str = "quadric",
+    cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
 ) -> PotResult:
-    """Detect handles on one pot cloud and score them against its label."""
+    """Detect handles on one pot cloud and score them against its label; ``cut`` records
+    how the cloud was cut (method, IoU with the labeled pot, handle points kept)."""
     start = time.perf_counter()
     detection = detect(points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN)
     elapsed = time.perf_counter() - start
@@ -73,6 +98,9 @@ def score_pot(
     return PotResult(
         scene=label.scene,
         seed=seed,
+        cut=cut[0],
+        cut_iou=cut[1],
+        handle_kept=cut[2],
         points=len(points),
         candidates=len(centers),
         on_handle=int(label.label.contains(centers).sum()) if len(centers) else 0,
@@ -93,14 +121,24 @@ def evaluate_real_pots(
     real_dir: Path | None = None,
     scenes: tuple[str, ...] | None = None,
     detector: str = "quadric",
+    cut: str = "segment",
 ) -> list[PotResult]:
-    """Every labeled scene (or ``scenes``) x seed, the pot cut by its ground-truth labels."""
+    """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
+    (``cut="segment"``) or by its ground-truth labels (``"labels"``)."""
+    if cut not in ("segment", "labels"):
+        raise ValueError(f"cut must be 'segment' or 'labels', got {cut!r}")
     labels = labeled_scenes()
     results = []
     for name in scenes or tuple(labels):
         scene = read_labeled_scene(osd_scene_file(name, real_dir))
-        points = labeled_pot(scene, labels[name])
-        results += [score_pot(points, labels[name], config, s, detector) for s in seeds]
+        truth = labeled_pot(scene, labels[name])
+        points, iou = segmented_pot(scene, labels[name]) if cut == "segment" else (truth, 1.0)
+        on_handle = labels[name].label.contains
+        kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
+        results += [
+            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)))
+            for s in seeds
+        ]
     return results
 
 

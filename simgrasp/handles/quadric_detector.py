@@ -70,6 +70,10 @@ def detect_quadric_handles(
         tree = cKDTree(pts)
         if nrm is None:
             nrm = _estimate_normals(pts, config, viewpoint, tree)
+        elif config.own_normals:
+            given = nrm
+            nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
+            nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
     rng = rng_for(seed, "quadric_detector", "sample")
     with timed(timings, "sample"):
         center_index = sample_centers(
