@@ -21,6 +21,7 @@ from simgrasp.assets.scene_labels import SceneHandleLabel, load_scene_labels
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.perception.segment import segment_scene
+from simgrasp.perception.segment_config import SegmentConfig
 
 SENSOR_ORIGIN = np.zeros(3)
 
@@ -65,12 +66,12 @@ def labeled_pot(scene: LabeledScene, label: SceneHandleLabel) -> NDArray[np.floa
 
 
 def segmented_pot(
-    scene: LabeledScene, label: SceneHandleLabel
+    scene: LabeledScene, label: SceneHandleLabel, config: SegmentConfig | None = None
 ) -> tuple[NDArray[np.float64], float]:
     """The pot's points as the scene segmentation (:func:`segment_scene`) cuts them: the
     segmented object overlapping the ground-truth pot most (the labels only pick which object
     is the pot). Returns its points (sensor frame, m) and its IoU with the labeled pot."""
-    predicted = segment_scene(scene.cloud).labels
+    predicted = segment_scene(scene.cloud, config).labels
     truth = scene.labels // 10 == label.object_id
     candidates, overlap = np.unique(predicted[truth & (predicted >= 2)], return_counts=True)
     if len(candidates) == 0:
@@ -122,6 +123,7 @@ def evaluate_real_pots(
     scenes: tuple[str, ...] | None = None,
     detector: str = "quadric",
     cut: str = "segment",
+    segment_config: SegmentConfig | None = None,
 ) -> list[PotResult]:
     """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
     (``cut="segment"``) or by its ground-truth labels (``"labels"``)."""
@@ -132,7 +134,9 @@ def evaluate_real_pots(
     for name in scenes or tuple(labels):
         scene = read_labeled_scene(osd_scene_file(name, real_dir))
         truth = labeled_pot(scene, labels[name])
-        points, iou = segmented_pot(scene, labels[name]) if cut == "segment" else (truth, 1.0)
+        points, iou = (
+            segmented_pot(scene, labels[name], segment_config) if cut == "segment" else (truth, 1.0)
+        )
         on_handle = labels[name].label.contains
         kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
         results += [
