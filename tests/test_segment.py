@@ -143,11 +143,22 @@ def _one_error_line(capsys: pytest.CaptureFixture[str], argv: list[str], words: 
 def test_bad_scenes_give_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     grid = tabletop()
     blob = np.random.default_rng(0).normal(size=(HEIGHT, WIDTH, 3)) * 0.1 + [0, 0, 1.0]
+    rays = _rays() / np.linalg.norm(_rays(), axis=2, keepdims=True)
+    ahead = rays[..., 2] * 0.5  # a ball of radius 0.3 m, 0.5 m ahead, fills the view
+    with np.errstate(invalid="ignore"):  # the corner rays miss it: NaN pixels
+        ball = (ahead - np.sqrt(ahead**2 - 0.25 + 0.09))[..., None] * rays
+    o3d = import_open3d()
+    whole = tmp_path / "whole.pcd"
+    finite = grid.reshape(-1, 3)[np.isfinite(grid.reshape(-1, 3)).all(axis=1)]
+    o3d.t.io.write_point_cloud(str(whole), o3d.t.geometry.PointCloud(finite), compressed=True)
+    (tmp_path / "cut.pcd").write_bytes(whole.read_bytes()[: whole.stat().st_size // 2])
     cases = {
-        "no table plane": _save_npy(tmp_path, blob, "blob.npy"),
+        "no table plane (the best plane holds": _save_npy(tmp_path, blob, "blob.npy"),
+        "no table plane (the best plane is curved": _save_npy(tmp_path, ball, "ball.npy"),
         "no valid point": _save_npy(tmp_path, np.full_like(grid, np.nan), "nan.npy"),
         "millimetres": _save_npy(tmp_path, grid * 1000.0, "mm.npy"),
         "no such scene-cloud file": tmp_path / "missing.pcd",
+        "truncated": tmp_path / "cut.pcd",
     }
     for words, path in cases.items():
         _one_error_line(capsys, ["segment", str(path)], words)

@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from simgrasp.handles import DETECTORS, default_config, detect
+from simgrasp.handles import DETECTORS, QuadricDetectorConfig, TenPasConfig, default_config, detect
 from simgrasp.perception.cloud_io import read_cloud
 
 
@@ -79,7 +79,8 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _run_segmented(args: argparse.Namespace, config) -> int:
+def _run_segmented(args: argparse.Namespace, config: QuadricDetectorConfig | TenPasConfig) -> int:
+    """``--segment``: detect on each object of the scene (``simgrasp.handles.scene_detect``)."""
     from simgrasp.handles.scene_detect import detect_in_scene, parse_object_choice
 
     if args.plot:

@@ -29,7 +29,8 @@ def grid_components(
 
     ``points`` is the (H, W, 3) position image (m, NaN where invalid).
     """
-    rows, cols = _bounding_slices(candidates, config.normal_window_px + 2 * config.normal_step_px)
+    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
+    rows, cols = _bounding_slices(candidates, margin)
     segments = np.zeros(candidates.shape, dtype=np.int32)
     segments[rows, cols] = _crop_components(
         points[rows, cols], candidates[rows, cols], viewpoint, config
@@ -83,15 +84,39 @@ def _crop_components(
     if candidates.size == 0:
         return np.zeros(candidates.shape, dtype=np.int32)
     eye = viewpoint.astype(np.float32)
-    smooth = _box_mean(points, candidates, config.normal_window_px)
+    binned, binned_mask = _binned(points, candidates, config.normal_bin_px)
+    smooth = _box_mean(binned, binned_mask, config.normal_window_px)
     normals = _grid_normals(smooth, eye, config.normal_step_px)
+    concave = _concave_cuts(smooth, normals, config.concave_step_px, config.concave_threshold)
     cut = _depth_cuts(points, candidates, eye, config.depth_jump)
-    cut |= _concave_cuts(smooth, normals, config.concave_step_px, config.concave_threshold)
-    if config.cut_grow_px > 0:
-        cut = ndimage.binary_dilation(cut, iterations=config.cut_grow_px)
+    cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
     interior = candidates & ~cut
     segments, _ = ndimage.label(interior)
-    return _attach_edges(segments.astype(np.int32), points, candidates, config.attach_distance)
+    return _attach_edges(segments.astype(np.int32), points, candidates, config)
+
+
+def _binned(points: Grid, mask: NDArray[np.bool_], size: int) -> tuple[Grid, NDArray[np.bool_]]:
+    """Mean position of the masked pixels in each ``size`` x ``size`` block (NaN if none), and
+    the mask of blocks holding any."""
+    if size == 1:
+        return points, mask
+    height, width = -(-mask.shape[0] // size) * size, -(-mask.shape[1] // size) * size
+    padded = np.zeros((height, width, 3), dtype=np.float32)
+    padded[: mask.shape[0], : mask.shape[1]] = np.where(mask[..., None], points, 0.0)
+    counts = np.zeros((height, width), dtype=np.float32)
+    counts[: mask.shape[0], : mask.shape[1]] = mask
+    shape = (height // size, size, width // size, size)
+    sums = padded.reshape(*shape, 3).sum(axis=(1, 3))
+    count = counts.reshape(shape).sum(axis=(1, 3))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return sums / count[..., None], count > 0
+
+
+def _unbinned(blocks: NDArray[np.bool_], size: int, shape: tuple[int, ...]) -> NDArray[np.bool_]:
+    """A block mask blown up to pixels and cut to ``shape``."""
+    if size == 1:
+        return blocks
+    return np.repeat(np.repeat(blocks, size, axis=0), size, axis=1)[: shape[0], : shape[1]]
 
 
 def _box_mean(points: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
@@ -114,9 +139,16 @@ def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
     dv = np.full_like(smooth, np.nan)
     du[:, step:-step] = smooth[:, 2 * step :] - smooth[:, : -2 * step]
     dv[step:-step] = smooth[2 * step :] - smooth[: -2 * step]
-    normals = np.cross(du, dv)
+    normals = np.stack(
+        [
+            du[..., 1] * dv[..., 2] - du[..., 2] * dv[..., 1],
+            du[..., 2] * dv[..., 0] - du[..., 0] * dv[..., 2],
+            du[..., 0] * dv[..., 1] - du[..., 1] * dv[..., 0],
+        ],
+        axis=2,
+    )
     with np.errstate(invalid="ignore", divide="ignore"):
-        normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+        normals /= np.sqrt(np.einsum("hwk,hwk->hw", normals, normals))[..., None]
     toward = np.einsum("hwk,hwk->hw", normals, eye - smooth)
     normals[toward < 0] *= -1.0
     return normals
@@ -126,7 +158,8 @@ def _depth_cuts(
     points: Grid, mask: NDArray[np.bool_], eye: NDArray[np.float32], jump: float
 ) -> NDArray[np.bool_]:
     """Pixels with a 4-neighbour whose range differs by more than ``jump`` x range^2 (m)."""
-    ranges = np.linalg.norm(points - eye, axis=2)
+    offset = points - eye
+    ranges = np.sqrt(np.einsum("hwk,hwk->hw", offset, offset))
     ranges[~mask] = np.nan
     limit = jump * ranges * ranges
     cut = np.zeros(mask.shape, dtype=bool)
@@ -152,7 +185,7 @@ def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> N
         offset = smooth[tuple(hi)] - smooth[tuple(lo)]
         fold = np.einsum("hwk,hwk->hw", normals[tuple(hi)] - normals[tuple(lo)], offset)
         with np.errstate(invalid="ignore"):
-            concave = fold < -threshold * np.linalg.norm(offset, axis=2)
+            concave = fold < -threshold * np.sqrt(np.einsum("hwk,hwk->hw", offset, offset))
         for shift in range(step + 1):
             span = [slice(None), slice(None)]
             span[axis] = slice(shift, shift + concave.shape[axis])
@@ -161,17 +194,31 @@ def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> N
 
 
 def _attach_edges(
-    segments: NDArray[np.int32], points: Grid, candidates: NDArray[np.bool_], distance: float
+    segments: NDArray[np.int32], points: Grid, candidates: NDArray[np.bool_], config: SegmentConfig
 ) -> NDArray[np.int32]:
-    """Give each cut-edge candidate pixel the segment of its nearest segment pixel in the
-    image, when that pixel is within ``distance`` (m) in 3-D."""
-    loose = candidates & (segments == 0)
-    if not loose.any() or not segments.any():
+    """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
+    those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
+    0), when within ``attach_distance`` (m): a mixed pixel at an occluding edge joins the side
+    whose depth it is nearer."""
+    reach = config.attach_radius_px
+    labels = np.pad(segments, reach)
+    if not labels.any() or not (candidates & (segments == 0)).any():
         return segments
-    _, (rows, cols) = ndimage.distance_transform_edt(segments == 0, return_indices=True)
-    r, c = np.nonzero(loose)
-    nr, nc = rows[r, c], cols[r, c]
-    gap = np.linalg.norm(points[r, c] - points[nr, nc], axis=1)
-    near = gap <= distance
-    segments[r[near], c[near]] = segments[nr[near], nc[near]]
-    return segments
+    width = labels.shape[1]
+    flat_points = np.pad(points, ((reach, reach), (reach, reach), (0, 0))).reshape(-1, 3)
+    flat_labels = labels.reshape(-1)
+    loose = np.flatnonzero(np.pad(candidates & (segments == 0), reach))
+    here = flat_points[loose]
+    best_gap = np.full(len(loose), np.inf, dtype=np.float32)
+    best = np.zeros(len(loose), dtype=np.int32)
+    steps = [0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)]
+    for shift in (dr * width + dc for dr in steps for dc in steps):
+        label = flat_labels[loose + shift]
+        offset = flat_points[loose + shift] - here
+        gap = np.einsum("ij,ij->i", offset, offset)
+        better = (label > 0) & (gap < best_gap)
+        best_gap[better] = gap[better]
+        best[better] = label[better]
+    near = best_gap <= config.attach_distance**2
+    flat_labels[loose[near]] = best[near]
+    return labels[reach:-reach, reach:-reach]

@@ -110,18 +110,21 @@ def _load_npy(path: Path) -> NDArray[np.floating]:
 def _read_open3d(path: Path, suffix: str) -> SceneCloud:
     header = _pcd_header(path) if suffix == ".pcd" else {}
     o3d = import_open3d()
-    cloud = o3d.t.io.read_point_cloud(
-        str(path), format="auto", remove_nan_points=False, remove_infinite_points=False
-    )
+    with o3d.utility.VerbosityContextManager(o3d.utility.VerbosityLevel.Error):
+        cloud = o3d.t.io.read_point_cloud(
+            str(path), format="auto", remove_nan_points=False, remove_infinite_points=False
+        )
     if "positions" not in cloud.point or len(cloud.point.positions) == 0:
-        raise ValueError(f"{path}: no points could be read (empty or not a valid {suffix})")
+        raise ValueError(
+            f"{path}: no points could be read (empty, truncated or not a valid {suffix})"
+        )
     points = cloud.point.positions.numpy()
     width, height = _grid_shape(path, header, len(points))
     labels = (
         cloud.point.label.numpy().reshape(-1).astype(np.int64) if "label" in cloud.point else None
     )
-    scene = scene_from_array(points.reshape(height, width, 3) if height > 1 else points)
-    return SceneCloud(scene.points, width, height, _viewpoint(path, header), labels, str(path))
+    points = np.ascontiguousarray(points, dtype=np.float32)
+    return SceneCloud(points, width, height, _viewpoint(path, header), labels, str(path))
 
 
 def _pcd_header(path: Path) -> dict[str, list[str]]:

@@ -66,7 +66,7 @@ class Segmentation:
             ``a x + b y + c z + d`` is the height above the table (m).
         table_points: number of points labeled table.
         objects: the objects, label 2 first (nearest the sensor).
-        timings_s: wall seconds per step.
+        timings_s: wall seconds per step, and ``total`` for the whole call.
     """
 
     labels: NDArray[np.int32]
@@ -94,6 +94,7 @@ def segment_scene(
     if method == "grid" and not scene.organized:
         raise ValueError(f"{scene.source or 'scene'}: method 'grid' needs an organized cloud")
     timings: dict[str, float] = {}
+    start = time.perf_counter()
     points = scene.points
     valid = _timed(timings, "valid", lambda: _valid_points(scene, config))
     plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, config))
@@ -109,7 +110,7 @@ def segment_scene(
     labels, objects = _timed(
         timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
     )
-    timings["total"] = sum(timings.values())
+    timings["total"] = time.perf_counter() - start
     return Segmentation(labels, plane, int(table.sum()), objects, timings)
 
 
@@ -122,8 +123,10 @@ def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any
 
 def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
     name = scene.source or "scene"
-    offset = scene.points - scene.viewpoint.astype(np.float32)
-    squared = np.einsum("ij,ij->i", offset, offset)
+    points, eye = scene.points, scene.viewpoint.astype(np.float32)
+    squared = np.einsum("ij,ij->i", points, points)
+    if eye.any():
+        squared += eye @ eye - 2.0 * (points @ eye)
     finite = np.isfinite(squared)
     if not finite.any():
         raise ValueError(f"{name}: no valid point (every point is NaN or inf)")
@@ -147,19 +150,32 @@ def fit_table_plane(
     if len(index) < 3:
         raise ValueError(f"{name}: too few valid points ({len(index)}) to find a table plane")
     rng = rng_for(config.seed, "segment", "plane")
-    sample = points[rng.choice(index, min(len(index), config.plane_samples), replace=False)]
+    sample = points[index[rng.integers(0, len(index), config.plane_samples)]]
     plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
-    refine = points[rng.choice(index, min(len(index), config.refine_samples), replace=False)]
+    refine = points[index[rng.integers(0, len(index), config.refine_samples)]]
     plane = _refined_plane(refine, plane, config)
-    share = float(np.mean(np.abs(refine @ plane[:3] + plane[3]) <= config.plane_distance))
+    _check_table(np.abs(refine @ plane[:3] + plane[3]), config, name)
+    if plane[:3] @ scene.viewpoint + plane[3] < 0:
+        plane = -plane
+    return plane
+
+
+def _check_table(distance: NDArray[np.float64], config: SegmentConfig, name: str) -> None:
+    """``ValueError`` unless the plane, at ``distance`` (m) from sampled points, is a table:
+    enough inliers (``min_plane_share``) and flat (``min_plane_flatness``)."""
+    inliers = distance <= config.plane_distance
+    share = float(np.mean(inliers))
     if share < config.min_plane_share:
         raise ValueError(
             f"{name}: no table plane (the best plane holds {share:.1%} of the valid points, "
             f"min_plane_share is {config.min_plane_share:.0%})"
         )
-    if plane[:3] @ scene.viewpoint + plane[3] < 0:
-        plane = -plane
-    return plane
+    flatness = float(np.mean(distance[inliers] <= config.table_distance))
+    if flatness < config.min_plane_flatness:
+        raise ValueError(
+            f"{name}: no table plane (the best plane is curved: {flatness:.0%} of its inliers "
+            f"lie within table_distance, min_plane_flatness is {config.min_plane_flatness:.0%})"
+        )
 
 
 def _ransac_plane(
@@ -251,10 +267,10 @@ def _ordered_labels(
     relabel = np.zeros(len(counts), dtype=np.int32)
     relabel[kept[order]] = np.arange(FIRST_OBJECT, FIRST_OBJECT + len(kept), dtype=np.int32)
     labels[index] = np.where(relabel[ids] > 0, relabel[ids], labels[index])
-    objects = tuple(
-        _object(int(label), points[index[relabel[ids] == label]])
-        for label in range(FIRST_OBJECT, FIRST_OBJECT + len(kept))
-    )
+    order_of = np.argsort(labels[index], kind="stable")
+    ends = np.cumsum(np.bincount(labels[index], minlength=FIRST_OBJECT + len(kept)))
+    members = np.split(index[order_of], ends[FIRST_OBJECT - 1 : -1])
+    objects = tuple(_object(FIRST_OBJECT + k, points[members[k + 1]]) for k in range(len(kept)))
     return labels, objects
 
 
