@@ -1,4 +1,5 @@
-"""``simgrasp labels``: draw objects with their labeled handle regions, for a person to check."""
+"""``simgrasp labels``: draw objects with their labeled handle regions, for a person to check;
+``--osd`` draws the handles we labeled in real osd-learn scenes instead."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.cli.options import YcbSource
+from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -15,10 +17,16 @@ class Options(YcbSource):
     seed: int = 0
     """Sizes of generated tools named without _s<seed>."""
     out: Path = Path("out/labels")
-    """Output directory (one PNG per object)."""
+    """Output directory (one PNG per object or scene)."""
+    osd: tuple[str, ...] = ()
+    """Draw the labeled pot handles of these osd-learn scenes instead (learn33,... or all)."""
+    real_dir: str | None = None
+    """Real data root holding osd-learn/ (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
 
 
 def run(options: Options) -> int:
+    if options.osd:
+        return _run_osd(options)
     import numpy as np
 
     from simgrasp.assets.label_plot import draw_label
@@ -31,4 +39,23 @@ def run(options: Options) -> int:
         path = draw_label(asset, options.out / f"{asset.name}.png")
         share = np.round(asset.handle.contains(asset.mesh.vertices).mean(), 2)
         print(f"{asset.name}: {path} (handle share of mesh vertices {share})")
+    return 0
+
+
+def _run_osd(options: Options) -> int:
+    """Draw the labeled handles of the chosen osd-learn scenes."""
+    from simgrasp.assets.real import osd_scene_file, read_labeled_scene
+    from simgrasp.assets.scene_labels import load_scene_labels
+    from simgrasp.handles.scene_label_plot import draw_scene_label
+
+    labels = load_scene_labels()
+    names = tuple(labels) if options.osd == ("all",) else options.osd
+    unknown = [n for n in names if n not in labels]
+    if unknown:
+        raise SimgraspError(f"no handle label for osd scene(s) {', '.join(unknown)}")
+    options.out.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        scene = read_labeled_scene(osd_scene_file(name, options.real_dir))
+        path = draw_scene_label(scene, labels[name], options.out / f"{name}.png")
+        print(f"{name}: {path} ({len(labels[name].label.regions)} handle region(s))")
     return 0

@@ -21,6 +21,7 @@ def cluster_handles(
     centrality_length: float | None = None,
     max_opening: float | None = None,
     min_relative_score: float = 0.0,
+    anchors: NDArray[np.float64] | None = None,
 ) -> tuple[tuple[Handle, ...], tuple[NDArray[np.int64], ...]]:
     """Group candidates whose handle points chain within ``distance`` (m) into handles.
 
@@ -39,6 +40,8 @@ def cluster_handles(
             a part barely narrower than the open jaws (a mug's body) leaves no room for
             pose error, a handle half the opening or narrower is not penalized.
         min_relative_score: handles scoring below this fraction of the best are dropped.
+        anchors: (M, 3) points to take the handle centers from instead of ``handle_points``
+            (the candidates' seen surface points); the clustering still joins handle points.
 
     Returns:
         Handles sorted by decreasing score, and for each the indices of its candidates. A
@@ -59,7 +62,8 @@ def cluster_handles(
         members = np.flatnonzero(labels == label)
         if len(members) < min_support:
             continue
-        handle = _handle_from_members(handle_points[members], axes[members], widths[members], count)
+        centers = handle_points if anchors is None else anchors
+        handle = _handle_from_members(centers[members], axes[members], widths[members], count)
         found.append((_weighted(handle, object_center, centrality_length, max_opening), members))
     if not found:
         return (), ()

@@ -72,10 +72,18 @@ def detect_quadric_handles(
         tree = cKDTree(pts)
         if nrm is None:
             nrm = _estimate_normals(pts, config, viewpoint, tree)
+        elif config.own_normals:
+            given = nrm
+            nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
+            nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
     rng = rng_for(seed, "quadric_detector", "sample")
     with timed(timings, "sample"):
         center_index = sample_centers(
-            pts, rng, count=config.neighborhoods, voxel_size=max(config.voxel_size, 1e-4)
+            pts,
+            rng,
+            count=config.neighborhoods,
+            voxel_size=max(config.voxel_size, 1e-4),
+            per_voxels=config.voxels_per_neighborhood,
         )
         hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
     sampled_centers = pts[center_index[np.unique(hoods.source)]]
@@ -170,6 +178,7 @@ def _cluster(
         ),
         max_opening=config.gripper_max_opening if config.prefer_clearance else None,
         min_relative_score=config.min_relative_score,
+        anchors=hood_centers[index] if config.handle_anchor == "surface" else None,
     )
     supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
     quadrics = Quadric.batch(
