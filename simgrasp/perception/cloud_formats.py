@@ -203,7 +203,7 @@ def read_pcd(path: Path, data: bytes) -> Table:
     names, dtype = _pcd_fields(path, header)
     _check_float_coordinates(path, dtype, ("normal_x", "normal_y", "normal_z"))
     count = _pcd_count(path, header)
-    kind = header["DATA"][0] if header["DATA"] else ""
+    kind = (header.get("DATA") or [""])[0]
     scalars = [n for n in names if dtype[n].shape == ()]
     if kind == "ascii":
         width = sum(int(np.prod(dtype[n].shape)) for n in names)
