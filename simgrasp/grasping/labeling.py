@@ -1,0 +1,127 @@
+"""The grasp-labeling engine: one object's scene compiled once, every grasp a trial on it.
+
+A :class:`GraspLabeler` builds the scene of one object, gripper and seed once; each grasp is
+then a :func:`~simgrasp.grasping.trial.run_trial` on that scene, which resets the compiled
+model's state (``mj_resetData`` and forward kinematics, no rebuild, no rendering) before
+executing it. It is the same trial code path as ``simgrasp trial``, ``evaluate`` and the env,
+so a grasp labeled with the full protocol has the record ``trial --grasp`` gives it.
+
+Grasps come in the object's mesh frame (``object_T_tcp``, our TCP convention) and are placed
+at the scene's seeded rest pose (``world_T_object``) before execution.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.grasping.protocol import DEFAULT_PROTOCOL, PROTOCOLS, Protocol
+
+if TYPE_CHECKING:
+    from simgrasp.assets.model import ObjectModel
+    from simgrasp.scenes.scene import Scene
+
+INVALID = "invalid"
+"""The failure of a row that is not a grasp (it is never executed)."""
+GRASP_SOURCE = "grasp_set"
+
+
+@dataclass(frozen=True)
+class LabelConfig:
+    """What a grasp set is labeled with (importable without MuJoCo).
+
+    Attributes:
+        object: YCB id or generated tool name.
+        gripper: ``"builtin"`` or ``"robotiq_2f85"``.
+        protocol: trial protocol, ``"full"`` (as ``trial``/``evaluate``) or ``"fast"``.
+        seed: seed of the scene (the object's rest pose and yaw on the table).
+        placement: ``"stable"`` or ``"upright"`` rest poses (:class:`SceneConfig`).
+    """
+
+    object: str
+    gripper: str = "builtin"
+    protocol: Protocol = DEFAULT_PROTOCOL
+    seed: int = 0
+    placement: Placement = DEFAULT_PLACEMENT
+
+    def __post_init__(self) -> None:
+        if self.protocol not in PROTOCOLS:
+            raise ValueError(f"unknown protocol {self.protocol!r}; use one of {PROTOCOLS}")
+        if self.gripper not in ("builtin", "robotiq_2f85"):
+            raise ValueError(f"unknown gripper {self.gripper!r} (builtin or robotiq_2f85)")
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        check_placement(self.placement)
+
+
+class GraspLabeler:
+    """Labels grasps of one object with one gripper and protocol on one compiled scene."""
+
+    def __init__(self, object_model: ObjectModel, config: LabelConfig) -> None:
+        from simgrasp.grasping.trial import protocol_config
+        from simgrasp.scenes.gripper import make_gripper
+        from simgrasp.scenes.scene import SceneConfig, build_scene
+
+        self.config = config
+        self.trial_config = protocol_config(config.protocol)
+        self.gripper = make_gripper(config.gripper)
+        scene_config = SceneConfig(placement=config.placement)
+        self.scene: Scene = build_scene(object_model, self.gripper, scene_config, config.seed)
+
+    def label(self, index: int, object_T_tcp: NDArray[np.float64], width: float) -> dict[str, Any]:
+        """The trial record of one grasp (object frame; ``width`` NaN: fully open), with its
+        ``index`` and the ``protocol``."""
+        from simgrasp.grasping.grasp import Grasp
+        from simgrasp.grasping.trial import run_trial
+
+        opening = self.gripper.max_opening if not np.isfinite(width) else float(width)
+        grasp = Grasp.from_object_frame(
+            np.asarray(object_T_tcp, dtype=float),
+            self.scene.world_T_object,
+            opening,
+            source=GRASP_SOURCE,
+        )
+        record = run_trial(self.scene, grasp, self.trial_config).to_json()
+        return {"index": int(index), "protocol": self.config.protocol, **record}
+
+
+def invalid_record(index: int, problem: str, config: LabelConfig) -> dict[str, Any]:
+    """The record of a row that is not a grasp: failure ``invalid``, never executed."""
+    return {
+        "index": int(index),
+        "protocol": config.protocol,
+        "object": config.object,
+        "gripper": config.gripper,
+        "seed": config.seed,
+        "success": False,
+        "failure": INVALID,
+        "problem": problem,
+        "on_handle": False,
+        "handle_fraction": 0.0,
+        "lift_height": 0.0,
+    }
+
+
+@functools.cache
+def cached_labeler(config: LabelConfig, ycb_dir: str | None) -> GraspLabeler:
+    """This process's labeler for ``config`` (the scene is built on the first call)."""
+    from simgrasp.grasping.chain import model_for
+
+    return GraspLabeler(model_for(config.object, ycb_dir), config)
+
+
+def label_one(
+    config: LabelConfig, ycb_dir: str | None, index: int, object_T_tcp: NDArray, width: float
+) -> dict[str, Any]:
+    """Label one grasp in this process (worker entry point)."""
+    return cached_labeler(config, ycb_dir).label(index, object_T_tcp, width)
+
+
+def prepare(config: LabelConfig, ycb_dir: str | None) -> None:
+    """Build this process's labeler (worker warm-up)."""
+    cached_labeler(config, ycb_dir)
