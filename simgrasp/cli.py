@@ -25,6 +25,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "object": ("simgrasp.assets.object_cli", "show or export an object model"),
     "trial": ("simgrasp.grasping.trial_cli", "run one grasp trial in MuJoCo"),
     "evaluate": ("simgrasp.evaluation.evaluate_cli", "sweep objects x detectors x grippers"),
+    "sample-grasps": ("simgrasp.grasping.sample_cli", "antipodal grasps on an object's mesh"),
+    "label-grasps": ("simgrasp.grasping.label_cli", "score every grasp of a grasp file"),
 }
 
 

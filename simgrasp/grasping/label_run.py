@@ -128,9 +128,9 @@ def label_grasp_set(
     backend: Backend = "local",
     address: str | None = None,
     progress: bool = True,
-) -> dict[str, Any]:
+) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     """Label every grasp of ``grasps`` not yet in ``out_dir``; write the outputs; return the
-    summary (also ``summary.json``)."""
+    summary (also ``summary.json``) and every record in input order."""
     from tqdm import tqdm
 
     if backend not in ("local", "ray"):
@@ -168,7 +168,7 @@ def label_grasp_set(
     write_label_arrays(out_dir / "labels.npz", records)
     summary = summarize(records, config, new=len(jobs), wall_s=wall, workers=workers)
     (out_dir / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    return summary
+    return summary, records
 
 
 def write_label_arrays(path: Path, records: list[dict[str, Any]]) -> None:
