@@ -36,7 +36,8 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
+
+from simgrasp.grasping.grasp import matrix_from_pose7
 
 ACRONYM_TCP_OFFSET = 0.1034
 """Distance (m) from the Franka hand's frame (ACRONYM's grasp frame) to the point midway
@@ -130,9 +131,8 @@ def _from_poses(poses: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
             problems[index] = "non-finite values"
         elif abs(norm - 1.0) > QUATERNION_TOLERANCE:
             problems[index] = f"quaternion norm {norm:.6g} is not 1"
-        else:
-            matrices[index, :3, :3] = Rotation.from_quat(pose[3:], scalar_first=True).as_matrix()
-            matrices[index, :3, 3] = pose[:3]
+        else:  # as `simgrasp trial --grasp` reads a pose
+            matrices[index] = matrix_from_pose7(pose)
     return matrices, problems
 
 

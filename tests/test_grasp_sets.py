@@ -1,0 +1,114 @@
+"""Grasp-set readers: our npz/json, ACRONYM .h5 (made here with h5py), graspnetAPI rows; every
+bad row reported by index and kept out of the valid set."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from simgrasp.grasping.grasp import pose7_from_matrix
+from simgrasp.grasping.grasp_sets import (
+    ACRONYM_TCP_OFFSET,
+    read_grasp_set,
+    write_grasp_set,
+)
+
+
+def rigid(rotvec: list[float], translation: list[float]) -> np.ndarray:
+    transform = np.eye(4)
+    transform[:3, :3] = Rotation.from_rotvec(rotvec).as_matrix()
+    transform[:3, 3] = translation
+    return transform
+
+
+GOOD = rigid([0.3, -0.2, 1.1], [0.01, 0.02, 0.03])
+
+
+def test_npz_matrices_with_bad_rows_reported_by_index(tmp_path: Path) -> None:
+    matrices = np.stack([GOOD, GOOD, GOOD, GOOD, np.zeros((4, 4)), GOOD])
+    matrices[1, 0, 0] = np.nan
+    matrices[2, :3, :3] *= 1.5  # scaled: not orthonormal
+    matrices[3, :3, 0] *= -1.0  # a reflection
+    widths = np.array([0.04, 0.04, 0.04, 0.04, 0.04, -0.01])
+    path = write_grasp_set(tmp_path / "set.npz", matrices, widths)
+    grasps = read_grasp_set(path)
+    assert len(grasps) == 6 and grasps.fmt == "npz"
+    assert sorted(grasps.problems) == [1, 2, 3, 4, 5]
+    assert "non-finite" in grasps.problems[1]
+    assert "orthonormal" in grasps.problems[2] and "orthonormal" in grasps.problems[4]
+    assert "reflection" in grasps.problems[3]
+    assert "width" in grasps.problems[5]
+    assert grasps.valid.tolist() == [True, False, False, False, False, False]
+    np.testing.assert_allclose(grasps.object_T_tcp[0], GOOD)
+    np.testing.assert_array_equal(grasps.object_T_tcp[1], np.eye(4))
+
+
+def test_json_poses_without_width(tmp_path: Path) -> None:
+    pose = pose7_from_matrix(GOOD).tolist()
+    unnormalized = pose[:3] + [2 * q for q in pose[3:]]
+    path = tmp_path / "set.json"
+    path.write_text(json.dumps({"poses": [pose, unnormalized, [0.0] * 7]}))
+    grasps = read_grasp_set(path)
+    np.testing.assert_allclose(grasps.object_T_tcp[0], GOOD, atol=1e-12)
+    assert np.isnan(grasps.width).all()
+    assert sorted(grasps.problems) == [1, 2]
+    assert "quaternion norm 2" in grasps.problems[1]
+    assert "quaternion norm 0" in grasps.problems[2]
+
+
+def test_acronym_h5_maps_the_franka_frame_to_our_tcp(tmp_path: Path) -> None:
+    """ACRONYM's hand frame: approach +z, closing along x, pads ~0.1034 m along +z."""
+    bad = np.eye(4)
+    bad[:3, :3] = 0.0
+    franka = np.stack([np.eye(4), GOOD, bad])
+    path = tmp_path / "Mug_0.h5"
+    with h5py.File(path, "w") as handle:
+        handle["grasps/transforms"] = franka
+        handle["grasps/qualities/flex/object_in_gripper"] = np.array([1, 0, 1])
+    grasps = read_grasp_set(path)
+    assert grasps.fmt == "acronym" and list(grasps.problems) == [2]
+    tcp = grasps.object_T_tcp[0]
+    np.testing.assert_allclose(tcp[:3, 3], [0.0, 0.0, ACRONYM_TCP_OFFSET])
+    np.testing.assert_allclose(tcp[:3, 2], [0.0, 0.0, 1.0])  # approach = Franka +z
+    np.testing.assert_allclose(tcp[:3, 1], [1.0, 0.0, 0.0])  # closing = Franka x
+    assert np.linalg.det(tcp[:3, :3]) == pytest.approx(1.0)
+    moved = grasps.object_T_tcp[1]
+    np.testing.assert_allclose(moved[:3, 3], GOOD[:3, 3] + ACRONYM_TCP_OFFSET * GOOD[:3, 2])
+    np.testing.assert_allclose(moved[:3, 1], GOOD[:3, 0], atol=1e-12)
+
+
+def test_acronym_file_without_grasps_is_an_error(tmp_path: Path) -> None:
+    path = tmp_path / "empty.h5"
+    with h5py.File(path, "w") as handle:
+        handle["object/scale"] = 1.0
+    with pytest.raises(ValueError, match="grasps/transforms"):
+        read_grasp_set(path)
+
+
+def test_graspnet_rows_approach_is_the_rotation_x_axis(tmp_path: Path) -> None:
+    rotation = GOOD[:3, :3]
+    row = np.concatenate([[0.9, 0.05, 0.02, 0.03], rotation.reshape(-1), [0.1, 0.2, 0.3], [7]])
+    skewed = row.copy()
+    skewed[4] += 0.5
+    path = tmp_path / "grasps.npy"
+    np.save(path, np.stack([row, skewed]))
+    grasps = read_grasp_set(path)
+    assert grasps.fmt == "graspnet" and list(grasps.problems) == [1]
+    tcp = grasps.object_T_tcp[0]
+    np.testing.assert_allclose(tcp[:3, 2], rotation[:, 0])
+    np.testing.assert_allclose(tcp[:3, 1], rotation[:, 1])
+    np.testing.assert_allclose(tcp[:3, 3], [0.1, 0.2, 0.3])
+    assert grasps.width[0] == pytest.approx(0.05)
+
+
+def test_unknown_suffix_and_missing_file(tmp_path: Path) -> None:
+    (tmp_path / "set.csv").write_text("1,2,3\n")
+    with pytest.raises(ValueError, match="unknown grasp file type"):
+        read_grasp_set(tmp_path / "set.csv")
+    with pytest.raises(FileNotFoundError):
+        read_grasp_set(tmp_path / "none.npz")
