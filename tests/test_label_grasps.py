@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_trial import handle_grasp, head_point, top_down_grasp
 
 from simgrasp.cli import main
 from simgrasp.grasping.chain import model_for
@@ -20,7 +21,6 @@ from simgrasp.grasping.grasp import Grasp, pose7_from_matrix
 from simgrasp.grasping.grasp_sets import read_grasp_set, write_grasp_set
 from simgrasp.grasping.label_run import LABELS_FILE, label_grasp_set
 from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
-from test_trial import handle_grasp, head_point, top_down_grasp
 
 OBJECT, SEED = "gen_hammer_s1", 3
 """The hammer and scene of tests/test_trial.py (``load_object("gen_hammer", seed=1)``)."""
