@@ -112,3 +112,27 @@ def test_unknown_suffix_and_missing_file(tmp_path: Path) -> None:
         read_grasp_set(tmp_path / "set.csv")
     with pytest.raises(FileNotFoundError):
         read_grasp_set(tmp_path / "none.npz")
+
+
+def test_sampler_table_margins_match_the_planner() -> None:
+    """The sampler's vectorized table check is the planner's table_margin, grasp by grasp."""
+    from dataclasses import replace
+
+    from simgrasp.grasping.antipodal import Table
+    from simgrasp.grasping.planner import GripperGeometry, PlannerConfig, table_margin
+
+    rng = np.random.default_rng(0)
+    geometry = GripperGeometry(max_opening=0.085, closed_pad_reach=0.02)
+    table = Table(rigid([0.2, 0.1, 0.5], [0.0, 0.0, 0.03]), top_z=0.0)
+    poses = np.stack(
+        [rigid(rng.normal(size=3), rng.normal(0, 0.05, 3) + [0, 0, 0.1]) for _ in range(50)]
+    )
+    openings = rng.uniform(0.01, 0.085, 50)
+    margins = table.margins(poses, openings, geometry)
+    expected = [
+        table_margin(table.world_T_object @ p, replace(geometry, max_opening=w), 0.0,
+                     PlannerConfig())
+        for p, w in zip(poses, openings, strict=True)
+    ]  # fmt: skip
+    np.testing.assert_allclose(margins, expected, atol=1e-12)
+    assert (margins < 0).any() and (margins > 0).any()
