@@ -27,6 +27,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "evaluate": ("simgrasp.evaluation.evaluate_cli", "sweep objects x detectors x grippers"),
     "sample-grasps": ("simgrasp.grasping.sample_cli", "antipodal grasps on an object's mesh"),
     "label-grasps": ("simgrasp.grasping.label_cli", "score every grasp of a grasp file"),
+    "compare-labels": ("simgrasp.grasping.compare_cli", "agreement of two label-grasps runs"),
 }
 
 

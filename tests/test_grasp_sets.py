@@ -136,3 +136,29 @@ def test_sampler_table_margins_match_the_planner() -> None:
     ]  # fmt: skip
     np.testing.assert_allclose(margins, expected, atol=1e-12)
     assert (margins < 0).any() and (margins > 0).any()
+
+
+def test_compare_labels_confusion_leaves_out_unscored(tmp_path: Path) -> None:
+    from simgrasp.grasping.label_compare import compare_labels
+    from simgrasp.grasping.label_run import write_label_arrays
+
+    def records(outcomes: list[tuple[bool, str | None]]) -> list[dict]:
+        return [
+            {"success": s, "on_handle": s, "failure": f, "handle_fraction": 0.0,
+             "lift_height": 0.0}
+            for s, f in outcomes
+        ]  # fmt: skip
+
+    full = [(True, None), (True, None), (False, "missed"), (False, "invalid"), (None, None)]
+    fast = [(True, None), (False, "dropped_in_perturbation"), (False, "missed"),
+            (False, "invalid"), (True, None)]  # fmt: skip
+    full[4] = (None, "sim_unstable")
+    for name, outcomes in (("full", full), ("fast", fast)):
+        (tmp_path / name).mkdir()
+        write_label_arrays(tmp_path / name / "labels.npz", records(outcomes))
+    result = compare_labels(tmp_path / "full", tmp_path / "fast")
+    assert result["scored"] == 3
+    assert (result["held_held"], result["held_failed"]) == (1, 1)
+    assert (result["failed_held"], result["failed_failed"]) == (0, 1)
+    assert result["agreement"] == pytest.approx(2 / 3)
+    assert result["on_handle_agreement"] == 1.0
