@@ -136,3 +136,16 @@ def test_resume_after_sigkill(labeler: GraspLabeler, tmp_path: Path) -> None:
     summary = json.loads((out / "summary.json").read_text())
     assert summary["labeled_this_run"] == count - before
     assert np.load(out / "labels.npz")["success"].shape == (count,)
+
+
+def test_free_floating_labels(known_set: Path, tmp_path: Path) -> None:
+    """In free space (ACRONYM-style) the handle and head grasps hold the hammer against its
+    weight and the tugs; the grasp beside it closes on nothing."""
+    config = LabelConfig(OBJECT, protocol="fast", seed=SEED, free_floating=True)
+    _, records = label_grasp_set(
+        read_grasp_set(known_set), config, tmp_path, grasp_file=known_set, progress=False
+    )
+    assert [r["failure"] for r in records] == [None, None, "missed", "invalid"]
+    assert [r["on_handle"] for r in records] == [True, False, False, False]
+    assert records[0]["object_pose"][2] > 0.4  # started in the air
+    assert records[0]["lift_height"] < 0.0  # sagged a little under its weight, still held

@@ -39,6 +39,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="trial protocol: full (as trial/evaluate) or fast (shorter phases)",
     )
     parser.add_argument("--seed", type=int, default=0, help="scene seed (rest pose and yaw)")
+    parser.add_argument(
+        "--free-floating",
+        action="store_true",
+        help="label in free space as ACRONYM does: the object floats (its weight compensated) "
+        "above its rest pose, the gripper closes at the grasp itself, then the weight comes on "
+        "and the tugs follow (no table, pre-grasp, approach or lift)",
+    )
     add_placement_argument(parser)
     parser.add_argument("--ycb-dir", default=None, help="YCB root (default $SIMGRASP_YCB_DIR)")
     parser.add_argument("--no-picture", action="store_true", help="skip labels.png")
@@ -52,7 +59,14 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
-    config = LabelConfig(args.object, args.gripper, args.protocol, args.seed, args.placement)
+    config = LabelConfig(
+        args.object,
+        args.gripper,
+        args.protocol,
+        args.seed,
+        args.placement,
+        args.free_floating,
+    )
     grasps = read_grasp_set(args.grasps)
     _report_problems(grasps.problems, len(grasps))
     model = model_for(args.object, args.ycb_dir)
@@ -94,7 +108,7 @@ def _picture(model: Any, grasps: Any, records: list, config: Any, path: Path) ->
     )
     title = (
         f"{model.asset.name}, {config.gripper} gripper, {config.protocol} protocol, "
-        f"seed {config.seed}"
+        f"seed {config.seed}" + (", free-floating" if config.free_floating else "")
     )
     plot_labels(model.asset.mesh, grasps.object_T_tcp, widths, records, path, title)
 

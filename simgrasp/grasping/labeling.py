@@ -7,13 +7,14 @@ executing it. It is the same trial code path as ``simgrasp trial``, ``evaluate``
 so a grasp labeled with the full protocol has the record ``trial --grasp`` gives it.
 
 Grasps come in the object's mesh frame (``object_T_tcp``, our TCP convention) and are placed
-at the scene's seeded rest pose (``world_T_object``) before execution.
+at the object's starting pose (the scene's seeded rest pose, raised into free space with
+``free_floating``) before execution.
 """
 
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -41,6 +42,9 @@ class LabelConfig:
         protocol: trial protocol, ``"full"`` (as ``trial``/``evaluate``) or ``"fast"``.
         seed: seed of the scene (the object's rest pose and yaw on the table).
         placement: ``"stable"`` or ``"upright"`` rest poses (:class:`SceneConfig`).
+        free_floating: label in free space as ACRONYM does (``TrialConfig.free_floating``):
+            the object floats above its rest pose, the gripper closes at the grasp itself and
+            the object's weight and the tugs test the hold.
     """
 
     object: str
@@ -48,6 +52,7 @@ class LabelConfig:
     protocol: Protocol = DEFAULT_PROTOCOL
     seed: int = 0
     placement: Placement = DEFAULT_PLACEMENT
+    free_floating: bool = False
 
     def __post_init__(self) -> None:
         if self.protocol not in PROTOCOLS:
@@ -63,15 +68,19 @@ class GraspLabeler:
     """Labels grasps of one object with one gripper and protocol on one compiled scene."""
 
     def __init__(self, object_model: ObjectModel, config: LabelConfig) -> None:
-        from simgrasp.grasping.trial import protocol_config
+        from simgrasp.grasping.trial import initial_object_pose, protocol_config
         from simgrasp.scenes.gripper import make_gripper
         from simgrasp.scenes.scene import SceneConfig, build_scene
 
         self.config = config
-        self.trial_config = protocol_config(config.protocol)
+        self.trial_config = replace(
+            protocol_config(config.protocol), free_floating=config.free_floating
+        )
         self.gripper = make_gripper(config.gripper)
         scene_config = SceneConfig(placement=config.placement)
         self.scene: Scene = build_scene(object_model, self.gripper, scene_config, config.seed)
+        self.world_T_object = initial_object_pose(self.scene, self.trial_config)
+        """Where the object starts (world frame): the grasps are placed relative to it."""
 
     def label(self, index: int, object_T_tcp: NDArray[np.float64], width: float) -> dict[str, Any]:
         """The trial record of one grasp (object frame; ``width`` NaN: fully open), with its
@@ -82,7 +91,7 @@ class GraspLabeler:
         opening = self.gripper.max_opening if not np.isfinite(width) else float(width)
         grasp = Grasp.from_object_frame(
             np.asarray(object_T_tcp, dtype=float),
-            self.scene.world_T_object,
+            self.world_T_object,
             opening,
             source=GRASP_SOURCE,
         )

@@ -20,6 +20,12 @@ From the close on, an object that is ``release_gap`` or more from every part of 
 has been let go: the phase ends there with its failure (its fall onto the table, where a thin
 hull can tunnel deep enough to look like a divergence, is not simulated).
 
+Protocols: ``full`` (:class:`TrialConfig`'s defaults: ``trial``, ``evaluate``, the env) and
+``fast`` (:data:`FAST_TRIAL`, for labeling grasp sets). ``TrialConfig.free_floating`` runs the
+trial in free space as ACRONYM does: the object floats with its gravity compensated, the
+gripper appears at the grasp itself and closes (phases 2-4 without the pre-grasp offset and the
+approach), then the object's gravity comes on instead of the lift (phase 5), then the tugs.
+
 Divergence (non-finite state, MuJoCo's bad-qacc warning, penetration or speed beyond the
 limits) ends the trial as ``sim_unstable`` with ``success = None``: neither success nor failure.
 The simulation is deterministic: the same scene, grasp and config give an identical record.
@@ -64,6 +70,12 @@ Phase = Literal["pregrasp", "closed", "lifted", "perturbed"]
 _DIRECTIONS = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))
 
 
+OPEN_TOLERANCE = 0.001
+"""A free-floating trial starts once the jaws are this close (m) to the grasp width..."""
+OPEN_LIMIT = 1.0
+"""... or after this many seconds of opening."""
+
+
 @dataclass(frozen=True)
 class TrialConfig:
     """Every parameter of a grasp trial (SI units: m, s, m/s, N)."""
@@ -101,6 +113,16 @@ class TrialConfig:
     ``dropped_in_perturbation``). A gap, not a lost contact, decides it: a tool rattling in
     the jaws under a tug has no contact at some control steps."""
     max_penetration: float = 0.02
+    free_floating: bool = False
+    """ACRONYM-style trial in free space: the object starts ``float_height`` above its rest
+    pose with its gravity compensated, the gripper appears at the grasp pose itself (no
+    pre-grasp, no approach; touching the object there is ``invalid_start``) and closes; then
+    the object's gravity is switched on and, with the gripper still (no lift), it must stay in
+    the jaws through the hold and the tugs. ``lift_height`` then only sets how far the object
+    may sag (``lifted_fraction`` of it) before it counts as dropped."""
+    float_height: float = 0.5
+    """How far (m) above its rest pose a free-floating object starts (the table stays below,
+    out of reach)."""
     max_speed: float = 100.0
     """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
     spinning in the jaws during the tugs reaches ~20 rad/s; blow-ups go far beyond)."""
@@ -285,6 +307,26 @@ class _Runner:
         return bool(np.any(first * second == _GRIPPER * _OBJECT))
 
 
+def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64]:
+    """``world_T_object`` at the start of a trial: the scene's rest pose, raised by
+    ``float_height`` when free-floating."""
+    world_T_object = scene.world_T_object.copy()
+    if config.free_floating:
+        world_T_object[2, 3] += config.float_height
+    return world_T_object
+
+
+def _start(scene: Scene, config: TrialConfig) -> None:
+    """Reset the scene for a trial (``mj_resetData``, no rebuild); a free-floating object is
+    raised and its gravity compensated."""
+    scene.reset()
+    scene.model.opt.timestep = config.timestep
+    scene.model.body_gravcomp[scene.object_body] = 1.0 if config.free_floating else 0.0
+    if config.free_floating:
+        scene.data.qpos[scene.object_qpos + 2] += config.float_height
+        mujoco.mj_forward(scene.model, scene.data)
+
+
 def run_trial(
     scene: Scene,
     grasp: Grasp,
@@ -300,8 +342,7 @@ def run_trial(
     the simulation state.
     """
     config = config or TrialConfig()
-    scene.reset()
-    scene.model.opt.timestep = config.timestep
+    _start(scene, config)
     trial = _Trial(scene, grasp, config, _Runner(scene, config), on_phase)
     start = trial.clock = time.perf_counter()
     try:
@@ -314,7 +355,7 @@ def run_trial(
         object=scene.object_name,
         gripper=scene.gripper.gripper.name,
         seed=scene.seed,
-        object_pose=pose7_from_matrix(scene.world_T_object).tolist(),
+        object_pose=pose7_from_matrix(initial_object_pose(scene, config)).tolist(),
         grasp=grasp.to_pose7().tolist(),
         grasp_width=float(grasp.width),
         grasp_source=grasp.source,
@@ -375,7 +416,8 @@ class _Trial:
 
     def still_lifted(self, world_T_object: NDArray[np.float64]) -> bool:
         rise = world_T_object[2, 3] - self.object_z_closed
-        return bool(rise >= self.config.lifted_fraction * self.config.lift_height)
+        limit = self.config.lifted_fraction * self.config.lift_height
+        return bool(rise >= -limit if self.config.free_floating else rise >= limit)
 
 
 def _execute(trial: _Trial) -> Failure | None:
@@ -390,17 +432,31 @@ def _execute(trial: _Trial) -> Failure | None:
 def _settle(trial: _Trial) -> None:
     """1. The object settles while the parked gripper opens to the grasp width."""
     gripper, grasp = trial.scene.gripper, trial.grasp
-    gripper.set_opening(trial.scene.data, min(grasp.width, gripper.gripper.max_opening))
+    width = min(grasp.width, gripper.gripper.max_opening)
+    gripper.set_opening(trial.scene.data, width)
     trial.runner.advance(trial.config.settle_time)
+    if trial.config.free_floating:  # no approach follows, during which the jaws finish opening
+        _open_jaws(trial, width)
     trial.world_T_object_settled = trial.scene.object_pose()
     trial.lap("settle")
+
+
+def _open_jaws(trial: _Trial, width: float) -> None:
+    """Step until the jaws are within ``OPEN_TOLERANCE`` of ``width`` (at most ``OPEN_LIMIT``
+    seconds: a linkage may stop short of its full stroke)."""
+    data, gripper = trial.scene.data, trial.scene.gripper
+    elapsed = 0.0
+    while abs(gripper.opening(data) - width) > OPEN_TOLERANCE and elapsed < OPEN_LIMIT:
+        trial.runner.advance(trial.config.control_dt)
+        elapsed += trial.config.control_dt
 
 
 def _pregrasp(trial: _Trial) -> Failure | None:
     """2. The open gripper appears ``pregrasp_distance`` back along the approach."""
     scene, grasp = trial.scene, trial.grasp
     world_T_pregrasp = grasp.world_T_tcp.copy()
-    world_T_pregrasp[:3, 3] -= trial.config.pregrasp_distance * grasp.approach_world
+    if not trial.config.free_floating:
+        world_T_pregrasp[:3, 3] -= trial.config.pregrasp_distance * grasp.approach_world
     scene.gripper.teleport(scene.data, world_T_pregrasp)
     mujoco.mj_forward(scene.model, scene.data)
     trial.moment("pregrasp")
@@ -412,6 +468,8 @@ def _pregrasp(trial: _Trial) -> Failure | None:
 def _approach(trial: _Trial) -> Failure | None:
     """3. The target moves to the grasp pose; a held-back TCP or a shoved object fails."""
     scene, grasp, config = trial.scene, trial.grasp, trial.config
+    if config.free_floating:  # the gripper already is at the grasp
+        return None
     data, gripper = scene.data, scene.gripper
     mocap_start = data.mocap_pos[gripper.mocap_id].copy()
     gripper.command_tcp(data, grasp.world_T_tcp)
@@ -444,13 +502,17 @@ def _close(trial: _Trial) -> Failure | None:
 
 
 def _lift_and_hold(trial: _Trial) -> Failure | None:
-    """5. Lift and hold; score the contacts (``on_handle``) at the end of the hold."""
+    """5. Lift (free-floating: switch the object's gravity on instead) and hold; score the
+    contacts (``on_handle``) at the end of the hold."""
     scene, config, record = trial.scene, trial.config, trial.record
     trial.runner.watch_release = True
     lift_start = scene.data.mocap_pos[scene.gripper.mocap_id].copy()
     lift_goal = lift_start + np.array([0.0, 0.0, config.lift_height])
     try:
-        trial.runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
+        if config.free_floating:
+            scene.model.body_gravcomp[scene.object_body] = 0.0
+        else:
+            trial.runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
         trial.runner.advance(config.hold_time)
     except _Released:
         trial.lap("lift_hold")
