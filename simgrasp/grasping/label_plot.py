@@ -19,7 +19,9 @@ from numpy.typing import NDArray
 from simgrasp.seeding import rng_for
 
 FINGER_LENGTH = 0.05
-"""Drawn finger length behind the TCP (m); the stem reaches as far again."""
+"""Drawn finger length behind the TCP (m)."""
+STEM_LENGTH = 0.02
+"""Drawn stem behind the bar joining the fingers (m), toward the palm."""
 COLORS = {"on_handle": "tab:green", "off_handle": "tab:blue", "failed": "tab:red"}
 
 
@@ -31,7 +33,7 @@ def wireframe(object_T_tcp: NDArray[np.float64], width: float) -> NDArray[np.flo
             [[0, -half, 0.01], [0, -half, back]],
             [[0, half, 0.01], [0, half, back]],
             [[0, -half, back], [0, half, back]],
-            [[0, 0, back], [0, 0, 2 * back]],
+            [[0, 0, back], [0, 0, back - STEM_LENGTH]],
             [[0, 0, 0], [0, 0, 0]],
         ],
         dtype=float,
@@ -64,12 +66,12 @@ def plot_labels(
     import matplotlib.pyplot as plt
 
     figure = plt.figure(figsize=(12, 6))
-    surface = mesh.sample(3000, return_index=False) if len(mesh.faces) else mesh.vertices
+    surface = mesh.sample(6000, return_index=False) if len(mesh.faces) else mesh.vertices
     classes = [outcome(r) for r in records]
     panels = (("held", ("on_handle", "off_handle")), ("failed", ("failed",)))
     for column, (name, wanted) in enumerate(panels, start=1):
         axes = figure.add_subplot(1, 2, column, projection="3d")
-        axes.scatter(*surface.T, s=0.5, c="0.6", alpha=0.4)
+        axes.scatter(*surface.T, s=0.6, c="0.35", alpha=0.5)
         chosen = [i for i, c in enumerate(classes) if c in wanted]
         rng = rng_for(0, "label_plot", name)
         if len(chosen) > max_grasps:
