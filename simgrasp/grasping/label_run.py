@@ -186,7 +186,12 @@ def write_label_arrays(path: Path, records: list[dict[str, Any]]) -> None:
 def summarize(
     records: list[dict[str, Any]], config: LabelConfig, new: int, wall_s: float, workers: int
 ) -> dict[str, Any]:
-    """Counts and shares over the scored grasps (not invalid, not ``sim_unstable``)."""
+    """Counts and shares over the scored grasps (not invalid, not ``sim_unstable``); the
+    speed of this run (``grasps_per_s``: labeled this run over its wall time, worker start-up
+    included) and per core over all labels (``grasps_per_core_s``: executed grasps over the sum
+    of their trials' wall times)."""
+    executed = [r for r in records if r["failure"] != INVALID]
+    trial_wall = sum(r["timings_s"]["total"] for r in executed)
     valid = [r for r in records if r["failure"] not in (INVALID, "sim_unstable")]
     held = [r for r in valid if r["success"]]
     on_handle = [r for r in held if r["on_handle"]]
@@ -206,4 +211,6 @@ def summarize(
         "wall_s_this_run": wall_s,
         "workers": workers,
         "grasps_per_s": new / wall_s if new and wall_s > 0 else None,
+        "trial_wall_s": trial_wall,
+        "grasps_per_core_s": len(executed) / trial_wall if trial_wall > 0 else None,
     }
