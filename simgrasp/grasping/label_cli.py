@@ -120,7 +120,8 @@ def _print_summary(summary: dict[str, Any], out: Path) -> None:
         f"{summary['sim_unstable']} sim unstable, {summary['scored']} scored)",
         f"held         {summary['success']} ({summary['success_rate']:.1%} of scored): "
         f"{summary['success_on_handle']} on the handle, {summary['success_off_handle']} off it",
-        f"failures     {', '.join(f'{k} {v}' for k, v in sorted(summary['failures'].items()))}",
+        "failures     "
+        + (", ".join(f"{k} {v}" for k, v in sorted(summary["failures"].items())) or "none"),
         f"this run     {summary['labeled_this_run']} labeled in {summary['wall_s_this_run']:.1f} s"
         + (f" ({rate:.1f} grasps/s)" if rate else ""),
         f"output       {out}/labels.jsonl, labels.npz, summary.json",
