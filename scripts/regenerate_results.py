@@ -28,7 +28,7 @@ def documented_runs() -> dict[str, list[str]]:
     """Run name (its ``docs/results/`` folder) -> simgrasp arguments, from the README."""
     runs = {}
     for line in README.read_text(encoding="utf-8").splitlines():
-        match = re.match(r"^\s{4}simgrasp (.*--out docs/results/([\w-]+).*)$", line)
+        match = re.match(r"^\s{4}simgrasp (.*--out docs/results/([\w/-]+).*)$", line)
         if match:
             runs[match[2]] = shlex.split(match[1])
     return runs

@@ -35,6 +35,9 @@ COMMANDS: dict[str, str] = {
     "object": "show or export an object model",
     "trial": "run one grasp trial in MuJoCo",
     "evaluate": "sweep objects x detectors x grippers",
+    "sample-grasps": "sample antipodal grasps on an object's mesh",
+    "label-grasps": "score every grasp of a file: does it hold, by the handle?",
+    "compare-labels": "confusion matrix of two label-grasps runs",
 }
 
 

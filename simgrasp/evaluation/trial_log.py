@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -115,10 +116,13 @@ def check_record(record: Any) -> TrialKey:
 
 
 class TrialLog:
-    """``trials.jsonl`` of one sweep directory (created on the first append)."""
+    """``trials.jsonl`` of one sweep directory (created on the first append). ``key`` checks
+    a record and returns its identity (a ValueError for a line that is no record): a sweep's
+    :func:`check_record` by default, e.g. the grasp index for ``label-grasps``."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, key: Callable[[Any], Any] = check_record) -> None:
         self.path = Path(path)
+        self.key = key
 
     def load(self) -> list[dict[str, Any]]:
         """All complete records, in file order. A torn last line is then cut off the file; a
@@ -158,7 +162,7 @@ class TrialLog:
         line is not one."""
         try:
             record = json.loads(line)
-            check_record(record)
+            self.key(record)
         except json.JSONDecodeError as exc:
             problem = f"not a JSON record ({exc.msg})"
         except ValueError as exc:  # not UTF-8, or not a trial record

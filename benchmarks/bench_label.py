@@ -1,0 +1,200 @@
+"""Grasp labeling speed: labeled grasps per second per core, and the harness over raw mj_step.
+
+For each object (default the YCB hammer and mug) and gripper, ``--n`` antipodal grasps are
+sampled (``simgrasp sample-grasps``, seed 0, clear of the table of scene seed 0) and labeled
+in this one process, once per protocol, on one compiled scene (:class:`GraspLabeler`). In the
+same run, for the same scene and the same number of steps:
+
+- ``replay`` (the ratio's baseline): the labeling's own ``mj_step`` calls with no harness.
+  The first ``--replay`` grasps are labeled again while recording the integration state
+  before every ``mj_step`` call; the calls are then replayed from those states, timing only
+  ``mj_step``, so the physics work is exactly the labeling's and ``over raw`` is the harness's
+  overhead (reset, checks, contact scoring, records) alone.
+- ``parked``: as many steps from the initial state, gripper parked (cheaper physics).
+
+The Robotiq 2F-85 needs ``MENAGERIE_ROOT``; without it its rows are skipped with a message.
+Last, one settle phase is stepped with ``mujoco.rollout`` against the engine's ``mj_step``
+chunks (the engine keeps ``mj_step``: see the printed ratio).
+
+    python benchmarks/bench_label.py [--n 500] [--replay 50] [--json]
+
+Goal: >= 25 grasps/s per core with ``fast`` and the built-in gripper; over raw <= 1.2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+
+import numpy as np
+from mujoco import rollout
+
+from simgrasp._mujoco import mujoco
+from simgrasp.assets.model import model_for
+from simgrasp.grasping.antipodal import Table, sample_antipodal
+from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
+from simgrasp.grippers import make_gripper
+
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+
+
+def record_calls(labeler: GraspLabeler, grasps) -> list[tuple[np.ndarray, int]]:
+    """Label ``grasps`` recording (state, nstep) before every ``mj_step`` of the scene."""
+    model = labeler.scene.model
+    size = mujoco.mj_stateSize(model, STATE)
+    calls: list[tuple[np.ndarray, int]] = []
+    original = mujoco.mj_step
+
+    def recording_step(m, d, nstep=1):
+        if m is model:
+            state = np.empty(size)
+            mujoco.mj_getState(m, d, state, STATE)
+            calls.append((state, nstep))
+        original(m, d, nstep)
+
+    mujoco.mj_step = recording_step
+    try:
+        for index, (pose, width) in enumerate(grasps):
+            labeler.label(index, pose, width)
+    finally:
+        mujoco.mj_step = original
+    return calls
+
+
+def replay_seconds(labeler: GraspLabeler, calls: list[tuple[np.ndarray, int]]) -> float:
+    """Seconds in ``mj_step`` replaying ``calls`` from their recorded states."""
+    model, data = labeler.scene.model, labeler.scene.data
+    total = 0.0
+    for state, nstep in calls:
+        mujoco.mj_setState(model, data, state, STATE)
+        start = time.perf_counter()
+        mujoco.mj_step(model, data, nstep)
+        total += time.perf_counter() - start
+    return total
+
+
+def parked_seconds(labeler: GraspLabeler, steps: int, nstep: int) -> float:
+    model, data = labeler.scene.model, labeler.scene.data
+    mujoco.mj_resetData(model, data)
+    start = time.perf_counter()
+    for _ in range(max(1, steps // nstep)):
+        mujoco.mj_step(model, data, nstep)
+    return time.perf_counter() - start
+
+
+def bench_protocol(model, obj: str, gripper: str, protocol: str, grasps, replay: int) -> dict:
+    labeler = GraspLabeler(model, LabelConfig(obj, gripper, protocol))
+    walls, steps, held = [], 0, 0
+    for index, (pose, width) in enumerate(grasps):
+        start = time.perf_counter()
+        record = labeler.label(index, pose, width)
+        walls.append(time.perf_counter() - start)
+        steps += record["steps"]
+        held += record["success"] is True
+    subset = grasps[:replay]
+    calls = record_calls(labeler, subset)
+    raw = replay_seconds(labeler, calls)
+    subset_steps = sum(n for _, n in calls)
+    nstep = labeler.trial_config.control_steps
+    return {
+        "object": obj,
+        "gripper": gripper,
+        "protocol": protocol,
+        "grasps": len(grasps),
+        "success_share": held / len(grasps),
+        "grasps_per_s": len(grasps) / sum(walls),
+        "median_ms": 1e3 * statistics.median(walls),
+        "steps_per_grasp": steps / len(grasps),
+        "us_per_step": 1e6 * sum(walls) / steps,
+        "over_raw": sum(walls[:replay]) / raw,
+        "over_parked": sum(walls) / parked_seconds(labeler, steps, nstep),
+        "replayed_grasps": len(subset),
+        "replayed_steps": subset_steps,
+    }
+
+
+def rollout_check(model, obj: str) -> dict:
+    """One settle phase (the full protocol's 250 steps): ``mujoco.rollout`` against the
+    engine's ``mj_step`` chunks of 10, medians of 7."""
+    labeler = GraspLabeler(model, LabelConfig(obj, "builtin", "full"))
+    m, d = labeler.scene.model, labeler.scene.data
+    steps = int(round(labeler.trial_config.settle_time / labeler.trial_config.timestep))
+    mujoco.mj_resetData(m, d)
+    initial = np.empty(mujoco.mj_stateSize(m, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+    mujoco.mj_getState(m, d, initial, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    stepped, rolled = [], []
+    for _ in range(7):
+        mujoco.mj_resetData(m, d)
+        start = time.perf_counter()
+        for _ in range(steps // 10):
+            mujoco.mj_step(m, d, 10)
+        stepped.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        rollout.rollout(m, d, initial[None], nstep=steps)
+        rolled.append(time.perf_counter() - start)
+    return {
+        "settle_steps": steps,
+        "mj_step_ms": 1e3 * statistics.median(stepped),
+        "rollout_ms": 1e3 * statistics.median(rolled),
+    }
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=500, help="sampled grasps per object")
+    parser.add_argument("--replay", type=int, default=50, help="grasps replayed for the ratio")
+    parser.add_argument("--objects", default="048_hammer,025_mug")
+    parser.add_argument("--protocols", default="fast,full")
+    parser.add_argument("--grippers", default="builtin,robotiq_2f85")
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+    rows, notes = [], []
+    for obj in args.objects.split(","):
+        model = model_for(obj)
+        for gripper_name in args.grippers.split(","):
+            if gripper_name == "robotiq_2f85" and not os.environ.get("MENAGERIE_ROOT"):
+                notes.append(f"robotiq_2f85 skipped on {obj}: MENAGERIE_ROOT is not set")
+                continue
+            gripper = make_gripper(gripper_name)
+            scene = GraspLabeler(model, LabelConfig(obj, gripper_name)).scene
+            start = time.perf_counter()
+            poses, widths = sample_antipodal(
+                model.asset.mesh, gripper.planning_geometry(), args.n, 0,
+                table=Table(scene.world_T_object, scene.config.table_top_z),
+            )  # fmt: skip
+            notes.append(f"sampled {len(poses)} grasps on {obj} for {gripper_name} in "
+                         f"{time.perf_counter() - start:.1f} s")  # fmt: skip
+            grasps = list(zip(poses, widths, strict=True))
+            for protocol in args.protocols.split(","):
+                rows.append(bench_protocol(model, obj, gripper_name, protocol, grasps, args.replay))
+    first = args.objects.split(",")[0]
+    check = rollout_check(model_for(first), first)
+    if args.json:
+        print(json.dumps({"rows": rows, "rollout": check, "notes": notes}, indent=2))
+        return 0
+    _print(rows, check, notes, args.replay)
+    return 0
+
+
+def _print(rows: list[dict], check: dict, notes: list[str], replay: int) -> None:
+    print("\n".join(notes))
+    print(f"one process (one core); over raw = labeling wall / raw mj_step replay of the same "
+          f"calls (first {replay} grasps)")  # fmt: skip
+    print("goal: fast + builtin >= 25 grasps/s, over raw <= 1.2")
+    print(f"{'object':11} {'gripper':13} {'protocol':8} {'held':>5} {'grasps/s':>9} "
+          f"{'ms med':>7} {'steps':>6} {'us/step':>8} {'over raw':>9} "
+          f"{'over parked':>12}")  # fmt: skip
+    for r in rows:
+        print(f"{r['object']:11} {r['gripper']:13} {r['protocol']:8} {r['success_share']:5.2f} "
+              f"{r['grasps_per_s']:9.1f} {r['median_ms']:7.1f} {r['steps_per_grasp']:6.0f} "
+              f"{r['us_per_step']:8.1f} {r['over_raw']:9.2f} {r['over_parked']:12.2f}")  # fmt: skip
+    print(f"settle phase ({check['settle_steps']} steps): mj_step chunks {check['mj_step_ms']:.2f} "
+          f"ms, mujoco.rollout {check['rollout_ms']:.2f} ms")  # fmt: skip
+
+
+if __name__ == "__main__":
+    sys.exit(main())

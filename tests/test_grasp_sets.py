@@ -1,0 +1,166 @@
+"""Grasp-set readers: our npz/json, ACRONYM .h5 (made here with h5py), graspnetAPI rows; every
+bad row reported by index and kept out of the valid set."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from simgrasp.grasping.grasp_sets import (
+    ACRONYM_TCP_OFFSET,
+    read_grasp_set,
+    write_grasp_set,
+)
+from simgrasp.transforms import matrix_to_pose7
+
+
+def rigid(rotvec: list[float], translation: list[float]) -> np.ndarray:
+    transform = np.eye(4)
+    transform[:3, :3] = Rotation.from_rotvec(rotvec).as_matrix()
+    transform[:3, 3] = translation
+    return transform
+
+
+GOOD = rigid([0.3, -0.2, 1.1], [0.01, 0.02, 0.03])
+
+
+def test_npz_matrices_with_bad_rows_reported_by_index(tmp_path: Path) -> None:
+    matrices = np.stack([GOOD, GOOD, GOOD, GOOD, np.zeros((4, 4)), GOOD])
+    matrices[1, 0, 0] = np.nan
+    matrices[2, :3, :3] *= 1.5  # scaled: not orthonormal
+    matrices[3, :3, 0] *= -1.0  # a reflection
+    widths = np.array([0.04, 0.04, 0.04, 0.04, 0.04, -0.01])
+    path = write_grasp_set(tmp_path / "set.npz", matrices, widths)
+    grasps = read_grasp_set(path)
+    assert len(grasps) == 6 and grasps.fmt == "npz"
+    assert sorted(grasps.problems) == [1, 2, 3, 4, 5]
+    assert "non-finite" in grasps.problems[1]
+    assert "orthonormal" in grasps.problems[2] and "orthonormal" in grasps.problems[4]
+    assert "reflection" in grasps.problems[3]
+    assert "width" in grasps.problems[5]
+    assert grasps.valid.tolist() == [True, False, False, False, False, False]
+    np.testing.assert_allclose(grasps.object_T_tcp[0], GOOD)
+    np.testing.assert_array_equal(grasps.object_T_tcp[1], np.eye(4))
+
+
+def test_json_poses_without_width(tmp_path: Path) -> None:
+    pose = matrix_to_pose7(GOOD).tolist()
+    unnormalized = pose[:3] + [2 * q for q in pose[3:]]
+    path = tmp_path / "set.json"
+    path.write_text(json.dumps({"poses": [pose, unnormalized, [0.0] * 7]}))
+    grasps = read_grasp_set(path)
+    np.testing.assert_allclose(grasps.object_T_tcp[0], GOOD, atol=1e-12)
+    assert np.isnan(grasps.width).all()
+    assert sorted(grasps.problems) == [1, 2]
+    assert "quaternion norm 2" in grasps.problems[1]
+    assert "quaternion norm 0" in grasps.problems[2]
+
+
+def test_acronym_h5_maps_the_franka_frame_to_our_tcp(tmp_path: Path) -> None:
+    """ACRONYM's hand frame: approach +z, closing along x, pads ~0.1034 m along +z."""
+    bad = np.eye(4)
+    bad[:3, :3] = 0.0
+    franka = np.stack([np.eye(4), GOOD, bad])
+    path = tmp_path / "Mug_0.h5"
+    with h5py.File(path, "w") as handle:
+        handle["grasps/transforms"] = franka
+        handle["grasps/qualities/flex/object_in_gripper"] = np.array([1, 0, 1])
+    grasps = read_grasp_set(path)
+    assert grasps.fmt == "acronym" and list(grasps.problems) == [2]
+    tcp = grasps.object_T_tcp[0]
+    np.testing.assert_allclose(tcp[:3, 3], [0.0, 0.0, ACRONYM_TCP_OFFSET])
+    np.testing.assert_allclose(tcp[:3, 2], [0.0, 0.0, 1.0])  # approach = Franka +z
+    np.testing.assert_allclose(tcp[:3, 1], [1.0, 0.0, 0.0])  # closing = Franka x
+    assert np.linalg.det(tcp[:3, :3]) == pytest.approx(1.0)
+    moved = grasps.object_T_tcp[1]
+    np.testing.assert_allclose(moved[:3, 3], GOOD[:3, 3] + ACRONYM_TCP_OFFSET * GOOD[:3, 2])
+    np.testing.assert_allclose(moved[:3, 1], GOOD[:3, 0], atol=1e-12)
+
+
+def test_acronym_file_without_grasps_is_an_error(tmp_path: Path) -> None:
+    path = tmp_path / "empty.h5"
+    with h5py.File(path, "w") as handle:
+        handle["object/scale"] = 1.0
+    with pytest.raises(ValueError, match="grasps/transforms"):
+        read_grasp_set(path)
+
+
+def test_graspnet_rows_approach_is_the_rotation_x_axis(tmp_path: Path) -> None:
+    rotation = GOOD[:3, :3]
+    row = np.concatenate([[0.9, 0.05, 0.02, 0.03], rotation.reshape(-1), [0.1, 0.2, 0.3], [7]])
+    skewed = row.copy()
+    skewed[4] += 0.5
+    path = tmp_path / "grasps.npy"
+    np.save(path, np.stack([row, skewed]))
+    grasps = read_grasp_set(path)
+    assert grasps.fmt == "graspnet" and list(grasps.problems) == [1]
+    tcp = grasps.object_T_tcp[0]
+    np.testing.assert_allclose(tcp[:3, 2], rotation[:, 0])
+    np.testing.assert_allclose(tcp[:3, 1], rotation[:, 1])
+    np.testing.assert_allclose(tcp[:3, 3], [0.1, 0.2, 0.3])
+    assert grasps.width[0] == pytest.approx(0.05)
+
+
+def test_unknown_suffix_and_missing_file(tmp_path: Path) -> None:
+    (tmp_path / "set.csv").write_text("1,2,3\n")
+    with pytest.raises(ValueError, match="unknown grasp file type"):
+        read_grasp_set(tmp_path / "set.csv")
+    with pytest.raises(FileNotFoundError):
+        read_grasp_set(tmp_path / "none.npz")
+
+
+def test_sampler_table_margins_match_the_planner() -> None:
+    """The sampler's vectorized table check is the planner's table_margin, grasp by grasp."""
+    from dataclasses import replace
+
+    from simgrasp.grasping.antipodal import Table
+    from simgrasp.grasping.planner import table_margin
+    from simgrasp.grasping.planner_config import PlannerConfig
+    from simgrasp.grippers.geometry import GripperGeometry
+
+    rng = np.random.default_rng(0)
+    geometry = GripperGeometry(max_opening=0.085, closed_pad_reach=0.02)
+    table = Table(rigid([0.2, 0.1, 0.5], [0.0, 0.0, 0.03]), top_z=0.0)
+    poses = np.stack(
+        [rigid(rng.normal(size=3), rng.normal(0, 0.05, 3) + [0, 0, 0.1]) for _ in range(50)]
+    )
+    openings = rng.uniform(0.01, 0.085, 50)
+    margins = table.margins(poses, openings, geometry)
+    expected = [
+        table_margin(table.world_T_object @ p, replace(geometry, max_opening=w), 0.0,
+                     PlannerConfig())
+        for p, w in zip(poses, openings, strict=True)
+    ]  # fmt: skip
+    np.testing.assert_allclose(margins, expected, atol=1e-12)
+    assert (margins < 0).any() and (margins > 0).any()
+
+
+def test_compare_labels_confusion_leaves_out_unscored(tmp_path: Path) -> None:
+    from simgrasp.grasping.label_compare import compare_labels
+    from simgrasp.grasping.label_run import write_label_arrays
+
+    def records(outcomes: list[tuple[bool, str | None]]) -> list[dict]:
+        return [
+            {"success": s, "on_handle": s, "failure": f, "handle_fraction": 0.0,
+             "lift_height": 0.0}
+            for s, f in outcomes
+        ]  # fmt: skip
+
+    full = [(True, None), (True, None), (False, "missed"), (False, "invalid"), (None, None)]
+    fast = [(True, None), (False, "dropped_in_perturbation"), (False, "missed"),
+            (False, "invalid"), (True, None)]  # fmt: skip
+    full[4] = (None, "sim_unstable")
+    for name, outcomes in (("full", full), ("fast", fast)):
+        (tmp_path / name).mkdir()
+        write_label_arrays(tmp_path / name / "labels.npz", records(outcomes))
+    result = compare_labels(tmp_path / "full", tmp_path / "fast")
+    assert result["scored"] == 3
+    assert (result["held_held"], result["held_failed"]) == (1, 1)
+    assert (result["failed_held"], result["failed_failed"]) == (0, 1)
+    assert result["agreement"] == pytest.approx(2 / 3)
+    assert result["on_handle_agreement"] == 1.0
