@@ -1,8 +1,11 @@
-"""The package reads as a newcomer expects: no import cycles between its modules."""
+"""The package reads as a newcomer expects: no import cycles between its modules, no function
+over sixty lines."""
 
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 PACKAGE = Path(__file__).parents[1] / "simgrasp"
@@ -69,3 +72,13 @@ def test_no_import_cycles() -> None:
 
 def test_the_cycle_check_finds_a_cycle() -> None:
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == [["a", "b", "c"]]
+
+
+def test_no_function_is_over_sixty_lines() -> None:
+    """scripts/check_function_length.py on the whole package: long functions are split by
+    phase."""
+    script = PACKAGE.parent / "scripts" / "check_function_length.py"
+    done = subprocess.run(
+        [sys.executable, str(script), str(PACKAGE)], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stdout
