@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import functools
 import itertools
-import os
 from collections.abc import Callable, Generator, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from contextlib import closing
@@ -29,6 +28,7 @@ from simgrasp.evaluation.trial_log import (
 )
 from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.process_pool import spawn_pool
+from simgrasp.ray_session import ray_session
 
 Backend = Literal["local", "ray"]
 TRIALS_FILE = "trials.jsonl"
@@ -145,24 +145,7 @@ def run_ray(
     """Yield trial records as Ray tasks finish. Without ``address`` a new local Ray instance
     with ``workers`` CPUs is started (and shut down afterwards), even if ``RAY_ADDRESS`` is set
     or a ``ray start`` cluster runs on this machine; ``address="auto"`` joins those."""
-    try:
-        import ray
-    except ImportError:
-        raise SimgraspError(
-            "--backend ray needs Ray: install the extra with `pip install 'simgrasp[ray]'` "
-            "(or `pip install 'ray[default]'`)"
-        ) from None
-    started = not ray.is_initialized()
-    if started:
-        env = {k: v for k, v in os.environ.items() if k.startswith(("SIMGRASP_", "MUJOCO_"))}
-        ray.init(
-            address=address or "local",
-            num_cpus=None if address else workers,
-            include_dashboard=False,
-            log_to_driver=False,
-            runtime_env={"env_vars": env},
-        )
-    try:
+    with ray_session(workers, address) as ray:
         prepare = ray.remote(prepare_object)
         ray.get([prepare.remote(name, ycb_dir) for name in dict.fromkeys(s.object for s in specs)])
         remote = ray.remote(run_spec)
@@ -170,9 +153,6 @@ def run_ray(
         while pending:
             done, pending = ray.wait(pending, num_returns=1)
             yield from ray.get(done)
-    finally:
-        if started:
-            ray.shutdown()
 
 
 def run_trials(

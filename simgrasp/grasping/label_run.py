@@ -17,7 +17,6 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
-import os
 import time
 from collections import Counter
 from collections.abc import Iterator
@@ -32,6 +31,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.trial_log import TrialLog
 from simgrasp.grasping.grasp_sets import GraspSet
 from simgrasp.grasping.labeling import INVALID, LabelConfig, invalid_record, label_one, prepare
+from simgrasp.ray_session import ray_session
 
 Backend = Literal["local", "ray"]
 LABELS_FILE = "labels.jsonl"
@@ -95,29 +95,12 @@ def run_ray(
 ) -> Iterator[dict[str, Any]]:
     """Label records as Ray tasks finish (a new local instance with ``workers`` CPUs, or the
     cluster at ``address``), as ``evaluate --backend ray`` runs its trials."""
-    try:
-        import ray
-    except ImportError:
-        raise SimgraspError("--backend ray needs Ray: `pip install 'simgrasp[ray]'`") from None
-    started = not ray.is_initialized()
-    if started:
-        env = {k: v for k, v in os.environ.items() if k.startswith(("SIMGRASP_", "MUJOCO_"))}
-        ray.init(
-            address=address or "local",
-            num_cpus=None if address else workers,
-            include_dashboard=False,
-            log_to_driver=False,
-            runtime_env={"env_vars": env},
-        )
-    try:
+    with ray_session(workers, address) as ray:
         remote = ray.remote(label_one)
         pending = [remote.remote(config, ycb_dir, *job) for job in jobs]
         while pending:
             done, pending = ray.wait(pending, num_returns=1)
             yield from ray.get(done)
-    finally:
-        if started:
-            ray.shutdown()
 
 
 def label_grasp_set(
