@@ -12,9 +12,7 @@ from simgrasp.evaluation.real_pots import labeled_pot, score_pot
 from simgrasp.handles import QuadricDetectorConfig
 
 REAL_DIR = default_real_dir()
-needs_real = pytest.mark.skipif(
-    not (REAL_DIR / "osd-learn").is_dir(), reason=f"no real data at {REAL_DIR}"
-)
+needs_real = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
 
 
 def test_pot_labels_load_in_the_sensor_frame() -> None:

@@ -17,9 +17,7 @@ from simgrasp.perception.segment import segment_scene
 from simgrasp.perception.segment_config import SegmentConfig
 
 OSD = real_data_dir() / "osd-learn"
-needs_osd = pytest.mark.skipif(
-    not (OSD / "learn0.pcd").is_file(), reason=f"no osd-learn scenes in {OSD}"
-)
+needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
 FOCAL, WIDTH, HEIGHT = 525.0, 640, 480
 
 

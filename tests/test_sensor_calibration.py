@@ -3,11 +3,11 @@ osd-learn scan (skipped when ../shared/real is absent)."""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from data_needs import require_data
 
 from simgrasp.perception.sensors import IdealConfig, KinectConfig
 from simgrasp.perception.sensors.calibration import (
@@ -29,16 +29,9 @@ SHAPE = (480, 640)
 FLOOR = (np.array([0.0, -0.8, -0.6]), 0.72)  # a tilted table 0.8 - 3 m away
 
 
-def real_dir() -> Path:
-    env = os.environ.get("SIMGRASP_REAL_DIR")
-    return Path(env) if env else Path(__file__).resolve().parents[2] / "shared" / "real"
-
-
 @pytest.fixture(scope="module")
 def learn35() -> LabeledScan:
-    path = real_dir() / "osd-learn" / "learn35.pcd"
-    if not path.is_file():
-        pytest.skip(f"no real scans at {path.parent} (set SIMGRASP_REAL_DIR)")
+    path = require_data("real") / "osd-learn" / "learn35.pcd"
     return read_labeled_scan(path)
 
 
@@ -86,9 +79,8 @@ def test_kinect_matches_real_scans() -> None:
     """Every 9th osd-learn scan, two seeds: the calibrated model's table residual within 20 %
     of the real one in every bin with 100 patches, its silhouette invalid share within 35 % in
     every bin with 20,000 band pixels (single scans scatter more: 0.22 in the median scan)."""
-    paths = [real_dir() / "osd-learn" / f"learn{i}.pcd" for i in (0, 9, 18, 27, 36)]
-    if not all(path.is_file() for path in paths):
-        pytest.skip(f"no real scans at {paths[0].parent} (set SIMGRASP_REAL_DIR)")
+    root = require_data("real") / "osd-learn"
+    paths = [root / f"learn{i}.pcd" for i in (0, 9, 18, 27, 36)]
     prepared = [prepare_scan(read_labeled_scan(path)) for path in paths]
     for seed in (0, 1):
         comparisons = [
