@@ -15,7 +15,7 @@ from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segment import segment_scene
 from simgrasp.perception.segment_config import SegmentConfig
-from simgrasp.perception.segment_parts import part_parents
+from simgrasp.perception.segment_parts import claim_table_edges, part_parents
 
 OSD = real_data_dir() / "osd-learn"
 needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
@@ -165,11 +165,34 @@ def test_thin_small_segments_touching_a_larger_one_are_its_parts() -> None:
     np.testing.assert_array_equal(off, np.arange(7))
 
 
+def test_a_side_part_claims_the_raised_table_pixels_at_its_edge() -> None:
+    """Table pixels (1) within 3 px of part 3 are claimed when more than 2 mm above the
+    table and within 1 cm in 3-D; the object itself (2) claims none."""
+    labels = np.ones((20, 40), dtype=np.int32)
+    labels[:, :10] = 2
+    labels[5:15, 10:20] = 3
+    cols, rows = np.meshgrid(np.arange(40), np.arange(20))
+    points = np.stack([cols * 0.002, rows * 0.002, np.ones((20, 40))], axis=2).astype(np.float32)
+    height = np.where(labels == 1, 0.004, 0.01).astype(np.float32)
+    height[:, 21] = 0.001  # table level: stays table
+    points[15:, 10:20, 2] += 0.05  # 5 cm behind in depth: stays table
+    parents = np.array([0, 1, 2, 2], dtype=np.int32)
+    claimed = claim_table_edges(labels, points, height, parents, SegmentConfig())
+    gained = (claimed == 3) & (labels == 1)
+    expected = np.zeros_like(gained)
+    expected[2:18, 20:23] = True
+    expected[2:5, 10:20] = True
+    expected[:, 21] = False
+    expected[15:, 10:20] = False
+    np.testing.assert_array_equal(gained, expected)
+    assert (claimed[labels != 1] == labels[labels != 1]).all()
+
+
 @needs_osd
 def test_a_real_pots_side_tab_is_a_part_of_the_pot() -> None:
     """learn33: the pot's visible side tab is cut off at the crease with its wall; it keeps
-    its own label (OSD's parts) but names the pot as its whole, and `detect --segment` is
-    handed the pot with the tab."""
+    its own label (OSD's parts) but names the pot as its whole and claims the table pixels of
+    its edge, and `detect --segment` is handed the pot with the tab."""
     from simgrasp.assets.real import read_labeled_scene
     from simgrasp.evaluation.real_pots import labeled_scenes, segmented_pot
 
@@ -183,7 +206,9 @@ def test_a_real_pots_side_tab_is_a_part_of_the_pot() -> None:
     assert pot != tab_segment and pot in result.whole_objects()
     assert result.object_mask(pot)[tab].mean() > 0.6
     plain = segment_scene(scene.cloud, SegmentConfig(part_min_contact=0))
-    np.testing.assert_array_equal(plain.labels, result.labels)  # the labels do not change
+    changed = plain.labels != result.labels  # only table pixels at the tab's edge change
+    assert changed.any() and (plain.labels[changed] == 1).all()
+    assert set(result.labels[changed].tolist()) == {tab_segment}
     assert all(obj.part_of == obj.label for obj in plain.objects)
     points, _ = segmented_pot(scene, label)
     assert label.label.contains(points).sum() > 0.6 * tab.sum()

@@ -26,7 +26,7 @@ from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.organized_segments import grid_components, inner_floors
 from simgrasp.perception.scene_cloud import SceneCloud
 from simgrasp.perception.segment_config import SegmentConfig
-from simgrasp.perception.segment_parts import part_parents
+from simgrasp.perception.segment_parts import claim_table_edges, part_parents
 from simgrasp.seeding import rng_for
 
 INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
@@ -126,7 +126,10 @@ def segment_scene(
         timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
     )
     if method == "grid":
-        objects = _timed(timings, "parts", lambda: _parts(scene, labels, height, objects, config))
+        labels, objects = _timed(
+            timings, "parts", lambda: _parts(scene, labels, height, objects, config)
+        )
+        table = labels == TABLE
     timings["total"] = time.perf_counter() - start
     return Segmentation(labels, plane, int(table.sum()), objects, timings)
 
@@ -232,11 +235,22 @@ def _parts(
     height: NDArray[np.float32],
     objects: tuple[SegmentedObject, ...],
     config: SegmentConfig,
-) -> tuple[SegmentedObject, ...]:
-    """``objects`` with ``part_of`` set (:func:`part_parents` on the image grid)."""
+) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
+    """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
+    set (:mod:`simgrasp.perception.segment_parts`, on the image grid)."""
     shape = (scene.height, scene.width)
-    parents = part_parents(labels.reshape(shape), scene.grid(), height.reshape(shape), config)
-    return tuple(replace(obj, part_of=int(parents[obj.label])) for obj in objects)
+    grid, height_grid = scene.grid(), height.reshape(shape)
+    parents = part_parents(labels.reshape(shape), grid, height_grid, config)
+    claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
+    claimed = claimed.reshape(-1)
+    changed = set(np.unique(claimed[claimed != labels]).tolist())
+    return claimed, tuple(
+        replace(
+            _object(obj.label, scene.points[claimed == obj.label]) if obj.label in changed else obj,
+            part_of=int(parents[obj.label]),
+        )
+        for obj in objects
+    )
 
 
 def _floor_segments(

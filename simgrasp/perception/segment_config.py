@@ -82,6 +82,11 @@ class SegmentConfig:
     away (rows and columns at offsets -r, -1, 0, 1, r) ..."""
     part_contact_distance: float = 0.01
     """... and within this distance (m) in 3-D."""
+    part_edge_px: int = 3
+    """A side part claims the table pixels within this many pixels of it (px; 0: none) ..."""
+    part_edge_height: float = 0.002
+    """... that lie more than this above the table (m) and within ``part_contact_distance``
+    of it: the sensor's depth ramp from a tab 1 cm above the table down to the table."""
     min_object_points: int = 150
     """Segments with fewer points are dropped (label 0)."""
     cluster_voxel: float = 0.005

@@ -7,7 +7,13 @@ tabs as parts of their own), and records the larger segment it belongs to, so a 
 handed the whole object: the segment's points are at most ``part_max_points``, its height
 above the table spans at most ``part_max_thickness`` (a horizontal plate, not a box standing
 on another), and at least ``part_min_contact`` of its pixels lie within ``part_contact_px``
-pixels and ``part_contact_distance`` (3-D) of a pixel of a larger segment.
+pixels and ``part_contact_distance`` (3-D) of a pixel of a larger segment. A tab seen past
+the occluding rim of an upturned pot, whose joint with the wall is hidden, stays an object.
+
+A side part near the table (a tab 1 cm above it) also claims the table-band pixels of its
+edge, where the sensor's depth ramps from the tab down to the table: table pixels within
+``part_edge_px`` of a part pixel, within ``part_contact_distance`` of it in 3-D and more than
+``part_edge_height`` above the table.
 """
 
 from __future__ import annotations
@@ -17,7 +23,7 @@ from numpy.typing import NDArray
 
 from simgrasp.perception.segment_config import SegmentConfig
 
-FIRST_OBJECT = 2
+TABLE, FIRST_OBJECT = 1, 2
 
 
 def part_parents(
@@ -116,3 +122,33 @@ def _best_pairs(
     first[1:] = small[1:] != small[:-1]
     chosen = pairs[order][first]
     return [(int(c // count), int(c % count)) for c in chosen]
+
+
+def claim_table_edges(
+    labels: NDArray[np.int32],
+    points: NDArray[np.float32],
+    height: NDArray[np.float32],
+    parents: NDArray[np.int32],
+    config: SegmentConfig,
+) -> NDArray[np.int32]:
+    """``labels`` (H, W) with the table pixels at a side part's edge (module docstring) given
+    that part's label; ``parents`` as :func:`part_parents` returns them."""
+    is_part = parents != np.arange(len(parents))
+    reach = config.part_edge_px
+    if not is_part.any() or reach <= 0:
+        return labels
+    (rows_total, width), flat = labels.shape, labels.reshape(-1)
+    flat_points, flat_height = points.reshape(-1, 3), height.reshape(-1)
+    pixels = np.flatnonzero(is_part[np.minimum(flat, len(parents) - 1)] & (flat >= FIRST_OBJECT))
+    rows, cols = np.divmod(pixels, width)
+    claimed = flat.copy()
+    for dr in range(-reach, reach + 1):
+        for dc in range(-reach, reach + 1):
+            inside = (rows + dr >= 0) & (rows + dr < rows_total)
+            inside &= (cols + dc >= 0) & (cols + dc < width)
+            here, there = pixels[inside], pixels[inside] + dr * width + dc
+            offset = flat_points[there] - flat_points[here]
+            near = np.einsum("ij,ij->i", offset, offset) <= config.part_contact_distance**2
+            edge = near & (flat[there] == TABLE) & (flat_height[there] > config.part_edge_height)
+            claimed[there[edge]] = flat[here[edge]]
+    return claimed.reshape(labels.shape)
