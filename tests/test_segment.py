@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from simgrasp.cli import main
-from simgrasp.evaluation.segment_eval import part_ious, real_data_dir
+from simgrasp.evaluation.segment_eval import part_ious, real_data_dir, score_scene
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segment import segment_scene
@@ -212,6 +212,15 @@ def test_a_real_pots_side_tab_is_a_part_of_the_pot() -> None:
     assert all(obj.part_of == obj.label for obj in plain.objects)
     points, _ = segmented_pot(scene, label)
     assert label.label.contains(points).sum() > 0.6 * tab.sum()
+
+
+@needs_osd
+def test_side_parts_on_a_real_scene_lie_on_the_object_of_their_whole() -> None:
+    """learn36: the pot's tab and its inner floor pieces are side parts, each on the same
+    ground-truth object as the segment it is a part of (scored as segment_osd.py does)."""
+    score = score_scene(OSD / "learn36.pcd", "grid")
+    assert score.side_parts >= 3 and score.side_parts_right == score.side_parts
+    assert score_scene(OSD / "learn36.pcd", "dbscan").side_parts == 0
 
 
 def _one_error_line(capsys: pytest.CaptureFixture[str], argv: list[str], words: str) -> None:
