@@ -30,6 +30,8 @@ CREASE_KEEPING = SegmentConfig(concave_threshold=2.5, table_distance=0.003)
 """A segmentation that does not cut at concave creases and takes a thinner table band: the
 default one cuts the pot's tabs off its wall (a crease) or into the table (they lie within
 5 mm of it when the pot stands upside down)."""
+WITHOUT_PARTS = SegmentConfig(part_min_contact=0)
+"""The segmentation before side parts: each segment alone, the tabs cut off the pot."""
 GOALS = "candidate accuracy >= 0.80; top handle on a labeled handle in >= 80 % of the scenes"
 
 
@@ -54,6 +56,13 @@ def main() -> None:
         args.real_dir,
         cut="segment",
         segment_config=CREASE_KEEPING,
+    )
+    runs["quadric real_depth, segment cut without side parts"] = evaluate_real_pots(
+        SETTINGS["quadric real_depth"][1],
+        range(args.seeds),
+        args.real_dir,
+        cut="segment",
+        segment_config=WITHOUT_PARTS,
     )
     write_csv(args.out / "results.csv", runs)
     report = render_report(runs, args.seeds, time.perf_counter() - start)
@@ -93,8 +102,11 @@ def render_report(runs: dict[str, list[PotResult]], seeds: int, elapsed: float) 
         "",
         f"Each labeled pot cut from its scene by the scene segmentation (`segment` cut, "
         f"`simgrasp.perception.segment.segment_scene`: the segment overlapping the labeled pot "
-        f"most) or by its ground-truth part labels (`labels` cut); the last row segments with "
-        f"`SegmentConfig(concave_threshold=2.5, table_distance=0.003)`; normals toward the sensor, "
+        f"most, with its side parts, as `detect --segment` takes it) or by its ground-truth part "
+        f"labels (`labels` cut); the last two rows segment with "
+        f"`SegmentConfig(concave_threshold=2.5, table_distance=0.003)` and without side parts "
+        f"(`SegmentConfig(part_min_contact=0)`, the segmentation before them); normals toward "
+        f"the sensor, "
         f"{seeds} seeds per scene; goals: {GOALS}. Took {elapsed:.0f} s.",
         "",
         "| setting | pooled accuracy | mean accuracy (runs with candidates) | runs without "

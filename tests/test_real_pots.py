@@ -63,3 +63,17 @@ def test_unknown_scene_is_a_clear_error(tmp_path) -> None:
         osd_scene_file("scene39", tmp_path)
     with pytest.raises(FileNotFoundError, match="learn99"):
         osd_scene_file("learn99", tmp_path)
+
+
+def test_the_committed_real_depth_preset_file_is_the_real_depth_preset() -> None:
+    """docs/results/README.md runs `detect --segment --config` with this file."""
+    from pathlib import Path
+
+    from simgrasp.config import build
+    from simgrasp.config.files import read_config_file
+    from simgrasp.handles.detector_config import DetectorConfig
+
+    preset = Path(__file__).parents[1] / "docs" / "results" / "real-pots" / "real_depth.toml"
+    settings = read_config_file(preset)
+    detector = build(DetectorConfig, {k.removeprefix("detector."): v for k, v in settings.items()})
+    assert detector.quadric == QuadricDetectorConfig.real_depth()

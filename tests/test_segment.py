@@ -10,11 +10,12 @@ import numpy as np
 import pytest
 
 from simgrasp.cli import main
-from simgrasp.evaluation.segment_eval import part_ious, real_data_dir
+from simgrasp.evaluation.segment_eval import part_ious, real_data_dir, score_scene
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segment import segment_scene
 from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segment_parts import claim_table_edges, part_parents
 
 OSD = real_data_dir() / "osd-learn"
 needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
@@ -135,10 +136,91 @@ def test_detect_segment_on_a_real_pot_scene(capsys: pytest.CaptureFixture[str]) 
         low = np.subtract(obj["center"], obj["extent"]) - 0.02
         high = np.add(obj["center"], obj["extent"]) + 0.02
         assert (low <= handle["center"]).all() and (handle["center"] <= high).all()
+    whole = {obj["label"] for obj in objects.values() if obj["part_of"] == obj["label"]}
+    assert {h["object"] for h in report["handles"]} <= whole  # parts go with their object
     first = report["handles"][0]["object"]
     assert main(["detect", path, "--segment", "--object", str(first), "--json"]) == 0
     only = json.loads(capsys.readouterr().out)
     assert {h["object"] for h in only["handles"]} == {first}
+
+
+def test_thin_small_segments_touching_a_larger_one_are_its_parts() -> None:
+    """A 40 x 40 px object (2), a thin tab touching it (3), a thin tab 20 cm behind it in
+    depth (4: touching in the image only), a tall small segment touching it (5), and a thin
+    tab touching only tab 3 (6: a part of a part is a part of the whole)."""
+    labels = np.zeros((60, 80), dtype=np.int32)
+    labels[10:50, 10:50] = 2
+    labels[20:30, 50:58] = 3
+    labels[20:30, 2:10] = 4
+    labels[50:58, 20:30] = 5
+    labels[30:34, 50:58] = 6
+    cols, rows = np.meshgrid(np.arange(80), np.arange(60))
+    points = np.stack([cols * 0.002, rows * 0.002, np.ones((60, 80))], axis=2).astype(np.float32)
+    points[labels == 4, 2] += 0.2
+    height = np.where(labels == 2, rows * 0.002, 0.05).astype(np.float32)
+    height[labels == 5] = 0.05 + rows[labels == 5] * 0.004  # 3 cm tall
+    parents = part_parents(labels, points, height, SegmentConfig())
+    np.testing.assert_array_equal(parents, [0, 1, 2, 2, 4, 5, 2])
+    off = part_parents(labels, points, height, SegmentConfig(part_min_contact=0))
+    np.testing.assert_array_equal(off, np.arange(7))
+
+
+def test_a_side_part_claims_the_raised_table_pixels_at_its_edge() -> None:
+    """Table pixels (1) within 3 px of part 3 are claimed when more than 2 mm above the
+    table and within 1 cm in 3-D; the object itself (2) claims none."""
+    labels = np.ones((20, 40), dtype=np.int32)
+    labels[:, :10] = 2
+    labels[5:15, 10:20] = 3
+    cols, rows = np.meshgrid(np.arange(40), np.arange(20))
+    points = np.stack([cols * 0.002, rows * 0.002, np.ones((20, 40))], axis=2).astype(np.float32)
+    height = np.where(labels == 1, 0.004, 0.01).astype(np.float32)
+    height[:, 21] = 0.001  # table level: stays table
+    points[15:, 10:20, 2] += 0.05  # 5 cm behind in depth: stays table
+    parents = np.array([0, 1, 2, 2], dtype=np.int32)
+    claimed = claim_table_edges(labels, points, height, parents, SegmentConfig())
+    gained = (claimed == 3) & (labels == 1)
+    expected = np.zeros_like(gained)
+    expected[2:18, 20:23] = True
+    expected[2:5, 10:20] = True
+    expected[:, 21] = False
+    expected[15:, 10:20] = False
+    np.testing.assert_array_equal(gained, expected)
+    assert (claimed[labels != 1] == labels[labels != 1]).all()
+
+
+@needs_osd
+def test_a_real_pots_side_tab_is_a_part_of_the_pot() -> None:
+    """learn33: the pot's visible side tab is cut off at the crease with its wall; it keeps
+    its own label (OSD's parts) but names the pot as its whole and claims the table pixels of
+    its edge, and `detect --segment` is handed the pot with the tab."""
+    from simgrasp.assets.real import read_labeled_scene
+    from simgrasp.evaluation.real_pots import labeled_scenes, segmented_pot
+
+    label = labeled_scenes()["learn33"]
+    scene = read_labeled_scene(OSD / "learn33.pcd")
+    result = segment_scene(scene.cloud)
+    tab = label.label.contains(scene.points) & (scene.labels // 10 == label.object_id)
+    ids, counts = np.unique(result.labels[tab], return_counts=True)
+    tab_segment = int(ids[np.argmax(counts)])
+    pot = result.objects[tab_segment - 2].part_of
+    assert pot != tab_segment and pot in result.whole_objects()
+    assert result.object_mask(pot)[tab].mean() > 0.6
+    plain = segment_scene(scene.cloud, SegmentConfig(part_min_contact=0))
+    changed = plain.labels != result.labels  # only table pixels at the tab's edge change
+    assert changed.any() and (plain.labels[changed] == 1).all()
+    assert set(result.labels[changed].tolist()) == {tab_segment}
+    assert all(obj.part_of == obj.label for obj in plain.objects)
+    points, _ = segmented_pot(scene, label)
+    assert label.label.contains(points).sum() > 0.6 * tab.sum()
+
+
+@needs_osd
+def test_side_parts_on_a_real_scene_lie_on_the_object_of_their_whole() -> None:
+    """learn36: the pot's tab and its inner floor pieces are side parts, each on the same
+    ground-truth object as the segment it is a part of (scored as segment_osd.py does)."""
+    score = score_scene(OSD / "learn36.pcd", "grid")
+    assert score.side_parts >= 3 and score.side_parts_right == score.side_parts
+    assert score_scene(OSD / "learn36.pcd", "dbscan").side_parts == 0
 
 
 def _one_error_line(capsys: pytest.CaptureFixture[str], argv: list[str], words: str) -> None:

@@ -43,7 +43,8 @@ class Options:
     """CLOUD is a whole scene: segment it (as `simgrasp segment`) and detect on each object;
     normals face the file's VIEWPOINT unless --viewpoint is given."""
     object: str = setting("all", metavar="K|all")
-    """With --segment: only the object with label K."""
+    """With --segment: only the object with label K, with its side parts (the label of a side
+    part, a pot's tab, stands for its object)."""
     segmentation: SegmentConfig = field(default_factory=SegmentConfig)
 
 

@@ -55,7 +55,8 @@ def run(options: Options) -> int:
     for obj in result.objects:
         center = ", ".join(f"{v:+.3f}" for v in obj.center)
         extent = " x ".join(f"{v * 100:.1f}" for v in obj.extent)
-        print(f"  object {obj.label}: {obj.points} points, center [{center}] m, {extent} cm")
+        part = f" (side part of {obj.part_of})" if obj.part_of != obj.label else ""
+        print(f"  object {obj.label}: {obj.points} points, center [{center}] m, {extent} cm{part}")
     if not result.objects:
         print("  no object on the table")
     print(f"  {result.timings_s['total'] * 1000:.0f} ms")

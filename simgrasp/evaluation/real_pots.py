@@ -72,13 +72,16 @@ def segmented_pot(
 ) -> tuple[NDArray[np.float64], float]:
     """The pot's points as the scene segmentation (:func:`segment_scene`) cuts them: the
     segmented object overlapping the ground-truth pot most (the labels only pick which object
-    is the pot). Returns its points (sensor frame, m) and its IoU with the labeled pot."""
-    predicted = segment_scene(scene.cloud, config).labels
+    is the pot), with its side parts, as ``detect --segment`` takes it. Returns its points
+    (sensor frame, m) and its IoU with the labeled pot."""
+    segmentation = segment_scene(scene.cloud, config)
+    predicted = segmentation.labels
     truth = scene.labels // 10 == label.object_id
     candidates, overlap = np.unique(predicted[truth & (predicted >= 2)], return_counts=True)
     if len(candidates) == 0:
         return np.zeros((0, 3)), 0.0
-    pot = predicted == candidates[np.argmax(overlap)]
+    best = int(candidates[np.argmax(overlap)])
+    pot = segmentation.object_mask(segmentation.objects[best - 2].part_of)
     iou = float((pot & truth).sum() / (pot | truth).sum())
     return scene.points[pot], iou
 

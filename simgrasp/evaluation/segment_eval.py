@@ -38,6 +38,9 @@ class SceneScore:
         seconds: CPU time of the segmentation (s; reading excluded), the least of the
             repeats: on a shared machine CPU time is what one core spends, wall time is not.
         wall_seconds: wall time of the same segmentation (s), the least of the repeats.
+        side_parts: objects found to be a side part of another (``part_of``).
+        side_parts_right: of those, how many lie mostly on the ground-truth object that their
+            whole lies mostly on.
     """
 
     scene: str
@@ -46,6 +49,8 @@ class SceneScore:
     objects: int
     seconds: float
     wall_seconds: float
+    side_parts: int = 0
+    side_parts_right: int = 0
 
 
 def part_ious(truth: NDArray[np.integer], predicted: NDArray[np.integer]) -> NDArray[np.float64]:
@@ -91,7 +96,33 @@ def score_scene(
         wall = min(wall, time.perf_counter() - start_wall)
     assert result is not None  # repeats >= 1
     ious = part_ious(scene.labels, result.labels)
-    return SceneScore(Path(path).stem, method, tuple(ious.tolist()), len(result.objects), cpu, wall)
+    parts = [(o.label, o.part_of) for o in result.objects if o.part_of != o.label]
+    owner = _owners(scene.labels, result.labels)
+    right = sum(owner[a] == owner[b] >= FIRST_OBJECT for a, b in parts)
+    return SceneScore(
+        Path(path).stem,
+        method,
+        tuple(ious.tolist()),
+        len(result.objects),
+        cpu,
+        wall,
+        len(parts),
+        right,
+    )
+
+
+def _owners(truth: NDArray[np.integer], predicted: NDArray[np.integer]) -> NDArray[np.int64]:
+    """Per predicted label, the ground-truth object (part label // 10, >= 2) most of its points
+    lie on; 0 when none."""
+    objects = np.asarray(truth).reshape(-1) // 10
+    predicted = np.asarray(predicted).reshape(-1)
+    on = (objects >= FIRST_OBJECT) & (predicted >= FIRST_OBJECT)
+    width = int(objects.max()) + 1
+    counts = np.bincount(
+        predicted[on] * width + objects[on], minlength=(predicted.max() + 1) * width
+    )
+    counts = counts.reshape(-1, width)
+    return np.where(counts.max(axis=1) > 0, counts.argmax(axis=1), 0)
 
 
 def summarize(scores: Iterable[SceneScore]) -> dict[str, float]:
@@ -107,6 +138,8 @@ def summarize(scores: Iterable[SceneScore]) -> dict[str, float]:
         "share_iou_0.8": float(np.mean(ious >= GOOD_IOU)) if len(ious) else 0.0,
         "median_ms": float(np.median(ms)) if len(ms) else 0.0,
         "mean_ms": float(ms.mean()) if len(ms) else 0.0,
+        "side_parts": int(sum(s.side_parts for s in scores)),
+        "side_parts_right": int(sum(s.side_parts_right for s in scores)),
         "median_wall_ms": float(np.median([s.wall_seconds * 1000 for s in scores]))
         if scores
         else 0.0,

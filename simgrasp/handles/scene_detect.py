@@ -1,4 +1,5 @@
-"""Handles in a whole scene: segment the scene cloud, then detect on each object's points.
+"""Handles in a whole scene: segment the scene cloud, then detect on each object's points
+(with its side parts: a pot's tabs come out of the segmentation as segments of their own).
 
 Normals of a single-view scene are turned toward the sensor: the file's ``VIEWPOINT`` unless
 the caller gives another viewpoint. Results are in the scene cloud's frame (m).
@@ -87,8 +88,9 @@ def detect_in_scene(
     only_object: int | None = None,
     segment_config: SegmentConfig | None = None,
 ) -> SceneDetection:
-    """Segment the scene file at ``path`` and detect handles on each object (or only on
-    ``only_object``, a label of the segmentation); ``ValueError`` for an unknown label."""
+    """Segment the scene file at ``path`` and detect handles on each whole object with its
+    side parts (a pot with its tabs: :attr:`SegmentedObject.part_of`), or only on the object
+    of ``only_object``, a label of the segmentation; ``ValueError`` for an unknown label."""
     scene = read_scene(path)
     segmentation = segment_scene(scene, segment_config)
     labels = [obj.label for obj in segmentation.objects]
@@ -98,14 +100,16 @@ def detect_in_scene(
                 f"{path}: no object {only_object}; the segmentation found "
                 f"{len(labels)} (labels {', '.join(map(str, labels)) or 'none'})"
             )
-        labels = [only_object]
+        labels = [segmentation.objects[labels.index(only_object)].part_of]
+    else:
+        labels = list(segmentation.whole_objects())
     eye = scene.viewpoint if viewpoint is None else np.asarray(viewpoint, dtype=np.float64)
     config = config if config is not None else default_config(detector)
     detections = tuple(
         (
             label,
             detect(
-                scene.points[segmentation.labels == label].astype(np.float64),
+                scene.points[segmentation.object_mask(label)].astype(np.float64),
                 None,
                 config,
                 seed,

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -26,6 +26,7 @@ from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.organized_segments import grid_components, inner_floors
 from simgrasp.perception.scene_cloud import SceneCloud
 from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segment_parts import claim_table_edges, part_parents
 from simgrasp.seeding import rng_for
 
 INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
@@ -41,12 +42,15 @@ class SegmentedObject:
         points: its number of points.
         center: (3,) centroid (m, cloud frame).
         extent: (3,) edge lengths of its axis-aligned bounding box (m, cloud frame).
+        part_of: the label of the object this one is a thin side part of (a pot's tab:
+            :mod:`simgrasp.perception.segment_parts`), its own label otherwise.
     """
 
     label: int
     points: int
     center: NDArray[np.float64]
     extent: NDArray[np.float64]
+    part_of: int = 0
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -54,6 +58,7 @@ class SegmentedObject:
             "points": self.points,
             "center": self.center.tolist(),
             "extent": self.extent.tolist(),
+            "part_of": self.part_of,
         }
 
 
@@ -83,6 +88,15 @@ class Segmentation:
             "timings_s": dict(self.timings_s),
         }
 
+    def whole_objects(self) -> tuple[int, ...]:
+        """Labels of the objects that are not a side part of another."""
+        return tuple(obj.label for obj in self.objects if obj.part_of == obj.label)
+
+    def object_mask(self, label: int) -> NDArray[np.bool_]:
+        """(N,) the points of object ``label`` and of its side parts."""
+        members = [obj.label for obj in self.objects if label in (obj.label, obj.part_of)]
+        return np.isin(self.labels, members or [label])
+
 
 def segment_scene(
     scene: SceneCloud, config: SegmentConfig | None = None, method: Method = "auto"
@@ -111,6 +125,11 @@ def segment_scene(
     labels, objects = _timed(
         timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
     )
+    if method == "grid":
+        labels, objects = _timed(
+            timings, "parts", lambda: _parts(scene, labels, height, objects, config)
+        )
+        table = labels == TABLE
     timings["total"] = time.perf_counter() - start
     return Segmentation(labels, plane, int(table.sum()), objects, timings)
 
@@ -210,6 +229,30 @@ def _refined_plane(
     return np.append(normal, -normal @ center)
 
 
+def _parts(
+    scene: SceneCloud,
+    labels: NDArray[np.int32],
+    height: NDArray[np.float32],
+    objects: tuple[SegmentedObject, ...],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
+    """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
+    set (:mod:`simgrasp.perception.segment_parts`, on the image grid)."""
+    shape = (scene.height, scene.width)
+    grid, height_grid = scene.grid(), height.reshape(shape)
+    parents = part_parents(labels.reshape(shape), grid, height_grid, config)
+    claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
+    claimed = claimed.reshape(-1)
+    changed = set(np.unique(claimed[claimed != labels]).tolist())
+    return claimed, tuple(
+        replace(
+            _object(obj.label, scene.points[claimed == obj.label]) if obj.label in changed else obj,
+            part_of=int(parents[obj.label]),
+        )
+        for obj in objects
+    )
+
+
 def _floor_segments(
     scene: SceneCloud, table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig
 ) -> NDArray[np.int32]:
@@ -277,4 +320,4 @@ def _ordered_labels(
 
 def _object(label: int, points: NDArray[np.float32]) -> SegmentedObject:
     pts = points.astype(np.float64)
-    return SegmentedObject(label, len(pts), pts.mean(axis=0), np.ptp(pts, axis=0))
+    return SegmentedObject(label, len(pts), pts.mean(axis=0), np.ptp(pts, axis=0), label)

@@ -66,6 +66,27 @@ class SegmentConfig:
     attach_passes: int = 2
     """Attaching is repeated this many times, so a run of mixed pixels along an occluding edge
     joins one pixel-step at a time."""
+    part_min_contact: int = 10
+    """Organized clouds: a segment of at most ``part_max_points`` whose height above the table
+    spans at most ``part_max_thickness`` is a side part (a pot's tab, a pan's handle) of the
+    larger segment it touches with at least this many pixels (0: no parts). It keeps its own
+    label; :attr:`SegmentedObject.part_of` names that segment, and ``detect --segment`` detects
+    on the object with its parts."""
+    part_max_points: int = 2500
+    """Largest side part (points)."""
+    part_max_thickness: float = 0.02
+    """Largest 5th-95th percentile span of a side part's height above the table (m): a
+    horizontal plate, not a box standing on another."""
+    part_contact_px: int = 3
+    """A side part's pixel touches a larger segment when a pixel of it lies this many pixels
+    away (rows and columns at offsets -r, -1, 0, 1, r) ..."""
+    part_contact_distance: float = 0.01
+    """... and within this distance (m) in 3-D."""
+    part_edge_px: int = 3
+    """A side part claims the table pixels within this many pixels of it (px; 0: none) ..."""
+    part_edge_height: float = 0.002
+    """... that lie more than this above the table (m) and within ``part_contact_distance``
+    of it: the sensor's depth ramp from a tab 1 cm above the table down to the table."""
     min_object_points: int = 150
     """Segments with fewer points are dropped (label 0)."""
     cluster_voxel: float = 0.005
