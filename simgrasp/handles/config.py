@@ -182,10 +182,10 @@ class QuadricDetectorConfig:
     @classmethod
     def noisy_camera_cloud(cls, **overrides: object) -> QuadricDetectorConfig:
         """:meth:`camera_cloud` for fused clouds of a noisy depth sensor (``--sensor kinect``):
-        Taubin fits, which use no normals, and a 6 mm shell instead of 10 mm. Normals over
-        6 mm of Kinect-noisy points tilt, and the normals-based fits of a lying mug's strap
-        (8 x 14 mm section) come out at semi-axes of 7-10 x 10-13 mm, whose shell reaches the
-        body; Taubin fits come out at 4-6 x 8-10 mm and, with the thinner shell, pass the
+        Taubin fits, which use no normals, and a 6 mm shell instead of 10 mm. On Kinect-noisy
+        points (normals over 6 mm) the normals-based fits of a lying mug's strap (8 x 14 mm
+        section) come out at semi-axes of 7-10 x 10-13 mm, whose shell reaches the body;
+        Taubin fits come out at 4-6 x 8-10 mm and, with the thinner shell, pass the
         shell test. The lying mug is held by its strap in 7 of 10 seeds with ideal and with
         kinect depth (camera_cloud: 7 and 4; docs/results/README.md, lying-mug)."""
         base: dict[str, object] = dict(fit_method="taubin", shell_thickness=0.006)
