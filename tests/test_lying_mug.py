@@ -66,3 +66,12 @@ def test_the_committed_noisy_preset_file_is_the_noisy_camera_cloud_preset() -> N
     config = build(ChainConfig, read_config_file(PRESETS / "noisy_camera_cloud.toml"))
     assert config.detector.quadric == QuadricDetectorConfig.noisy_camera_cloud()
     assert config.detector.quadric.fit_method == "taubin"
+
+
+def test_a_second_taubin_fit_finds_the_kinect_noisy_strap(mug) -> None:
+    """camera_cloud() with a second, Taubin fit per neighborhood keeps its Birdal candidates
+    and adds the Taubin ones that pass: the strap of seed 7 is found and held."""
+    quadric = QuadricDetectorConfig.camera_cloud(second_fit_method="taubin")
+    result = run_chain(mug, _kinect_chain(quadric), seed=7)
+    assert result.handle_recall
+    assert result.success and result.on_handle, result.to_json()["failure"]

@@ -51,6 +51,11 @@ class QuadricDetectorConfig:
     of a real single-view cloud) with enough centers to reach ``min_support``."""
     fit_method: Literal["birdal", "taubin", "algebraic"] = "birdal"
     """Quadric fit: Birdal et al. 2018 (points and normals), Taubin, or plain algebraic."""
+    second_fit_method: Literal["birdal", "taubin", "algebraic"] | None = None
+    """Also fit every neighborhood with this method; a center becomes a candidate if either
+    fit passes the tests (the ``fit_method`` one preferred). Taubin fits use no normals and
+    keep a thin part's size where noisy normals widen Birdal's; Birdal's keep wide, gently
+    curved parts (a can's side) that a Taubin fit of a small patch does not constrain."""
     kind_rtol: float = 1e-2
     """Relative tolerance for rank decisions when classifying noisy fits (a smallest
     eigenvalue below ``kind_rtol`` x the largest counts as zero, i.e. a cylinder)."""
@@ -151,8 +156,11 @@ class QuadricDetectorConfig:
             )
         if self.handle_anchor not in ("axis", "surface"):
             raise SimgraspError(f"detector config: unknown handle_anchor {self.handle_anchor!r}")
-        if self.fit_method not in ("birdal", "taubin", "algebraic"):
-            raise SimgraspError(f"detector config: unknown fit_method {self.fit_method!r}")
+        for name in ("fit_method", "second_fit_method"):
+            if getattr(self, name) not in ("birdal", "taubin", "algebraic", None):
+                raise SimgraspError(f"detector config: unknown {name} {getattr(self, name)!r}")
+        if self.fit_method is None:
+            raise SimgraspError("detector config: fit_method must be set")
 
     @classmethod
     def paper(cls, **overrides: object) -> QuadricDetectorConfig:
