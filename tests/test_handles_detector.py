@@ -110,3 +110,16 @@ def test_open3d_is_imported_before_the_first_timed_step() -> None:
     )
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
+
+
+def test_a_second_fit_method_keeps_every_first_fit_candidate() -> None:
+    """Each center is a candidate when either fit passes, its first-method candidate kept:
+    the candidate centers with a second Taubin fit include those of Birdal's alone."""
+    cloud = mug_like()
+    first = detect(cloud.points, seed=1)
+    both = detect(cloud.points, config=QuadricDetectorConfig(second_fit_method="taubin"), seed=1)
+    first_centers = {tuple(c) for c in first.candidate_centers.round(6)}
+    both_centers = {tuple(c) for c in both.candidate_centers.round(6)}
+    assert first_centers <= both_centers
+    assert len(both_centers) > len(first_centers)
+    assert cloud.handle_share(both.handles[0].center[None]) == 1.0

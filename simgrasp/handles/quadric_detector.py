@@ -90,7 +90,7 @@ def detect_quadric_handles(
     if len(hoods.centers) == 0:
         return Detection((), (), sampled_centers, "quadric", timings, pts)
     with timed(timings, "fit"):
-        fit = fit_quadrics(hoods.points, hoods.normals, method=config.fit_method, mask=hoods.mask)
+        fit, hoods = _fit(hoods, config)
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
@@ -144,8 +144,34 @@ def _gather(
     )
 
 
+def _fit(hoods: _Neighborhoods, config: QuadricDetectorConfig) -> tuple[QuadricFit, _Neighborhoods]:
+    """One quadric per neighborhood with ``config.fit_method``; with ``second_fit_method``,
+    the neighborhoods repeated after themselves with the second method's fits."""
+    fit = fit_quadrics(hoods.points, hoods.normals, method=config.fit_method, mask=hoods.mask)
+    if config.second_fit_method is None:
+        return fit, hoods
+    second = fit_quadrics(
+        hoods.points, hoods.normals, method=config.second_fit_method, mask=hoods.mask
+    )
+    both = QuadricFit(
+        coefficients=np.concatenate([fit.coefficients, second.coefficients]),
+        valid=np.concatenate([fit.valid, second.valid]),
+        failure=fit.failure + second.failure,
+        method=f"{fit.method}+{second.method}",
+        centroids=np.concatenate([fit.centroids, second.centroids]),
+    )
+    twice = _Neighborhoods(
+        *(
+            np.concatenate([array, array])
+            for array in (hoods.points, hoods.normals, hoods.mask, hoods.centers, hoods.source)
+        )
+    )
+    return both, twice
+
+
 def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) -> NDArray[np.bool_]:
-    """One candidate per sampled center: its first (smallest) passing scale."""
+    """One candidate per sampled center: its first passing neighborhood (smallest scale,
+    first fit method)."""
     rows = np.flatnonzero(accepted)
     _, first = np.unique(source[rows], return_index=True)
     kept = np.zeros_like(accepted)
