@@ -95,7 +95,10 @@ def _shown(value: Any) -> str:
 
 def _metavar(annotation: Any) -> str:
     """A placeholder naming the value's type (``FLOAT``, ``INT``, ``LIST``, ``TEXT``)."""
-    name = type_name(annotation).split(" | ")[0]
+    names = type_name(annotation).split(" | ")
+    if len(names) > 2 or (len(names) == 2 and names[1] != "none"):
+        return "{" + ",".join(names) + "}"  # a choice among literal values (or none)
+    name = names[0]
     return (
         "LIST"
         if name.startswith("list")
