@@ -32,6 +32,7 @@ import time
 
 import numpy as np
 from mujoco import rollout
+from step_replay import Calls, recorded_steps, replay_seconds  # noqa: E402  (this folder)
 
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import model_for
@@ -39,42 +40,13 @@ from simgrasp.grasping.antipodal import Table, sample_antipodal
 from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
 from simgrasp.grippers import make_gripper
 
-STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
-
-def record_calls(labeler: GraspLabeler, grasps) -> list[tuple[np.ndarray, int]]:
+def record_calls(labeler: GraspLabeler, grasps) -> Calls:
     """Label ``grasps`` recording (state, nstep) before every ``mj_step`` of the scene."""
-    model = labeler.scene.model
-    size = mujoco.mj_stateSize(model, STATE)
-    calls: list[tuple[np.ndarray, int]] = []
-    original = mujoco.mj_step
-
-    def recording_step(m, d, nstep=1):
-        if m is model:
-            state = np.empty(size)
-            mujoco.mj_getState(m, d, state, STATE)
-            calls.append((state, nstep))
-        original(m, d, nstep)
-
-    mujoco.mj_step = recording_step
-    try:
+    with recorded_steps(labeler.scene.model) as calls:
         for index, (pose, width) in enumerate(grasps):
             labeler.label(index, pose, width)
-    finally:
-        mujoco.mj_step = original
     return calls
-
-
-def replay_seconds(labeler: GraspLabeler, calls: list[tuple[np.ndarray, int]]) -> float:
-    """Seconds in ``mj_step`` replaying ``calls`` from their recorded states."""
-    model, data = labeler.scene.model, labeler.scene.data
-    total = 0.0
-    for state, nstep in calls:
-        mujoco.mj_setState(model, data, state, STATE)
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep)
-        total += time.perf_counter() - start
-    return total
 
 
 def parked_seconds(labeler: GraspLabeler, steps: int, nstep: int) -> float:
@@ -97,7 +69,7 @@ def bench_protocol(model, obj: str, gripper: str, protocol: str, grasps, replay:
         held += record["success"] is True
     subset = grasps[:replay]
     calls = record_calls(labeler, subset)
-    raw = replay_seconds(labeler, calls)
+    raw = replay_seconds(labeler.scene.model, labeler.scene.data, calls)
     subset_steps = sum(n for _, n in calls)
     nstep = labeler.trial_config.control_steps
     return {

@@ -38,9 +38,8 @@ from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from step_replay import STATE, Calls, recorded_steps, replay_seconds  # noqa: E402
 from test_trial import handle_grasp  # noqa: E402  (the hand-placed handle grasp of the tests)
-
-STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 
 def raw_step_seconds(model: mujoco.MjModel, data: mujoco.MjData, steps: int, nstep: int) -> float:
@@ -56,43 +55,22 @@ def raw_step_seconds(model: mujoco.MjModel, data: mujoco.MjData, steps: int, nst
 def record_trial(scene, grasp, config: TrialConfig):
     """Run one trial recording, before each ``mj_step`` call, the integration state and
     ``nstep``; also the state after the last call. Returns (result, calls, final state)."""
-    calls: list[tuple[np.ndarray, int]] = []
-    size = mujoco.mj_stateSize(scene.model, STATE)
-    original = mujoco.mj_step
-
-    def recording_step(model, data, nstep=1):
-        if model is scene.model:  # not e.g. the Robotiq's one-off calibration model
-            state = np.empty(size)
-            mujoco.mj_getState(model, data, state, STATE)
-            calls.append((state, nstep))
-        original(model, data, nstep)
-
-    mujoco.mj_step = recording_step
-    try:
+    with recorded_steps(scene.model) as calls:
         result = run_trial(scene, grasp, config)
-    finally:
-        mujoco.mj_step = original
-    final = np.empty(size)
+    final = np.empty(mujoco.mj_stateSize(scene.model, STATE))
     mujoco.mj_getState(scene.model, scene.data, final, STATE)
     if sum(n for _, n in calls) != result.steps:
         raise RuntimeError("recorded mj_step calls do not add up to the trial's steps")
     return result, calls, final
 
 
-def replay_seconds(
-    model: mujoco.MjModel, data: mujoco.MjData, calls: list[tuple[np.ndarray, int]]
-) -> tuple[float, np.ndarray]:
-    """Seconds spent in ``mj_step`` replaying the recorded calls (each from its recorded
-    state; only the ``mj_step`` calls are timed), and the state after the last one."""
-    total = 0.0
-    for state, nstep in calls:
-        mujoco.mj_setState(model, data, state, STATE)
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep)
-        total += time.perf_counter() - start
+def replayed(model: mujoco.MjModel, data: mujoco.MjData, calls: Calls) -> tuple[float, np.ndarray]:
+    """Seconds spent in ``mj_step`` replaying the recorded calls, and the state after the
+    last one."""
+    seconds = replay_seconds(model, data, calls)
     final = np.empty(mujoco.mj_stateSize(model, STATE))
     mujoco.mj_getState(model, data, final, STATE)
-    return total, final
+    return seconds, final
 
 
 def bench(gripper_name: str, repeats: int) -> dict[str, float | str | int]:
@@ -109,7 +87,7 @@ def bench(gripper_name: str, repeats: int) -> dict[str, float | str | int]:
         if (result.steps, result.failure) != (steps, recorded.failure):
             raise RuntimeError("trial is not reproducible: steps or outcome changed")
         trial_wall.append(result.timings_s["total"])
-        seconds, final = replay_seconds(scene.model, scene.data, calls)
+        seconds, final = replayed(scene.model, scene.data, calls)
         replay_exact &= bool(np.array_equal(final, recorded_final))
         replay_wall.append(seconds)
         parked_wall.append(raw_step_seconds(scene.model, scene.data, steps, config.control_steps))

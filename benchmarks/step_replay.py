@@ -1,0 +1,49 @@
+"""Record every ``mj_step`` call a harness makes on one model, and replay the calls as raw
+stepping, so a benchmark can compare the harness with the physics alone (same steps)."""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from collections.abc import Iterator
+
+import numpy as np
+
+from simgrasp._mujoco import mujoco
+
+STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+Calls = list[tuple[np.ndarray, int]]
+
+
+@contextlib.contextmanager
+def recorded_steps(model: mujoco.MjModel) -> Iterator[Calls]:
+    """Within the block, record (integration state, nstep) before each ``mj_step`` of
+    ``model`` (other models, e.g. the Robotiq's one-off calibration model, are not recorded)."""
+    size = mujoco.mj_stateSize(model, STATE)
+    calls: Calls = []
+    original = mujoco.mj_step
+
+    def recording_step(m, d, nstep=1):
+        if m is model:
+            state = np.empty(size)
+            mujoco.mj_getState(m, d, state, STATE)
+            calls.append((state, nstep))
+        original(m, d, nstep)
+
+    mujoco.mj_step = recording_step
+    try:
+        yield calls
+    finally:
+        mujoco.mj_step = original
+
+
+def replay_seconds(model: mujoco.MjModel, data: mujoco.MjData, calls: Calls) -> float:
+    """Seconds spent in ``mj_step`` replaying ``calls``, each from its recorded state (only
+    the ``mj_step`` calls are timed)."""
+    total = 0.0
+    for state, nstep in calls:
+        mujoco.mj_setState(model, data, state, STATE)
+        start = time.perf_counter()
+        mujoco.mj_step(model, data, nstep)
+        total += time.perf_counter() - start
+    return total
