@@ -314,3 +314,24 @@ def test_async_vector_env_matches_sequential_envs() -> None:
         assert list(step_infos["grasp"][i]) == step_info["grasp"]
         assert step_infos["success"][i] == step_info["success"]
         assert step_infos["failure"][i] == step_info["failure"]
+
+
+def test_the_sensor_field_gives_seeded_sensed_depth() -> None:
+    """With ``sensor`` kinect the observed depth is the sensor's (it differs from the ideal
+    render, in whole millimetres) and the same episode seed gives the same observation."""
+    from simgrasp.perception.sensors.settings import SensorSettings
+
+    options = {"object": "gen_hammer", "episode_seed": 5}
+    observations = []
+    for sensor in ("kinect", "kinect", "ideal"):
+        env = HandleGraspEnv(**{**SMALL, "sensor": SensorSettings(kind=sensor)})
+        try:
+            observations.append(env.reset(seed=0, options=options)[0])
+        finally:
+            env.close()
+    first, again, ideal = observations
+    for key in first:
+        np.testing.assert_array_equal(first[key], again[key])
+    seen = first["depth"][first["depth"] > 0]
+    assert not np.array_equal(first["depth"], ideal["depth"])
+    np.testing.assert_allclose(seen * 1000, np.round(seen * 1000), atol=1e-3)
