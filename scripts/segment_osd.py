@@ -23,10 +23,10 @@ import json  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+from simgrasp.assets.real import default_real_dir  # noqa: E402
 from simgrasp.evaluation.segment_eval import (  # noqa: E402
     SceneScore,
     osd_scenes,
-    real_data_dir,
     score_scene,
     summarize,
 )
@@ -36,7 +36,7 @@ METHODS = {"grid": "ours (grid cuts)", "dbscan": "baseline (plane + DBSCAN)"}
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=real_data_dir() / "osd-learn")
+    parser.add_argument("--data", type=Path, default=default_real_dir() / "osd-learn")
     parser.add_argument("--out", type=Path, default=Path("docs/results/segment-osd"))
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args(argv)

@@ -9,15 +9,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from simgrasp.assets.real import default_real_dir
 from simgrasp.cli import main
-from simgrasp.evaluation.segment_eval import part_ious, real_data_dir, score_scene
+from simgrasp.evaluation.segment_eval import part_ious, score_scene
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segment import segment_scene
 from simgrasp.perception.segment_config import SegmentConfig
 from simgrasp.perception.segment_parts import claim_table_edges, part_parents
 
-OSD = real_data_dir() / "osd-learn"
+OSD = default_real_dir() / "osd-learn"
 needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
 FOCAL, WIDTH, HEIGHT = 525.0, 640, 480
 

@@ -7,7 +7,6 @@ part (label >= 20) is scored by its best IoU with any predicted object (label >=
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -144,14 +143,6 @@ def summarize(scores: Iterable[SceneScore]) -> dict[str, float]:
         if scores
         else 0.0,
     }
-
-
-def real_data_dir() -> Path:
-    """The real-sensor data folder: ``$SIMGRASP_REAL_DIR``, else ``<repo>/../shared/real``."""
-    configured = os.environ.get("SIMGRASP_REAL_DIR")
-    if configured:
-        return Path(configured)
-    return Path(__file__).resolve().parents[3] / "shared" / "real"
 
 
 def osd_scenes(folder: Path) -> list[Path]:

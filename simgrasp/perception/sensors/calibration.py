@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from scipy import ndimage
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.perception.scene_cloud import read_scene
 from simgrasp.perception.sensors import SensorConfig, apply_sensor
 from simgrasp.perception.sensors.geometry import band
 
@@ -60,33 +61,19 @@ class LabeledScan:
 
 
 def read_labeled_scan(path: str | Path) -> LabeledScan:
-    """Read an organized PCD with a ``label`` field (e.g. osd-learn) with Open3D."""
-    from simgrasp.perception import import_open3d
-
+    """Read an organized PCD with a ``label`` field (e.g. osd-learn) as an image."""
     path = Path(path)
     if not path.is_file():
         raise DataNotFoundError(f"no scan file {path}")
-    cloud = import_open3d().t.io.read_point_cloud(str(path))
-    if "label" not in cloud.point:
+    scene = read_scene(path)
+    if scene.labels is None:
         raise SimgraspError(f"{path} has no 'label' field")
-    points = cloud.point.positions.numpy().astype(np.float64)
-    labels = cloud.point.label.numpy().astype(np.int32).ravel()
-    height, width = _organized_size(path, len(points))
-    return LabeledScan(points.reshape(height, width, 3), labels.reshape(height, width))
-
-
-def _organized_size(path: Path, count: int) -> tuple[int, int]:
-    header: dict[str, str] = {}
-    with path.open("rb") as stream:
-        for raw in stream:
-            key, _, value = raw.decode("ascii", "replace").strip().partition(" ")
-            header[key] = value
-            if key == "DATA":
-                break
-    width, height = int(header.get("WIDTH", count)), int(header.get("HEIGHT", 1))
-    if height <= 1 or width * height != count:
-        raise SimgraspError(f"{path} is not an organized cloud (WIDTH {width}, HEIGHT {height})")
-    return height, width
+    if not scene.organized:
+        raise SimgraspError(
+            f"{path} is not an organized cloud (WIDTH {scene.width}, HEIGHT {scene.height})"
+        )
+    labels = scene.labels.astype(np.int32).reshape(scene.height, scene.width)
+    return LabeledScan(scene.grid().astype(np.float64), labels)
 
 
 def scan_intrinsics(scan: LabeledScan) -> NDArray[np.float64]:
