@@ -49,8 +49,9 @@ class TrialSpec:
         """How ``config`` differs from the default chain config (the trial's identity)."""
         return trial_settings(self.config)
 
-    @property
+    @functools.cached_property
     def key(self) -> TrialKey:
+        """(object, seed, settings): computed once, a sweep looks it up several times."""
         return trial_key({"object": self.object, "seed": self.seed, "settings": self.settings})
 
     def summary_fields(self) -> dict[str, Any]:
@@ -193,7 +194,11 @@ def run_sweep(
         raise SimgraspError("the sweep plan lists a trial twice")
     log = TrialLog(Path(out_dir) / TRIALS_FILE)
     wanted = {spec.key for spec in specs}
-    finished = {trial_key(r): r for r in log.load() if trial_key(r) in wanted}
+    finished = {}
+    for record in log.load():
+        key = trial_key(record)
+        if key in wanted:
+            finished[key] = record
     todo = [spec for spec in specs if spec.key not in finished]
     bar = tqdm(
         total=len(specs), initial=len(finished), desc="evaluate", unit="trial", disable=not progress
