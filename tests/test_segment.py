@@ -274,3 +274,21 @@ def test_a_wall_filling_the_view_is_an_empty_result(
 def test_scene_from_array_refuses_a_wrong_shape() -> None:
     with pytest.raises(ValueError, match="expected"):
         scene_from_array(np.zeros((10, 2)))
+
+
+@pytest.mark.parametrize("kind", ["ascii", "binary"])
+def test_a_cut_uncompressed_scene_is_refused(
+    kind: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A scene PCD cut in half is an error naming the file, not read with made-up points (the
+    strict readers of cloud_formats, as for detect's clouds)."""
+    o3d = import_open3d()
+    finite = tabletop().reshape(-1, 3)
+    finite = finite[np.isfinite(finite).all(axis=1)]
+    whole = tmp_path / "whole.pcd"
+    cloud = o3d.t.geometry.PointCloud(finite.astype(np.float32))
+    o3d.t.io.write_point_cloud(str(whole), cloud, write_ascii=kind == "ascii")
+    cut = tmp_path / "cut.pcd"
+    cut.write_bytes(whole.read_bytes()[: whole.stat().st_size // 2])
+    _one_error_line(capsys, ["segment", str(cut)], "cut.pcd")
+    assert len(read_scene(whole).points) == len(finite)

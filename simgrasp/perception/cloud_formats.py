@@ -218,10 +218,18 @@ def read_pcd(path: Path, data: bytes) -> Table:
     raise SimgraspError(f"{path}: unknown PCD DATA kind {kind!r}")
 
 
-def _read_compressed_pcd(path: Path, data: bytes, offset: int, count: int, dtype: np.dtype):
-    """A ``binary_compressed`` body: sizes checked here, decoded by Open3D."""
-    from simgrasp.perception._arrays import import_open3d
+def check_compressed_pcd(path: Path, data: bytes) -> None:
+    """Refuse a ``binary_compressed`` PCD whose body does not hold the header's points (cut,
+    padded or corrupt sizes), without decoding it."""
+    lines, offset = _header(path, data, b"DATA")
+    header = {words[0]: words[1:] for words in lines}
+    _, dtype = _pcd_fields(path, header)
+    _check_compressed_sizes(path, data, offset, _pcd_count(path, header), dtype)
 
+
+def _check_compressed_sizes(
+    path: Path, data: bytes, offset: int, count: int, dtype: np.dtype
+) -> None:
     sizes = (
         np.frombuffer(data, dtype="<u4", count=2, offset=offset)
         if len(data) >= offset + 8
@@ -229,11 +237,18 @@ def _read_compressed_pcd(path: Path, data: bytes, offset: int, count: int, dtype
     )
     if sizes is None or int(sizes[1]) != count * dtype.itemsize:
         raise SimgraspError(f"{path}: the compressed PCD body does not hold {count} points")
-    if len(data) - offset - 8 != int(sizes[0]):
+    if len(data) - offset - 8 < int(sizes[0]):  # trailing bytes (PCL's padding) are allowed
         raise SimgraspError(
             f"{path}: the compressed PCD body is {len(data) - offset - 8} bytes, its header "
-            f"says {int(sizes[0])}: the file is cut or padded"
+            f"says {int(sizes[0])}: the file is truncated"
         )
+
+
+def _read_compressed_pcd(path: Path, data: bytes, offset: int, count: int, dtype: np.dtype):
+    """A ``binary_compressed`` body: sizes checked here, decoded by Open3D."""
+    from simgrasp.perception._arrays import import_open3d
+
+    _check_compressed_sizes(path, data, offset, count, dtype)
     cloud = import_open3d().io.read_point_cloud(str(path), format="pcd")
     if len(cloud.points) != count:
         raise SimgraspError(f"{path}: the compressed PCD body could not be decoded")

@@ -8,7 +8,9 @@ labels) line up with the file, and an organized cloud keeps its image grid (``wi
 Formats: ``.pcd`` (ascii, binary, binary_compressed; organized or not; a ``label`` field and
 the ``VIEWPOINT`` are kept), ``.ply`` (unorganized), ``.npy`` ((N, 3) points, or (H, W, 3) an
 organized grid). Coordinates are meters in the sensor's frame unless ``VIEWPOINT`` says where
-the sensor is.
+the sensor is. A cut or corrupt file is refused, as by ``read_cloud``: PLY and ascii / binary
+PCD go through the strict readers of :mod:`simgrasp.perception.cloud_formats`; a
+``binary_compressed`` PCD has its sizes checked there and is decoded by Open3D.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from numpy.typing import NDArray
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.perception._arrays import import_open3d
+from simgrasp.perception.cloud_formats import check_compressed_pcd, read_pcd, read_ply
 
 SCENE_FORMATS = (".pcd", ".ply", ".npy")
 
@@ -95,7 +98,7 @@ def read_scene(path: str | Path) -> SceneCloud:
         raise DataNotFoundError(f"{path}: no such scene-cloud file")
     if suffix == ".npy":
         return scene_from_array(_load_npy(path), source=str(path))
-    return _read_open3d(path, suffix)
+    return _read_structured(path, suffix)
 
 
 def _load_npy(path: Path) -> NDArray[np.floating]:
@@ -108,23 +111,36 @@ def _load_npy(path: Path) -> NDArray[np.floating]:
     return array
 
 
-def _read_open3d(path: Path, suffix: str) -> SceneCloud:
+def _read_structured(path: Path, suffix: str) -> SceneCloud:
     header = _pcd_header(path) if suffix == ".pcd" else {}
+    data = path.read_bytes()
+    if (header.get("DATA") or [""])[0] == "binary_compressed":
+        check_compressed_pcd(path, data)
+        return _read_open3d(path, header)
+    table = read_pcd(path, data) if suffix == ".pcd" else read_ply(path, data)
+    if not {"x", "y", "z"} <= set(table) or len(table["x"]) == 0:
+        raise SimgraspError(f"{path}: no points could be read (empty or not a valid {suffix})")
+    points = np.column_stack([table["x"], table["y"], table["z"]]).astype(np.float32)
+    labels = table["label"].astype(np.int64) if "label" in table else None
+    width, height = _grid_shape(path, header, len(points))
+    return SceneCloud(points, width, height, _viewpoint(path, header), labels, str(path))
+
+
+def _read_open3d(path: Path, header: dict[str, list[str]]) -> SceneCloud:
+    """A ``binary_compressed`` PCD (sizes already checked), decoded by Open3D with its NaN
+    points and ``label`` field kept."""
     o3d = import_open3d()
     with o3d.utility.VerbosityContextManager(o3d.utility.VerbosityLevel.Error):
         cloud = o3d.t.io.read_point_cloud(
             str(path), format="auto", remove_nan_points=False, remove_infinite_points=False
         )
     if "positions" not in cloud.point or len(cloud.point.positions) == 0:
-        raise SimgraspError(
-            f"{path}: no points could be read (empty, truncated or not a valid {suffix})"
-        )
-    points = cloud.point.positions.numpy()
+        raise SimgraspError(f"{path}: no points could be read (the compressed body is corrupt)")
+    points = np.ascontiguousarray(cloud.point.positions.numpy(), dtype=np.float32)
     width, height = _grid_shape(path, header, len(points))
     labels = (
         cloud.point.label.numpy().reshape(-1).astype(np.int64) if "label" in cloud.point else None
     )
-    points = np.ascontiguousarray(points, dtype=np.float32)
     return SceneCloud(points, width, height, _viewpoint(path, header), labels, str(path))
 
 
