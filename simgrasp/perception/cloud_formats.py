@@ -196,10 +196,19 @@ def _pcd_count(path: Path, header: dict[str, list[str]]) -> int:
     return points
 
 
+def pcd_header(path: Path, data: bytes) -> dict[str, list[str]]:
+    """A PCD file's header entries (``FIELDS``, ``WIDTH``, ``VIEWPOINT`` ... ``DATA``)."""
+    return _pcd_header_and_offset(path, data)[0]
+
+
+def _pcd_header_and_offset(path: Path, data: bytes) -> tuple[dict[str, list[str]], int]:
+    lines, offset = _header(path, data, b"DATA")
+    return {words[0]: words[1:] for words in lines}, offset
+
+
 def read_pcd(path: Path, data: bytes) -> Table:
     """The field columns of a PCD file's bytes (a field with COUNT > 1 is left out)."""
-    lines, offset = _header(path, data, b"DATA")
-    header = {words[0]: words[1:] for words in lines}
+    header, offset = _pcd_header_and_offset(path, data)
     names, dtype = _pcd_fields(path, header)
     _check_float_coordinates(path, dtype, ("normal_x", "normal_y", "normal_z"))
     count = _pcd_count(path, header)
@@ -221,8 +230,7 @@ def read_pcd(path: Path, data: bytes) -> Table:
 def check_compressed_pcd(path: Path, data: bytes) -> None:
     """Refuse a ``binary_compressed`` PCD whose body does not hold the header's points (cut,
     padded or corrupt sizes), without decoding it."""
-    lines, offset = _header(path, data, b"DATA")
-    header = {words[0]: words[1:] for words in lines}
+    header, offset = _pcd_header_and_offset(path, data)
     _, dtype = _pcd_fields(path, header)
     _check_compressed_sizes(path, data, offset, _pcd_count(path, header), dtype)
 

@@ -23,7 +23,12 @@ from numpy.typing import NDArray
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.perception._arrays import import_open3d
-from simgrasp.perception.cloud_formats import check_compressed_pcd, read_pcd, read_ply
+from simgrasp.perception.cloud_formats import (
+    check_compressed_pcd,
+    pcd_header,
+    read_pcd,
+    read_ply,
+)
 
 SCENE_FORMATS = (".pcd", ".ply", ".npy")
 
@@ -112,8 +117,8 @@ def _load_npy(path: Path) -> NDArray[np.floating]:
 
 
 def _read_structured(path: Path, suffix: str) -> SceneCloud:
-    header = _pcd_header(path) if suffix == ".pcd" else {}
     data = path.read_bytes()
+    header = pcd_header(path, data) if suffix == ".pcd" else {}
     if (header.get("DATA") or [""])[0] == "binary_compressed":
         check_compressed_pcd(path, data)
         return _read_open3d(path, header)
@@ -142,21 +147,6 @@ def _read_open3d(path: Path, header: dict[str, list[str]]) -> SceneCloud:
         cloud.point.label.numpy().reshape(-1).astype(np.int64) if "label" in cloud.point else None
     )
     return SceneCloud(points, width, height, _viewpoint(path, header), labels, str(path))
-
-
-def _pcd_header(path: Path) -> dict[str, list[str]]:
-    """The PCD header's entries (``WIDTH``, ``HEIGHT``, ``VIEWPOINT`` ...) up to ``DATA``."""
-    header: dict[str, list[str]] = {}
-    with path.open("rb") as stream:
-        for _ in range(64):
-            line = stream.readline().decode("ascii", errors="replace").strip()
-            if not line or line.startswith("#"):
-                continue
-            key, *values = line.split()
-            header[key.upper()] = values
-            if key.upper() == "DATA":
-                break
-    return header
 
 
 def _grid_shape(path: Path, header: dict[str, list[str]], count: int) -> tuple[int, int]:
