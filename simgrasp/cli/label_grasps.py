@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
@@ -42,6 +43,7 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
+    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.grasping.grasp_sets import read_grasp_set
     from simgrasp.grasping.label_run import label_grasp_set
 
@@ -52,18 +54,19 @@ def run(options: Options) -> int:
     _report_problems(grasps.problems, len(grasps))
     model = model_for(config.object, options.ycb_dir)
     out = options.out or Path("out") / "labels" / model.asset.name
-    summary, records = label_grasp_set(
-        grasps,
-        config,
-        out,
-        grasp_file=options.grasps,
-        ycb_dir=options.ycb_dir,
-        workers=options.workers,
-        backend=options.backend,
-        address=options.address,
-    )
-    if not options.no_picture:
-        _picture(model, grasps, records, config, out / "labels.png")
+    with claim_out_dir(out, invocation()):  # one run at a time per --out, as evaluate
+        summary, records = label_grasp_set(
+            grasps,
+            config,
+            out,
+            grasp_file=options.grasps,
+            ycb_dir=options.ycb_dir,
+            workers=options.workers,
+            backend=options.backend,
+            address=options.address,
+        )
+        if not options.no_picture:
+            _picture(model, grasps, records, config, out / "labels.png")
     _print_summary(summary, out)
     return 0
 
