@@ -17,7 +17,7 @@ from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.trial import run_trial
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trial_config import FAST_TRIAL, TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import Scene, build_scene
 
@@ -173,3 +173,29 @@ def test_an_object_torn_from_the_jaws_ends_the_trial_as_dropped(
     assert result.failure == "dropped_in_perturbation"
     assert result.success is False
     assert result.sim_time < handle_result.sim_time - 1.0  # ended before the last tugs
+
+
+def test_waiting_phases_end_once_the_grip_is_at_rest(hammer_scene: Scene) -> None:
+    """With ``quiet_speed`` the settle, hold, tugs and rests end once the hammer is still in
+    the jaws: the same verdict in fewer steps; every tug still lasts ``quiet_min_tug``."""
+    waiting = dataclasses.replace(FAST_TRIAL, quiet_speed=None)
+    quiet = dataclasses.replace(FAST_TRIAL, quiet_speed=0.01)
+    full_time = run_trial(hammer_scene, handle_grasp(hammer_scene), waiting)
+    early = run_trial(hammer_scene, handle_grasp(hammer_scene), quiet)
+    assert (early.success, early.on_handle) == (full_time.success, full_time.on_handle)
+    assert early.success and early.on_handle
+    assert early.steps < full_time.steps
+    floor = (
+        quiet.settle_time
+        + quiet.close_time
+        + len(quiet.perturb_directions) * (quiet.quiet_min_tug + quiet.quiet_time)
+    )
+    assert early.sim_time > floor
+
+
+def test_a_tug_that_tears_the_object_out_is_not_cut_short(hammer_scene: Scene) -> None:
+    """An object moving in the jaws is never at rest: a grip that fails under the full tugs
+    fails with the early end as well."""
+    config = dataclasses.replace(FAST_TRIAL, quiet_speed=0.01, perturb_force_scale=30.0)
+    result = run_trial(hammer_scene, handle_grasp(hammer_scene), config)
+    assert result.failure == "dropped_in_perturbation"

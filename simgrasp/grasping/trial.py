@@ -144,6 +144,16 @@ class _Runner:
         colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
         self.gripper_colliders = [int(g) for g in self.gripper_geoms if colliding[g]]
         self.object_colliders = [int(g) for g in self.object_geoms if colliding[g]]
+        self.object_body, self.gripper_root = self.scene.object_body, self.scene.gripper.root_body
+        self.object_radius = max(
+            float(np.linalg.norm(model.geom_pos[g] - model.body_ipos[self.object_body]))
+            + float(model.geom_rbound[g])
+            for g in self.object_colliders
+        )
+        free = self.scene.gripper.free_dof
+        gripper_dofs = np.flatnonzero(np.isin(model.dof_bodyid, self.scene.gripper.body_ids))
+        self.finger_dofs = gripper_dofs[(gripper_dofs < free) | (gripper_dofs >= free + 6)]
+        self._velocity = np.zeros((2, 6))
 
     def advance(
         self, duration: float, mocap_from: NDArray | None = None, to: NDArray | None = None
@@ -158,16 +168,55 @@ class _Runner:
             self.steps += nstep
             self.check()
 
-    def check(self) -> None:
+    def wait(self, duration: float, min_time: float = 0.0) -> None:
+        """Step up to ``duration`` seconds with the target still; with
+        ``config.quiet_speed``, end early once every generalized velocity has stayed below it
+        for ``config.quiet_time`` and ``min_time`` has passed."""
+        config = self.config
+        if config.quiet_speed is None:
+            self.advance(duration)
+            return
+        chunks = max(1, int(round(duration / config.control_dt)))
+        quiet_needed = max(1, int(round(config.quiet_time / config.control_dt)))
+        min_chunks = int(round(min_time / config.control_dt))
+        quiet = 0
+        for k in range(1, chunks + 1):
+            mujoco.mj_step(self.model, self.data, self.nstep)
+            self.steps += self.nstep
+            self.check()
+            quiet = quiet + 1 if self.relative_speed() < config.quiet_speed else 0
+            if quiet >= quiet_needed and k >= min_chunks:
+                return
+
+    def relative_speed(self) -> float:
+        """A bound (m/s) on how fast any point of the object moves relative to the gripper,
+        or a finger joint moves (m/s or rad/s): the larger of the two."""
+        data, velocity = self.data, self._velocity
+        for row, body in enumerate((self.object_body, self.gripper_root)):
+            mujoco.mj_objectVelocity(
+                self.model, data, mujoco.mjtObj.mjOBJ_BODY, body, velocity[row], 0
+            )
+        offset = data.xipos[self.object_body] - data.xipos[self.gripper_root]
+        angular = velocity[0, :3] - velocity[1, :3]
+        linear = velocity[0, 3:] - velocity[1, 3:] - np.cross(velocity[1, :3], offset)
+        object_speed = np.linalg.norm(linear) + np.linalg.norm(angular) * self.object_radius
+        fingers = np.abs(data.qvel[self.finger_dofs]).max(initial=0.0)
+        return float(max(object_speed, fingers))
+
+    def check(self) -> float:
+        """Raise ``_Diverged`` or ``_Released`` when the state calls for it; return the
+        largest generalized speed (m/s or rad/s)."""
         data = self.data
         if data.warning[self.bad_qacc].number > 0 or not np.isfinite(data.qpos).all():
             raise _Diverged
-        if np.abs(data.qvel).max() > self.config.max_speed:
+        speed = float(np.abs(data.qvel).max())
+        if speed > self.config.max_speed:
             raise _Diverged
         if data.ncon and data.contact.dist.min() < -self.config.max_penetration:
             raise _Diverged
         if self.watch_release and not self._object_in_gripper() and self._object_clear():
             raise _Released
+        return speed
 
     def _object_clear(self) -> bool:
         """Whether every colliding object geom is ``release_gap`` or more from every colliding
@@ -317,7 +366,7 @@ def _settle(trial: _Trial) -> None:
     gripper, grasp = trial.scene.gripper, trial.grasp
     width = min(grasp.width, gripper.gripper.max_opening)
     gripper.set_opening(trial.scene.data, width)
-    trial.runner.advance(trial.config.settle_time)
+    trial.runner.wait(trial.config.settle_time)
     if trial.config.free_floating:  # no approach follows, during which the jaws finish opening
         _open_jaws(trial, width)
     trial.world_T_object_settled = trial.scene.object_pose()
@@ -373,7 +422,7 @@ def _close(trial: _Trial) -> Failure | None:
     """4. The jaws squeeze; unless both fingers touch the object, ``missed``."""
     scene = trial.scene
     scene.gripper.close(scene.data)
-    trial.runner.advance(trial.config.close_time)
+    trial.runner.wait(trial.config.close_time)
     trial.moment("closed")
     trial.lap("close")
     if not trial.held().both:
@@ -397,7 +446,7 @@ def _lift_and_hold(trial: _Trial) -> Failure | None:
             scene.model.body_gravcomp[scene.object_body] = 0.0
         else:
             trial.runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
-        trial.runner.advance(config.hold_time)
+        trial.runner.wait(config.hold_time)
     except _Released:
         trial.lap("lift_hold")
         record["lift_height"] = float(scene.object_pose()[2, 3] - trial.object_z_closed)
@@ -427,9 +476,9 @@ def _perturb(trial: _Trial) -> Failure | None:
         for direction in np.asarray(config.perturb_directions, dtype=float).reshape(-1, 3):
             force = config.perturb_force_scale * weight * direction / np.linalg.norm(direction)
             data.xfrc_applied[body, :3] = force
-            trial.runner.advance(config.perturb_time)
+            trial.runner.wait(config.perturb_time, min_time=config.quiet_min_tug)
             data.xfrc_applied[body, :3] = 0.0
-            trial.runner.advance(config.rest_time)
+            trial.runner.wait(config.rest_time)
     except _Released:
         data.xfrc_applied[body, :3] = 0.0
         trial.lap("perturb")
