@@ -103,6 +103,20 @@ def test_another_run_into_the_same_directory_is_refused(known_set: Path, tmp_pat
         label_grasp_set(grasps, other, tmp_path, grasp_file=known_set, progress=False)
 
 
+def test_a_run_of_an_older_protocol_definition_is_refused(known_set: Path, tmp_path: Path) -> None:
+    """run.json holds the protocol's trial settings: labels made before the definition of
+    ``fast`` changed are not mixed with new ones."""
+    grasps = read_grasp_set(known_set)
+    config = LabelConfig(OBJECT, protocol="fast", seed=SEED)
+    label_grasp_set(grasps, config, tmp_path, grasp_file=known_set, progress=False)
+    run = json.loads((tmp_path / "run.json").read_text())
+    assert run["trial"]["quiet_speed"] == config.trial.quiet_speed
+    run["trial"]["hold_time"] = 1.0
+    (tmp_path / "run.json").write_text(json.dumps(run))
+    with pytest.raises(ValueError, match="another run.*trial"):
+        label_grasp_set(grasps, config, tmp_path, grasp_file=known_set, progress=False)
+
+
 def test_resume_after_sigkill(labeler: GraspLabeler, tmp_path: Path) -> None:
     """Kill -9 a real label-grasps process mid-run; the rerun labels only the missing grasps
     and every grasp ends with exactly one record."""

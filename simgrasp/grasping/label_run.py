@@ -4,8 +4,9 @@ Every labeled grasp is appended to ``OUT/labels.jsonl`` as it finishes (one line
 ``fsync``-ed: :class:`~simgrasp.evaluation.trial_log.TrialLog`), so a killed run (even
 ``kill -9``; its workers exit with it) loses at most the grasp being written; run the same
 command again and only the missing grasps run. ``OUT/run.json`` names what the directory
-labels (object, gripper, protocol, seed, placement, the grasp file's SHA-256): a second run
-with other settings or another file is refused instead of mixing labels. Rows that are not
+labels (object, gripper, protocol, seed, placement, the grasp file's SHA-256, every trial
+setting of the protocol): a second run with other settings or another file, or after the
+protocol's definition changed, is refused instead of mixing labels. Rows that are not
 grasps get a record with failure ``invalid`` and are never executed.
 
 Outputs in input order: ``labels.npz`` (bool ``success`` and ``on_handle``, str ``failure``:
@@ -124,6 +125,7 @@ def label_grasp_set(
     out_dir = Path(out_dir)
     run = {**asdict(config), "grasps": str(grasp_file), "grasps_sha256": file_digest(grasp_file)}
     run["count"] = len(grasps)
+    run["trial"] = json.loads(json.dumps(asdict(config.trial)))
     check_run(out_dir, {k: v for k, v in run.items() if k != "grasps"})
     log = TrialLog(out_dir / LABELS_FILE, key=label_key)
     finished = {label_key(r): r for r in log.load() if 0 <= label_key(r) < len(grasps)}

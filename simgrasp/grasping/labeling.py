@@ -24,6 +24,7 @@ from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placem
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.protocol import DEFAULT_PROTOCOL, PROTOCOLS, Protocol
+from simgrasp.grasping.trial_config import TrialConfig, protocol_config
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, check_gripper_name, gripper_names
 
 if TYPE_CHECKING:
@@ -65,21 +66,23 @@ class LabelConfig:
             raise SimgraspError(f"seed must be a non-negative integer, got {self.seed!r}")
         check_placement(self.placement)
 
+    @property
+    def trial(self) -> TrialConfig:
+        """The trial settings of every grasp: the protocol's, in free space if asked."""
+        return replace(protocol_config(self.protocol), free_floating=self.free_floating)
+
 
 class GraspLabeler:
     """Labels grasps of one object with one gripper and protocol on one compiled scene."""
 
     def __init__(self, object_model: ObjectModel, config: LabelConfig) -> None:
         from simgrasp.grasping.trial import initial_object_pose
-        from simgrasp.grasping.trial_config import protocol_config
         from simgrasp.grippers import make_gripper
         from simgrasp.scenes.config import SceneConfig
         from simgrasp.scenes.scene import build_scene
 
         self.config = config
-        self.trial_config = replace(
-            protocol_config(config.protocol), free_floating=config.free_floating
-        )
+        self.trial_config = config.trial
         self.gripper = make_gripper(config.gripper)
         scene_config = SceneConfig(placement=config.placement)
         self.scene: Scene = build_scene(object_model, self.gripper, scene_config, config.seed)
