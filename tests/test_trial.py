@@ -163,6 +163,19 @@ def test_divergence_is_sim_unstable_not_scored(hammer_scene: Scene) -> None:
     assert result.success is None
 
 
+def test_a_state_mujoco_resets_is_sim_unstable(hammer_scene: Scene) -> None:
+    """A non-finite velocity makes MuJoCo reset the state with a warning; the trial must end
+    as ``sim_unstable`` instead of going on from the reset state."""
+
+    def poison(phase: str, scene: Scene) -> None:
+        if phase == "closed":
+            scene.data.qvel[0] = np.nan
+
+    result = run_trial(hammer_scene, handle_grasp(hammer_scene), on_phase=poison)
+    assert result.failure == "sim_unstable"
+    assert result.success is None
+
+
 def test_an_object_torn_from_the_jaws_ends_the_trial_as_dropped(
     hammer_scene: Scene, handle_result
 ) -> None:

@@ -26,13 +26,15 @@ trial in free space as ACRONYM does: the object floats with its gravity compensa
 gripper appears at the grasp itself and closes (phases 2-4 without the pre-grasp offset and the
 approach), then the object's gravity comes on instead of the lift (phase 5), then the tugs.
 
-Divergence (non-finite state, MuJoCo's bad-qacc warning, penetration or speed beyond the
-limits) ends the trial as ``sim_unstable`` with ``success = None``: neither success nor failure.
-The simulation is deterministic: the same scene, grasp and config give an identical record.
+Divergence (a non-finite state MuJoCo had to reset, its bad-qacc warning, penetration or speed
+beyond the limits) ends the trial as ``sim_unstable`` with ``success = None``: neither success
+nor failure. The simulation is deterministic: the same scene, grasp and config give an identical
+record.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -111,8 +113,8 @@ class _Diverged(Exception):
 
 
 _GRIPPER, _OBJECT = 2, 3
-"""Codes of :attr:`_Runner.geom_part` (others 0): a contact joins the object and the gripper
-exactly when the product of its two geoms' codes is 6."""
+"""Codes of gripper and object geoms (others 0): a contact joins the object and the gripper
+exactly when the product of its two geoms' codes is 6 (``_Runner.gripper_object``)."""
 
 
 class _Released(Exception):
@@ -134,13 +136,18 @@ class _Runner:
         model = self.scene.model
         self.model, self.data = model, self.scene.data
         self.nstep = self.config.control_steps
-        self.bad_qacc = int(mujoco.mjtWarning.mjWARN_BADQACC)
+        warning = mujoco.mjtWarning
+        self.unstable = [
+            int(w) for w in (warning.mjWARN_BADQPOS, warning.mjWARN_BADQVEL, warning.mjWARN_BADQACC)
+        ]
+        """MuJoCo's divergence warnings (it resets a non-finite state and counts one of these)."""
         self.mocap = self.scene.gripper.mocap_id
         self.gripper_geoms = np.asarray(self.scene.gripper.geom_ids)
         self.object_geoms = np.flatnonzero(model.geom_bodyid == self.scene.object_body)
-        self.geom_part = np.zeros(model.ngeom, dtype=np.int8)
-        self.geom_part[self.gripper_geoms] = _GRIPPER
-        self.geom_part[self.object_geoms] = _OBJECT
+        part = np.zeros(model.ngeom, dtype=np.int8)
+        part[self.gripper_geoms], part[self.object_geoms] = _GRIPPER, _OBJECT
+        self.gripper_object = np.multiply.outer(part, part) == _GRIPPER * _OBJECT
+        """Geom pairs (either order) of an object and a gripper geom."""
         colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
         self.gripper_colliders = [int(g) for g in self.gripper_geoms if colliding[g]]
         self.object_colliders = [int(g) for g in self.object_geoms if colliding[g]]
@@ -153,7 +160,6 @@ class _Runner:
         free = self.scene.gripper.free_dof
         gripper_dofs = np.flatnonzero(np.isin(model.dof_bodyid, self.scene.gripper.body_ids))
         self.finger_dofs = gripper_dofs[(gripper_dofs < free) | (gripper_dofs >= free + 6)]
-        self._velocity = np.zeros((2, 6))
 
     def advance(
         self, duration: float, mocap_from: NDArray | None = None, to: NDArray | None = None
@@ -190,33 +196,41 @@ class _Runner:
 
     def relative_speed(self) -> float:
         """A bound (m/s) on how fast any point of the object moves relative to the gripper,
-        or a finger joint moves (m/s or rad/s): the larger of the two."""
-        data, velocity = self.data, self._velocity
-        for row, body in enumerate((self.object_body, self.gripper_root)):
-            mujoco.mj_objectVelocity(
-                self.model, data, mujoco.mjtObj.mjOBJ_BODY, body, velocity[row], 0
-            )
-        offset = data.xipos[self.object_body] - data.xipos[self.gripper_root]
-        angular = velocity[0, :3] - velocity[1, :3]
-        linear = velocity[0, 3:] - velocity[1, 3:] - np.cross(velocity[1, :3], offset)
-        object_speed = np.linalg.norm(linear) + np.linalg.norm(angular) * self.object_radius
-        fingers = np.abs(data.qvel[self.finger_dofs]).max(initial=0.0)
-        return float(max(object_speed, fingers))
-
-    def check(self) -> float:
-        """Raise ``_Diverged`` or ``_Released`` when the state calls for it; return the
-        largest generalized speed (m/s or rad/s)."""
+        or a finger joint moves (m/s or rad/s): the larger of the two. From ``cvel`` (each
+        body's velocity at its tree's center of mass, world axes) of the last step."""
         data = self.data
-        if data.warning[self.bad_qacc].number > 0 or not np.isfinite(data.qpos).all():
+        wo0, wo1, wo2, vo0, vo1, vo2 = data.cvel[self.object_body].tolist()
+        wg0, wg1, wg2, vg0, vg1, vg2 = data.cvel[self.gripper_root].tolist()
+        o0, o1, o2 = data.subtree_com[self.object_body].tolist()
+        g0, g1, g2 = data.subtree_com[self.gripper_root].tolist()
+        d0, d1, d2 = o0 - g0, o1 - g1, o2 - g2
+        linear = math.hypot(
+            vo0 - vg0 - (wg1 * d2 - wg2 * d1),
+            vo1 - vg1 - (wg2 * d0 - wg0 * d2),
+            vo2 - vg2 - (wg0 * d1 - wg1 * d0),
+        )
+        angular = math.hypot(wo0 - wg0, wo1 - wg1, wo2 - wg2)
+        fingers = max(map(abs, data.qvel[self.finger_dofs].tolist()), default=0.0)
+        return max(linear + angular * self.object_radius, fingers)
+
+    def check(self) -> None:
+        """Raise ``_Diverged`` or ``_Released`` when the state calls for it (runs after every
+        control step: kept to a few array reads)."""
+        data, config = self.data, self.config
+        warnings = data.warning.number
+        if any(warnings[w] for w in self.unstable):
             raise _Diverged
-        speed = float(np.abs(data.qvel).max())
-        if speed > self.config.max_speed:
+        if np.abs(data.qvel).max() > config.max_speed:
             raise _Diverged
-        if data.ncon and data.contact.dist.min() < -self.config.max_penetration:
+        if data.ncon == 0:
+            if self.watch_release and self._object_clear():
+                raise _Released
+            return
+        contacts = data.contact
+        if contacts.dist.min() < -config.max_penetration:
             raise _Diverged
-        if self.watch_release and not self._object_in_gripper() and self._object_clear():
+        if self.watch_release and not self._touching(contacts.geom) and self._object_clear():
             raise _Released
-        return speed
 
     def _object_clear(self) -> bool:
         """Whether every colliding object geom is ``release_gap`` or more from every colliding
@@ -228,14 +242,9 @@ class _Runner:
             for o in self.object_colliders
         )
 
-    def _object_in_gripper(self) -> bool:
-        """Whether any object geom touches any gripper geom (a lookup by geom id per contact:
-        this runs at every control step)."""
-        if self.data.ncon == 0:
-            return False
-        contacts = self.data.contact
-        first, second = self.geom_part[contacts.geom1], self.geom_part[contacts.geom2]
-        return bool(np.any(first * second == _GRIPPER * _OBJECT))
+    def _touching(self, contact_geoms: NDArray[np.int32]) -> bool:
+        """Whether any contact (rows of geom id pairs) joins an object and a gripper geom."""
+        return bool(self.gripper_object[contact_geoms[:, 0], contact_geoms[:, 1]].any())
 
 
 def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64]:
