@@ -163,9 +163,12 @@ def test_divergence_is_sim_unstable_not_scored(hammer_scene: Scene) -> None:
     assert result.success is None
 
 
-def test_a_state_mujoco_resets_is_sim_unstable(hammer_scene: Scene) -> None:
+def test_a_state_mujoco_resets_is_sim_unstable(
+    hammer_scene: Scene, tmp_path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """A non-finite velocity makes MuJoCo reset the state with a warning; the trial must end
     as ``sim_unstable`` instead of going on from the reset state."""
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to ./MUJOCO_LOG.TXT
 
     def poison(phase: str, scene: Scene) -> None:
         if phase == "closed":
