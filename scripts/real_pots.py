@@ -21,6 +21,10 @@ from simgrasp.perception.segment_config import SegmentConfig
 
 SETTINGS = {
     "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth()),
+    "quadric real_depth + plate test": (
+        "quadric",
+        QuadricDetectorConfig.real_depth(plate_test=True),
+    ),
     "quadric default": ("quadric", QuadricDetectorConfig()),
     "tenpas default": ("tenpas", TenPasConfig()),
 }

@@ -93,11 +93,16 @@ def score_pot(
     seed: int,
     detector: DetectorName = "quadric",
     cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
+    up: NDArray[np.float64] | None = None,
 ) -> PotResult:
     """Detect handles on one pot cloud and score them against its label; ``cut`` records
-    how the cloud was cut (method, IoU with the labeled pot, handle points kept)."""
+    how the cloud was cut (method, IoU with the labeled pot, handle points kept), ``up`` is
+    the table's upward normal (sensor frame) for the plate test, as ``detect --segment``
+    gives it."""
     start = time.perf_counter()
-    detection = detect(points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN)
+    detection = detect(
+        points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN, up=up
+    )
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
     top = detection.handles[0].center[None] if detection.handles else np.zeros((0, 3))
@@ -131,7 +136,8 @@ def evaluate_real_pots(
     segment_config: SegmentConfig | None = None,
 ) -> list[PotResult]:
     """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
-    (``cut="segment"``) or by its ground-truth labels (``"labels"``)."""
+    (``cut="segment"``) or by its ground-truth labels (``"labels"``); the table's upward
+    normal comes from the segmentation's plane either way."""
     if cut not in ("segment", "labels"):
         raise SimgraspError(f"cut must be 'segment' or 'labels', got {cut!r}")
     labels = labeled_scenes()
@@ -144,8 +150,9 @@ def evaluate_real_pots(
         )
         on_handle = labels[name].label.contains
         kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
+        up = segment_scene(scene.cloud, segment_config).plane[:3]
         results += [
-            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)))
+            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)), up)
             for s in seeds
         ]
     return results

@@ -21,6 +21,7 @@ from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
+from simgrasp.handles.plate import plate_handles
 from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.perception import (
     estimate_normals,
@@ -45,6 +46,7 @@ def detect_quadric_handles(
     config: QuadricDetectorConfig | None = None,
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
+    up: ArrayLike | None = None,
 ) -> Detection:
     """Detect handles in one object's point cloud.
 
@@ -55,6 +57,9 @@ def detect_quadric_handles(
         seed: seeds neighborhood sampling.
         viewpoint: camera position (cloud frame) for a single-view cloud: estimated normals
             are turned toward it; without it they are oriented outward for a full cloud.
+        up: the support plane's unit upward normal (cloud frame); with ``viewpoint`` and
+            ``config.plate_test`` the flat-plate test (:mod:`simgrasp.handles.plate`) adds
+            candidates where no quadric passes.
 
     Returns:
         A :class:`Detection` in the cloud's frame. A cloud too small or too flat for any
@@ -94,8 +99,11 @@ def detect_quadric_handles(
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
+        found = _Found.of(analysis, on_axis, hoods.centers, fit)
+        if config.plate_test and up is not None and viewpoint is not None:
+            accepted = _with_plates(found, pts, tree, hoods, accepted, up, viewpoint, config)
     with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, fit, analysis, accepted, on_axis, hoods.centers, config)
+        handles, candidates = _cluster(pts, found, accepted, hoods.centers, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
 
 
@@ -179,12 +187,85 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
     return kept
 
 
+@dataclass(frozen=True)
+class _Found:
+    """Per neighborhood row: its handle point, unit handle axis, grasp width (m), kind name,
+    and the surface it was accepted on (quadric or plane coefficients)."""
+
+    points: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    widths: NDArray[np.float64]
+    kinds: NDArray[np.object_]
+    coefficients: NDArray[np.float64]
+    references: NDArray[np.float64]
+
+    @classmethod
+    def of(
+        cls,
+        analysis: QuadricAnalysis,
+        on_axis: NDArray[np.float64],
+        centers: NDArray[np.float64],
+        fit: QuadricFit,
+    ) -> _Found:
+        kinds = np.array([k.value for k in analysis.kinds], dtype=object)
+        return cls(
+            on_axis.copy(),
+            analysis.handle_axes.copy(),
+            2 * analysis.transverse_semi_axes[:, 0],
+            kinds,
+            fit.coefficients.copy(),
+            fit.centroids.copy(),
+        )
+
+
+def _with_plates(
+    found: _Found,
+    pts: NDArray[np.float64],
+    tree: cKDTree,
+    hoods: _Neighborhoods,
+    accepted: NDArray[np.bool_],
+    up: ArrayLike,
+    viewpoint: ArrayLike,
+    config: QuadricDetectorConfig,
+) -> NDArray[np.bool_]:
+    """``accepted`` with the plate handles among the sampled centers no quadric passed (one
+    row each, its first); their rows of ``found`` are overwritten with the plate's handle
+    point (the center), edge axis, thickness and faces (:func:`_plate_faces`)."""
+    _, first = np.unique(hoods.source, return_index=True)
+    rows = first[~np.isin(hoods.source[first], hoods.source[accepted])]
+    up = np.asarray(up, dtype=np.float64) / np.linalg.norm(up)
+    plates = plate_handles(
+        pts, tree, hoods.centers[rows], up, np.asarray(viewpoint, np.float64), config
+    )
+    rows = rows[plates.accepted]
+    found.points[rows] = hoods.centers[rows]
+    found.axes[rows] = plates.axes[plates.accepted]
+    found.widths[rows] = plates.widths[plates.accepted]
+    found.kinds[rows] = "plate"
+    found.coefficients[rows] = _plate_faces(up, hoods.centers[rows] @ up, found.widths[rows])
+    found.references[rows] = hoods.centers[rows]
+    with_plates = accepted.copy()
+    with_plates[rows] = True
+    return with_plates
+
+
+def _plate_faces(
+    up: NDArray[np.float64], levels: NDArray[np.float64], thickness: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """(B, 10) coefficients of each plate's two faces, the planes ``up . x = level +- t / 2``
+    (a quadric of two parallel planes: ``(up . x - level)^2 - (t / 2)^2``)."""
+    quadratic = [up[0] ** 2, up[1] ** 2, up[2] ** 2, up[0] * up[1], up[0] * up[2], up[1] * up[2]]
+    rows = np.empty((len(levels), 10))
+    rows[:, :6] = quadratic
+    rows[:, 6:9] = -levels[:, None] * up
+    rows[:, 9] = levels**2 - (thickness / 2) ** 2
+    return rows
+
+
 def _cluster(
     pts: NDArray[np.float64],
-    fit: QuadricFit,
-    analysis: QuadricAnalysis,
+    found: _Found,
     accepted: NDArray[np.bool_],
-    on_axis: NDArray[np.float64],
     hood_centers: NDArray[np.float64],
     config: QuadricDetectorConfig,
 ) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
@@ -192,9 +273,9 @@ def _cluster(
     index = np.flatnonzero(accepted)
     centroid = pts.mean(axis=0)
     handles, members = cluster_handles(
-        on_axis[index],
-        analysis.handle_axes[index],
-        2 * analysis.transverse_semi_axes[index, 0],
+        found.points[index],
+        found.axes[index],
+        found.widths[index],
         distance=config.cluster_distance,
         min_support=config.min_support,
         object_center=centroid if config.prefer_central else None,
@@ -208,16 +289,16 @@ def _cluster(
     )
     supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
     quadrics = Quadric.batch(
-        fit.coefficients[supporting], config.kind_rtol, fit.centroids[supporting]
+        found.coefficients[supporting], config.kind_rtol, found.references[supporting]
     )
     candidates = tuple(
         Candidate(
             center=hood_centers[i],
             quadric=quadric,
-            kind=analysis.kinds[i].value,
-            axis=analysis.handle_axes[i],
-            width=float(2 * analysis.transverse_semi_axes[i, 0]),
-            handle_point=on_axis[i],
+            kind=str(found.kinds[i]),
+            axis=found.axes[i],
+            width=float(found.widths[i]),
+            handle_point=found.points[i],
         )
         for i, quadric in zip(supporting, quadrics, strict=True)
     )

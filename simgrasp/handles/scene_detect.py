@@ -1,5 +1,6 @@
 """Handles in a whole scene: segment the scene cloud, then detect on each object's points
-(with its side parts: a pot's tabs come out of the segmentation as segments of their own).
+(with its side parts: a pot's tabs come out of the segmentation as segments of their own),
+the table plane's normal given as the upward direction (the quadric detector's plate test).
 
 Normals of a single-view scene are turned toward the sensor: the file's ``VIEWPOINT`` unless
 the caller gives another viewpoint. Results are in the scene cloud's frame (m).
@@ -115,6 +116,7 @@ def detect_in_scene(
                 seed,
                 detector=detector,
                 viewpoint=eye,
+                up=segmentation.plane[:3],
             ),
         )
         for label in labels

@@ -1,0 +1,163 @@
+"""The flat-plate handle test: a thin horizontal plate standing off an object's body (a pot's
+side tab), grasped across its thickness.
+
+A quadric fitted to a flat plate seen face-on at Kinect-class resolution shows no curvature, so
+the quadric tests never accept a pot's flat side tab seen from above. With the support plane's
+upward normal known (a tabletop scene), a neighborhood center ``c`` is a plate handle when, in
+its surroundings within ``plate_reach`` (cloud frame, meters):
+
+1. thin: the heights (along ``up``) of the points within ``neighborhood_half_size`` of ``c``
+   span at most ``plate_max_thickness`` (5th-95th percentile): a horizontal plate;
+2. on a body: at least ``plate_min_body`` points lie farther than that above or below the
+   plate's height (the body the plate stands off); ``d``, the horizontal direction from
+   their centroid to ``c``, points from the body toward the plate's free edge;
+3. clear for the fingers: within ``plate_finger_half_width`` of the line through ``c`` along
+   ``d`` and within ``plate_finger_clearance`` above and below, the body holds at most
+   ``plate_max_blocked`` of the points from ``c`` outward (the jaws close across the plate
+   from above and below);
+4. standing off: the plate's free edge (95th percentile along ``d`` of the plate's points in
+   that corridor) lies at least ``plate_min_protrusion`` beyond the body's front (95th
+   percentile of the body's points behind ``c``), and at most ``plate_max_depth`` beyond
+   ``c`` (the fingers reach the grasp point from the edge);
+5. a seen edge: the point just past the free edge (``plate_edge_margin``) is seen by the
+   sensor, no cloud point lies within ``plate_ray_radius`` of the ray from the viewpoint to
+   it: the space past the edge is free, not hidden behind a nearer surface (the seen edge of
+   a pot's floor, cut by its front rim, is no edge).
+
+The handle axis of a plate is its edge direction (``up x d``), its grasp width the plate's
+thickness (the height span of test 1).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from simgrasp.handles.config import QuadricDetectorConfig
+
+RAY_STEP = 0.003
+"""Spacing (m) of the sample points along a ray checked for occluders (one voxel)."""
+RAY_START = 0.01
+"""Distance (m) from the checked point at which the occluder search along its ray starts:
+the plate's own edge, a margin away, does not occlude it."""
+
+
+@dataclass(frozen=True)
+class PlateHandles:
+    """The plate test on a batch of B neighborhood centers (cloud frame, m).
+
+    Attributes:
+        accepted: (B,) the center is a plate handle.
+        axes: (B, 3) unit edge directions (NaN where not accepted).
+        widths: (B,) plate thickness (m; NaN where not accepted).
+    """
+
+    accepted: NDArray[np.bool_]
+    axes: NDArray[np.float64]
+    widths: NDArray[np.float64]
+
+
+def plate_handles(
+    points: NDArray[np.float64],
+    tree: cKDTree,
+    centers: NDArray[np.float64],
+    up: NDArray[np.float64],
+    viewpoint: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+) -> PlateHandles:
+    """The plate test (module docstring) at each of the (B, 3) ``centers`` of the cloud
+    ``points`` (its KD-tree ``tree``), ``up`` the support plane's unit upward normal and
+    ``viewpoint`` the sensor position, all in the cloud frame (m)."""
+    count = len(centers)
+    result = PlateHandles(
+        np.zeros(count, bool), np.full((count, 3), np.nan), np.full(count, np.nan)
+    )
+    if count == 0:
+        return result
+    up = up / np.linalg.norm(up)
+    near = tree.query_ball_point(centers, config.neighborhood_half_size)
+    around = tree.query_ball_point(centers, config.plate_reach)
+    for i, center in enumerate(centers):
+        found = _plate_at(points, tree, center, near[i], around[i], up, viewpoint, config)
+        if found is not None:
+            result.accepted[i] = True
+            result.axes[i], result.widths[i] = found
+    return result
+
+
+def _plate_at(
+    points: NDArray[np.float64],
+    tree: cKDTree,
+    center: NDArray[np.float64],
+    near: list[int],
+    around: list[int],
+    up: NDArray[np.float64],
+    viewpoint: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+) -> tuple[NDArray[np.float64], float] | None:
+    """(edge direction, thickness) when ``center`` passes the plate test, else None."""
+    if len(near) < config.min_points:
+        return None
+    heights = (points[near] - center) @ up
+    low, level, high = np.percentile(heights, [5, 50, 95])
+    if high - low > config.plate_max_thickness:
+        return None
+    offsets = points[around] - center
+    height = offsets @ up - level
+    body = np.abs(height) > config.plate_max_thickness
+    if body.sum() < config.plate_min_body:
+        return None
+    level_offsets = offsets - np.outer(offsets @ up, up)
+    outward = -level_offsets[body].mean(axis=0)
+    if np.linalg.norm(outward) < 1e-9:
+        return None
+    outward /= np.linalg.norm(outward)
+    edge_axis = np.cross(up, outward)
+    edge = _free_edge(offsets @ outward, np.abs(offsets @ edge_axis), height, body, config)
+    if edge is None:
+        return None
+    past_edge = center + (edge + config.plate_edge_margin) * outward
+    if _occluded(tree, viewpoint, past_edge, config.plate_ray_radius):
+        return None
+    return edge_axis, float(high - low)
+
+
+def _free_edge(
+    along: NDArray[np.float64],
+    across: NDArray[np.float64],
+    height: NDArray[np.float64],
+    body: NDArray[np.bool_],
+    config: QuadricDetectorConfig,
+) -> float | None:
+    """Tests 3 and 4 on the points around a center: offsets ``along`` the outward direction
+    and ``across`` it (m), ``height`` above the plate (m), ``body`` the points off the
+    plate. The free edge's offset along the outward direction (m), or None."""
+    corridor = across <= config.plate_finger_half_width
+    fingers = corridor & (along > -config.plate_edge_margin)
+    fingers &= np.abs(height) <= config.plate_finger_clearance
+    if (fingers & body).sum() > config.plate_max_blocked * max(int(fingers.sum()), 1):
+        return None
+    behind = corridor & body & (along <= -config.plate_edge_margin)
+    plate = corridor & ~body
+    if not behind.any() or not plate.any():
+        return None
+    front = float(np.percentile(along[behind], 95))
+    edge = float(np.percentile(along[plate], 95))
+    if edge > config.plate_max_depth or edge - front < config.plate_min_protrusion:
+        return None
+    return edge
+
+
+def _occluded(
+    tree: cKDTree, viewpoint: NDArray[np.float64], target: NDArray[np.float64], radius: float
+) -> bool:
+    """Whether a cloud point lies within ``radius`` (m) of the ray from ``viewpoint`` to
+    ``target``, from ``RAY_START`` before the target on."""
+    ray = target - viewpoint
+    length = float(np.linalg.norm(ray))
+    steps = np.arange(RAY_START, length, RAY_STEP)
+    samples = target - np.outer(steps, ray / length)
+    return any(len(hit) for hit in tree.query_ball_point(samples, radius))
