@@ -75,12 +75,7 @@ def detect_quadric_handles(
         return Detection((), (), np.zeros((0, 3)), "quadric", timings, pts)
     with timed(timings, "normals"):
         tree = cKDTree(pts)
-        if nrm is None:
-            nrm = _estimate_normals(pts, config, viewpoint, tree)
-        elif config.own_normals:
-            given = nrm
-            nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
-            nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
+        nrm = _normals(pts, nrm, config, viewpoint, tree)
     rng = rng_for(seed, "quadric_detector", "sample")
     with timed(timings, "sample"):
         center_index = sample_centers(
@@ -207,7 +202,7 @@ class _Found:
         centers: NDArray[np.float64],
         fit: QuadricFit,
     ) -> _Found:
-        kinds = np.array([k.value for k in analysis.kinds], dtype=object)
+        kinds = np.array([k.value if k else "" for k in analysis.kinds], dtype=object)
         return cls(
             on_axis.copy(),
             analysis.handle_axes.copy(),
@@ -303,6 +298,23 @@ def _cluster(
         for i, quadric in zip(supporting, quadrics, strict=True)
     )
     return handles, candidates
+
+
+def _normals(
+    pts: NDArray[np.float64],
+    given: NDArray[np.float64] | None,
+    config: QuadricDetectorConfig,
+    viewpoint: ArrayLike | None,
+    tree: cKDTree,
+) -> NDArray[np.float64]:
+    """The caller's normals, or estimated ones (``own_normals``: with the caller's signs)."""
+    if given is None:
+        return _estimate_normals(pts, config, viewpoint, tree)
+    if not config.own_normals:
+        return given
+    nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
+    nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
+    return nrm
 
 
 def _estimate_normals(
