@@ -94,14 +94,15 @@ def score_pot(
     detector: DetectorName = "quadric",
     cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
     up: NDArray[np.float64] | None = None,
+    scene: NDArray[np.float64] | None = None,
 ) -> PotResult:
     """Detect handles on one pot cloud and score them against its label; ``cut`` records
     how the cloud was cut (method, IoU with the labeled pot, handle points kept), ``up`` is
-    the table's upward normal (sensor frame) for the plate test, as ``detect --segment``
-    gives it."""
+    the table's upward normal and ``scene`` the scene's valid points (sensor frame) for the
+    plate test, as ``detect --segment`` gives them."""
     start = time.perf_counter()
     detection = detect(
-        points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN, up=up
+        points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN, up=up, scene=scene
     )
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
@@ -151,8 +152,9 @@ def evaluate_real_pots(
         on_handle = labels[name].label.contains
         kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
         up = segment_scene(scene.cloud, segment_config).plane[:3]
+        seen = scene.points[np.isfinite(scene.points).all(axis=1)]
         results += [
-            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)), up)
+            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)), up, seen)
             for s in seeds
         ]
     return results

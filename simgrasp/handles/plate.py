@@ -67,10 +67,13 @@ def plate_handles(
     up: NDArray[np.float64],
     viewpoint: NDArray[np.float64],
     config: QuadricDetectorConfig,
+    sight: cKDTree | None = None,
 ) -> PlateHandles:
     """The plate test (module docstring) at each of the (B, 3) ``centers`` of the cloud
     ``points`` (its KD-tree ``tree``), ``up`` the support plane's unit upward normal and
-    ``viewpoint`` the sensor position, all in the cloud frame (m)."""
+    ``viewpoint`` the sensor position, all in the cloud frame (m). ``sight`` is a KD-tree of
+    everything the sensor saw (the whole scene the object was cut from) for test 5; by
+    default the object's own points (an occluder cut away with another object is missed)."""
     count = len(centers)
     result = PlateHandles(
         np.zeros(count, bool), np.full((count, 3), np.nan), np.full(count, np.nan)
@@ -81,24 +84,23 @@ def plate_handles(
     near = tree.query_ball_point(centers, config.neighborhood_half_size)
     around = tree.query_ball_point(centers, config.plate_reach)
     for i, center in enumerate(centers):
-        found = _plate_at(points, tree, center, near[i], around[i], up, viewpoint, config)
-        if found is not None:
+        found = _plate_at(points, center, near[i], around[i], up, config)
+        if found is not None and not _occluded(sight or tree, viewpoint, found[2], config):
             result.accepted[i] = True
-            result.axes[i], result.widths[i] = found
+            result.axes[i], result.widths[i] = found[:2]
     return result
 
 
 def _plate_at(
     points: NDArray[np.float64],
-    tree: cKDTree,
     center: NDArray[np.float64],
     near: list[int],
     around: list[int],
     up: NDArray[np.float64],
-    viewpoint: NDArray[np.float64],
     config: QuadricDetectorConfig,
-) -> tuple[NDArray[np.float64], float] | None:
-    """(edge direction, thickness) when ``center`` passes the plate test, else None."""
+) -> tuple[NDArray[np.float64], float, NDArray[np.float64]] | None:
+    """(edge direction, thickness, the point just past the free edge) when ``center`` passes
+    tests 1-4 of the plate test, else None."""
     if len(near) < config.min_points:
         return None
     heights = (points[near] - center) @ up
@@ -120,9 +122,7 @@ def _plate_at(
     if edge is None:
         return None
     past_edge = center + (edge + config.plate_edge_margin) * outward
-    if _occluded(tree, viewpoint, past_edge, config.plate_ray_radius):
-        return None
-    return edge_axis, float(high - low)
+    return edge_axis, float(high - low), past_edge
 
 
 def _free_edge(
@@ -152,12 +152,16 @@ def _free_edge(
 
 
 def _occluded(
-    tree: cKDTree, viewpoint: NDArray[np.float64], target: NDArray[np.float64], radius: float
+    tree: cKDTree,
+    viewpoint: NDArray[np.float64],
+    target: NDArray[np.float64],
+    config: QuadricDetectorConfig,
 ) -> bool:
-    """Whether a cloud point lies within ``radius`` (m) of the ray from ``viewpoint`` to
-    ``target``, from ``RAY_START`` before the target on."""
+    """Whether a point of ``tree`` lies within ``plate_ray_radius`` (m) of the ray from
+    ``viewpoint`` to ``target``, from ``RAY_START`` before the target on."""
     ray = target - viewpoint
     length = float(np.linalg.norm(ray))
     steps = np.arange(RAY_START, length, RAY_STEP)
     samples = target - np.outer(steps, ray / length)
-    return any(len(hit) for hit in tree.query_ball_point(samples, radius))
+    hits = tree.query_ball_point(samples, config.plate_ray_radius)
+    return any(len(hit) for hit in hits)

@@ -47,6 +47,7 @@ def detect_quadric_handles(
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
     up: ArrayLike | None = None,
+    scene: ArrayLike | None = None,
 ) -> Detection:
     """Detect handles in one object's point cloud.
 
@@ -57,9 +58,9 @@ def detect_quadric_handles(
         seed: seeds neighborhood sampling.
         viewpoint: camera position (cloud frame) for a single-view cloud: estimated normals
             are turned toward it; without it they are oriented outward for a full cloud.
-        up: the support plane's unit upward normal (cloud frame); with ``viewpoint`` and
-            ``config.plate_test`` the flat-plate test (:mod:`simgrasp.handles.plate`) adds
-            candidates where no quadric passes.
+        up, scene: the support plane's unit upward normal and (M, 3) everything the sensor
+            saw (cloud frame, m); with ``viewpoint`` and ``config.plate_test`` the flat-plate
+            test (:mod:`simgrasp.handles.plate`) adds candidates where no quadric passes.
 
     Returns:
         A :class:`Detection` in the cloud's frame. A cloud too small or too flat for any
@@ -95,8 +96,7 @@ def detect_quadric_handles(
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
         found = _Found.of(analysis, on_axis, hoods.centers, fit)
-        if config.plate_test and up is not None and viewpoint is not None:
-            accepted = _with_plates(found, pts, tree, hoods, accepted, up, viewpoint, config)
+        accepted = _with_plates(found, pts, tree, hoods, accepted, (viewpoint, up, scene), config)
     with timed(timings, "cluster"):
         handles, candidates = _cluster(pts, found, accepted, hoods.centers, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
@@ -219,19 +219,23 @@ def _with_plates(
     tree: cKDTree,
     hoods: _Neighborhoods,
     accepted: NDArray[np.bool_],
-    up: ArrayLike,
-    viewpoint: ArrayLike,
+    view: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None],
     config: QuadricDetectorConfig,
 ) -> NDArray[np.bool_]:
     """``accepted`` with the plate handles among the sampled centers no quadric passed (one
     row each, its first); their rows of ``found`` are overwritten with the plate's handle
-    point (the center), edge axis, thickness and faces (:func:`_plate_faces`)."""
+    point (the center), edge axis, thickness and faces (:func:`_plate_faces`). ``view``: the
+    viewpoint, the upward normal and the scene points, cloud frame; without ``plate_test``, a
+    viewpoint or an upward normal, ``accepted`` as it is."""
+    viewpoint, up, scene = view
+    if not config.plate_test or viewpoint is None or up is None:
+        return accepted
     _, first = np.unique(hoods.source, return_index=True)
     rows = first[~np.isin(hoods.source[first], hoods.source[accepted])]
     up = np.asarray(up, dtype=np.float64) / np.linalg.norm(up)
-    plates = plate_handles(
-        pts, tree, hoods.centers[rows], up, np.asarray(viewpoint, np.float64), config
-    )
+    sight = None if scene is None else cKDTree(np.asarray(scene, dtype=np.float64))
+    eye = np.asarray(viewpoint, dtype=np.float64)
+    plates = plate_handles(pts, tree, hoods.centers[rows], up, eye, config, sight)
     rows = rows[plates.accepted]
     found.points[rows] = hoods.centers[rows]
     found.axes[rows] = plates.axes[plates.accepted]
