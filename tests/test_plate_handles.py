@@ -16,7 +16,7 @@ from simgrasp.handles import QuadricDetectorConfig, detect
 from simgrasp.handles.plate import plate_handles
 from simgrasp.perception.segment import segment_scene
 
-UP = np.array([0.0, 0.0, 1.0])
+TABLE = np.array([0.0, 0.0, 1.0, 0.0])  # z = 0, up +z
 EYE = np.array([0.0, -0.6, 0.5])  # in front of the wall (-y) and above it
 STEP = 0.002
 
@@ -35,7 +35,7 @@ CONFIG = QuadricDetectorConfig.real_depth(plate_test=True)
 
 
 def plates(points: np.ndarray, centers: np.ndarray) -> np.ndarray:
-    return plate_handles(points, cKDTree(points), centers, UP, EYE, CONFIG).accepted
+    return plate_handles(points, cKDTree(points), centers, TABLE, EYE, CONFIG).accepted
 
 
 def test_a_tab_standing_off_a_wall_is_a_plate_handle_and_the_wall_is_not() -> None:
@@ -44,9 +44,18 @@ def test_a_tab_standing_off_a_wall_is_a_plate_handle_and_the_wall_is_not() -> No
     assert plates(cloud, outer_tab).mean() > 0.9
     wall = WALL[(WALL[:, 2] < 0.08) & (np.abs(WALL[:, 0]) < 0.04)]
     assert not plates(cloud, wall).any()
-    found = plate_handles(cloud, cKDTree(cloud), outer_tab[:1], UP, EYE, CONFIG)
+    found = plate_handles(cloud, cKDTree(cloud), outer_tab[:1], TABLE, EYE, CONFIG)
     assert abs(found.axes[0] @ np.array([1.0, 0.0, 0.0])) > 0.95  # along the tab's edge
     assert found.widths[0] < 0.002  # a plane sampled exactly: no thickness
+
+
+def test_the_far_edge_of_a_narrow_box_top_is_not_a_plate_handle() -> None:
+    """A 3 cm deep box seen from the front: its top stands 3 cm past its front face, but
+    the space under the top's far edge is hidden (its back face is there, unseen)."""
+    top = grid((-0.06, 0.06), (-0.03, 0.0), (0.1, 0.1))
+    box = np.concatenate([grid((-0.06, 0.06), (-0.03, -0.03), (0.0, 0.1 - STEP)), top])
+    far_half = top[(top[:, 1] > -0.012) & (np.abs(top[:, 0]) < 0.03)]
+    assert not plates(box, far_half).any()
 
 
 def test_a_box_edge_and_a_hidden_edge_are_not_plate_handles() -> None:
@@ -61,15 +70,15 @@ def test_a_box_edge_and_a_hidden_edge_are_not_plate_handles() -> None:
     assert not plates(np.concatenate([cloud, screen]), outer_tab).any()
 
 
-def test_plate_candidates_only_with_the_setting_and_an_up_direction() -> None:
+def test_plate_candidates_only_with_the_setting_and_a_table() -> None:
     cloud = np.concatenate([WALL, TAB])
-    found = detect(cloud, None, CONFIG, seed=0, viewpoint=EYE, up=UP)
+    found = detect(cloud, None, CONFIG, seed=0, viewpoint=EYE, table=TABLE)
     kinds = [c.kind for c in found.candidates]
     assert kinds.count("plate") >= 5
     assert found.handles and found.handles[0].center[1] < -0.005  # the top handle: the tab
     assert found.handles[0].center[2] == pytest.approx(0.1, abs=0.003)
-    for config, up in ((QuadricDetectorConfig.real_depth(), UP), (CONFIG, None)):
-        without = detect(cloud, None, config, seed=0, viewpoint=EYE, up=up)
+    for config, table in ((QuadricDetectorConfig.real_depth(), TABLE), (CONFIG, None)):
+        without = detect(cloud, None, config, seed=0, viewpoint=EYE, table=table)
         assert "plate" not in [c.kind for c in without.candidates]
 
 
@@ -79,8 +88,9 @@ def test_the_face_on_tab_of_a_real_pot_is_its_top_handle() -> None:
     label = load_scene_labels()["learn37"]
     scene = read_labeled_scene(osd_scene_file("learn37", default_real_dir()))
     pot = labeled_pot(scene, label)
-    up = segment_scene(scene.cloud).plane[:3]
-    with_plates = score_pot(pot, label, CONFIG, seed=0, up=up)
+    seen = scene.points[np.isfinite(scene.points).all(axis=1)]
+    table = segment_scene(scene.cloud).plane
+    with_plates = score_pot(pot, label, CONFIG, seed=0, table=table, scene=seen)
     assert with_plates.top_on_handle
     assert with_plates.accuracy >= 0.8
     assert not score_pot(pot, label, QuadricDetectorConfig.real_depth(), seed=0).top_on_handle

@@ -93,16 +93,23 @@ def score_pot(
     seed: int,
     detector: DetectorName = "quadric",
     cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
-    up: NDArray[np.float64] | None = None,
+    table: NDArray[np.float64] | None = None,
     scene: NDArray[np.float64] | None = None,
 ) -> PotResult:
     """Detect handles on one pot cloud and score them against its label; ``cut`` records
-    how the cloud was cut (method, IoU with the labeled pot, handle points kept), ``up`` is
-    the table's upward normal and ``scene`` the scene's valid points (sensor frame) for the
+    how the cloud was cut (method, IoU with the labeled pot, handle points kept), ``table`` is
+    the table plane and ``scene`` the scene's valid points (sensor frame) for the
     plate test, as ``detect --segment`` gives them."""
     start = time.perf_counter()
     detection = detect(
-        points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN, up=up, scene=scene
+        points,
+        None,
+        config,
+        seed,
+        detector=detector,
+        viewpoint=SENSOR_ORIGIN,
+        table=table,
+        scene=scene,
     )
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
@@ -137,8 +144,8 @@ def evaluate_real_pots(
     segment_config: SegmentConfig | None = None,
 ) -> list[PotResult]:
     """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
-    (``cut="segment"``) or by its ground-truth labels (``"labels"``); the table's upward
-    normal comes from the segmentation's plane either way."""
+    (``cut="segment"``) or by its ground-truth labels (``"labels"``); the table plane
+    comes from the segmentation's plane either way."""
     if cut not in ("segment", "labels"):
         raise SimgraspError(f"cut must be 'segment' or 'labels', got {cut!r}")
     labels = labeled_scenes()
@@ -151,10 +158,12 @@ def evaluate_real_pots(
         )
         on_handle = labels[name].label.contains
         kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
-        up = segment_scene(scene.cloud, segment_config).plane[:3]
+        plane = segment_scene(scene.cloud, segment_config).plane
         seen = scene.points[np.isfinite(scene.points).all(axis=1)]
         results += [
-            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)), up, seen)
+            score_pot(
+                points, labels[name], config, s, detector, (cut, iou, float(kept)), plane, seen
+            )
             for s in seeds
         ]
     return results

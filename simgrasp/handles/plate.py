@@ -2,9 +2,9 @@
 side tab), grasped across its thickness.
 
 A quadric fitted to a flat plate seen face-on at Kinect-class resolution shows no curvature, so
-the quadric tests never accept a pot's flat side tab seen from above. With the support plane's
-upward normal known (a tabletop scene), a neighborhood center ``c`` is a plate handle when, in
-its surroundings within ``plate_reach`` (cloud frame, meters):
+the quadric tests never accept a pot's flat side tab seen from above. With the supporting
+table's plane known (a tabletop scene; ``up`` its upward normal), a neighborhood center ``c``
+is a plate handle when, in its surroundings within ``plate_reach`` (cloud frame, meters):
 
 1. thin: the heights (along ``up``) of the points within ``neighborhood_half_size`` of ``c``
    span at most ``plate_max_thickness`` (5th-95th percentile): a horizontal plate;
@@ -19,10 +19,13 @@ its surroundings within ``plate_reach`` (cloud frame, meters):
    that corridor) lies at least ``plate_min_protrusion`` beyond the body's front (95th
    percentile of the body's points behind ``c``), and at most ``plate_max_depth`` beyond
    ``c`` (the fingers reach the grasp point from the edge);
-5. a seen edge: the point just past the free edge (``plate_edge_margin``) is seen by the
-   sensor, no cloud point lies within ``plate_ray_radius`` of the ray from the viewpoint to
-   it: the space past the edge is free, not hidden behind a nearer surface (the seen edge of
-   a pot's floor, cut by its front rim, is no edge).
+5. a seen edge: the point just past the free edge (``plate_edge_margin``) at the plate's
+   height, and the one below it where the lower finger goes (``plate_finger_clearance``
+   below, at most down to ``plate_edge_margin`` above the table), are seen by the sensor: no
+   point of the scene lies within ``plate_ray_radius`` of the ray from the viewpoint to
+   either. The space past and under the edge is free, not hidden behind a nearer surface:
+   the seen edge of a pot's floor, cut by its front rim, is no edge, nor is the far edge of
+   a box's top, seen above its front face (the box's back face is under it, unseen).
 
 The handle axis of a plate is its edge direction (``up x d``), its grasp width the plate's
 thickness (the height span of test 1).
@@ -64,13 +67,14 @@ def plate_handles(
     points: NDArray[np.float64],
     tree: cKDTree,
     centers: NDArray[np.float64],
-    up: NDArray[np.float64],
+    table: NDArray[np.float64],
     viewpoint: NDArray[np.float64],
     config: QuadricDetectorConfig,
     sight: cKDTree | None = None,
 ) -> PlateHandles:
     """The plate test (module docstring) at each of the (B, 3) ``centers`` of the cloud
-    ``points`` (its KD-tree ``tree``), ``up`` the support plane's unit upward normal and
+    ``points`` (its KD-tree ``tree``), ``table`` the supporting plane ``[a, b, c, d]`` (unit
+    normal up, ``a x + b y + c z + d`` the height above it) and
     ``viewpoint`` the sensor position, all in the cloud frame (m). ``sight`` is a KD-tree of
     everything the sensor saw (the whole scene the object was cut from) for test 5; by
     default the object's own points (an occluder cut away with another object is missed)."""
@@ -80,12 +84,12 @@ def plate_handles(
     )
     if count == 0:
         return result
-    up = up / np.linalg.norm(up)
+    up = table[:3] / np.linalg.norm(table[:3])
     near = tree.query_ball_point(centers, config.neighborhood_half_size)
     around = tree.query_ball_point(centers, config.plate_reach)
     for i, center in enumerate(centers):
         found = _plate_at(points, center, near[i], around[i], up, config)
-        if found is not None and not _occluded(sight or tree, viewpoint, found[2], config):
+        if found is not None and _seen(sight or tree, viewpoint, found[2], table, config):
             result.accepted[i] = True
             result.axes[i], result.widths[i] = found[:2]
     return result
@@ -149,6 +153,21 @@ def _free_edge(
     if edge > config.plate_max_depth or edge - front < config.plate_min_protrusion:
         return None
     return edge
+
+
+def _seen(
+    tree: cKDTree,
+    viewpoint: NDArray[np.float64],
+    past_edge: NDArray[np.float64],
+    table: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+) -> bool:
+    """Test 5: the point ``past_edge`` and the lower finger's place under it are seen."""
+    up = table[:3] / np.linalg.norm(table[:3])
+    height = (past_edge @ table[:3] + table[3]) / np.linalg.norm(table[:3])
+    drop = min(config.plate_finger_clearance, height - config.plate_edge_margin)
+    targets = [past_edge] + ([past_edge - drop * up] if drop > 0 else [])
+    return not any(_occluded(tree, viewpoint, target, config) for target in targets)
 
 
 def _occluded(

@@ -46,7 +46,7 @@ def detect_quadric_handles(
     config: QuadricDetectorConfig | None = None,
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
-    up: ArrayLike | None = None,
+    table: ArrayLike | None = None,
     scene: ArrayLike | None = None,
 ) -> Detection:
     """Detect handles in one object's point cloud.
@@ -58,9 +58,8 @@ def detect_quadric_handles(
         seed: seeds neighborhood sampling.
         viewpoint: camera position (cloud frame) for a single-view cloud: estimated normals
             are turned toward it; without it they are oriented outward for a full cloud.
-        up, scene: the support plane's unit upward normal and (M, 3) everything the sensor
-            saw (cloud frame, m); with ``viewpoint`` and ``config.plate_test`` the flat-plate
-            test (:mod:`simgrasp.handles.plate`) adds candidates where no quadric passes.
+        table, scene: the supporting plane [a, b, c, d] and (M, 3) everything the sensor saw,
+            for the plate test (``config.plate_test``, :func:`plate_handles`).
 
     Returns:
         A :class:`Detection` in the cloud's frame. A cloud too small or too flat for any
@@ -79,13 +78,7 @@ def detect_quadric_handles(
         nrm = _normals(pts, nrm, config, viewpoint, tree)
     rng = rng_for(seed, "quadric_detector", "sample")
     with timed(timings, "sample"):
-        center_index = sample_centers(
-            pts,
-            rng,
-            count=config.neighborhoods,
-            voxel_size=max(config.voxel_size, 1e-4),
-            per_voxels=config.voxels_per_neighborhood,
-        )
+        center_index = _sample(pts, rng, config)
         hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
     sampled_centers = pts[center_index[np.unique(hoods.source)]]
     if len(hoods.centers) == 0:
@@ -96,10 +89,25 @@ def detect_quadric_handles(
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
         found = _Found.of(analysis, on_axis, hoods.centers, fit)
-        accepted = _with_plates(found, pts, tree, hoods, accepted, (viewpoint, up, scene), config)
+        accepted = _with_plates(
+            found, pts, tree, hoods, accepted, (viewpoint, table, scene), config
+        )
     with timed(timings, "cluster"):
         handles, candidates = _cluster(pts, found, accepted, hoods.centers, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+
+
+def _sample(
+    pts: NDArray[np.float64], rng: np.random.Generator, config: QuadricDetectorConfig
+) -> NDArray[np.int64]:
+    """Indices of the sampled neighborhood centers (``sample_centers``)."""
+    return sample_centers(
+        pts,
+        rng,
+        count=config.neighborhoods,
+        voxel_size=max(config.voxel_size, 1e-4),
+        per_voxels=config.voxels_per_neighborhood,
+    )
 
 
 @dataclass(frozen=True)
@@ -225,17 +233,18 @@ def _with_plates(
     """``accepted`` with the plate handles among the sampled centers no quadric passed (one
     row each, its first); their rows of ``found`` are overwritten with the plate's handle
     point (the center), edge axis, thickness and faces (:func:`_plate_faces`). ``view``: the
-    viewpoint, the upward normal and the scene points, cloud frame; without ``plate_test``, a
-    viewpoint or an upward normal, ``accepted`` as it is."""
-    viewpoint, up, scene = view
-    if not config.plate_test or viewpoint is None or up is None:
+    viewpoint, the table plane and the scene points, cloud frame; without ``plate_test``, a
+    viewpoint or a table plane, ``accepted`` as it is."""
+    viewpoint, table, scene = view
+    if not config.plate_test or viewpoint is None or table is None:
         return accepted
     _, first = np.unique(hoods.source, return_index=True)
     rows = first[~np.isin(hoods.source[first], hoods.source[accepted])]
-    up = np.asarray(up, dtype=np.float64) / np.linalg.norm(up)
+    plane = np.asarray(table, dtype=np.float64) / np.linalg.norm(np.asarray(table)[:3])
+    up = plane[:3]
     sight = None if scene is None else cKDTree(np.asarray(scene, dtype=np.float64))
     eye = np.asarray(viewpoint, dtype=np.float64)
-    plates = plate_handles(pts, tree, hoods.centers[rows], up, eye, config, sight)
+    plates = plate_handles(pts, tree, hoods.centers[rows], plane, eye, config, sight)
     rows = rows[plates.accepted]
     found.points[rows] = hoods.centers[rows]
     found.axes[rows] = plates.axes[plates.accepted]

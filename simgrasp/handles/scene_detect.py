@@ -1,7 +1,7 @@
 """Handles in a whole scene: segment the scene cloud, then detect on each object's points
 (with its side parts: a pot's tabs come out of the segmentation as segments of their own),
-the table plane's normal given as the upward direction and the whole scene as what the sensor
-saw (the quadric detector's plate test).
+the table plane and the whole scene (what the sensor saw) given to the quadric detector's
+plate test.
 
 Normals of a single-view scene are turned toward the sensor: the file's ``VIEWPOINT`` unless
 the caller gives another viewpoint. Results are in the scene cloud's frame (m).
@@ -118,7 +118,7 @@ def detect_in_scene(
                 seed,
                 detector=detector,
                 viewpoint=eye,
-                up=segmentation.plane[:3],
+                table=segmentation.plane,
                 scene=seen,
             ),
         )
