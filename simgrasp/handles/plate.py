@@ -12,9 +12,10 @@ is a plate handle when, in its surroundings within ``plate_reach`` (cloud frame,
    plate's height (the body the plate stands off); ``d``, the horizontal direction from
    their centroid to ``c``, points from the body toward the plate's free edge;
 3. clear for the fingers: within ``plate_finger_half_width`` of the line through ``c`` along
-   ``d`` and within ``plate_finger_clearance`` above and below, the body holds at most
-   ``plate_max_blocked`` of the points from ``c`` outward (the jaws close across the plate
-   from above and below);
+   ``d`` and within ``plate_finger_clearance`` above and below, at most ``plate_max_blocked``
+   of the points from ``c`` outward lie off the plate (the jaws close across the plate from
+   above and below); the points are everything the sensor saw (the scene, when given)
+   higher than ``plate_edge_margin`` above the table;
 4. standing off: the plate's free edge (95th percentile along ``d`` of the plate's points in
    that corridor) lies at least ``plate_min_protrusion`` beyond the body's front (95th
    percentile of the body's points behind ``c``), and at most ``plate_max_depth`` beyond
@@ -87,12 +88,28 @@ def plate_handles(
     up = table[:3] / np.linalg.norm(table[:3])
     near = tree.query_ball_point(centers, config.neighborhood_half_size)
     around = tree.query_ball_point(centers, config.plate_reach)
+    sight = sight or tree
     for i, center in enumerate(centers):
         found = _plate_at(points, center, near[i], around[i], up, config)
-        if found is not None and _seen(sight or tree, viewpoint, found[2], table, config):
+        if found is None or _blocked(sight, center, found, table, config):
+            continue
+        if _seen(sight, viewpoint, found.past_edge, table, config):
             result.accepted[i] = True
-            result.axes[i], result.widths[i] = found[:2]
+            result.axes[i], result.widths[i] = found.edge_axis, found.thickness
     return result
+
+
+@dataclass(frozen=True)
+class _Plate:
+    """A center that passed tests 1, 2 and 4: the plate's unit edge direction and outward
+    direction, its thickness and the height of its middle above the center (m), and the
+    point just past its free edge (cloud frame)."""
+
+    edge_axis: NDArray[np.float64]
+    outward: NDArray[np.float64]
+    thickness: float
+    level: float
+    past_edge: NDArray[np.float64]
 
 
 def _plate_at(
@@ -102,9 +119,9 @@ def _plate_at(
     around: list[int],
     up: NDArray[np.float64],
     config: QuadricDetectorConfig,
-) -> tuple[NDArray[np.float64], float, NDArray[np.float64]] | None:
-    """(edge direction, thickness, the point just past the free edge) when ``center`` passes
-    tests 1-4 of the plate test, else None."""
+) -> _Plate | None:
+    """The plate at ``center`` when it passes tests 1, 2 and 4 of the plate test, else
+    None."""
     if len(near) < config.min_points:
         return None
     heights = (points[near] - center) @ up
@@ -122,28 +139,46 @@ def _plate_at(
         return None
     outward /= np.linalg.norm(outward)
     edge_axis = np.cross(up, outward)
-    edge = _free_edge(offsets @ outward, np.abs(offsets @ edge_axis), height, body, config)
+    edge = _free_edge(offsets @ outward, np.abs(offsets @ edge_axis), body, config)
     if edge is None:
         return None
     past_edge = center + (edge + config.plate_edge_margin) * outward
-    return edge_axis, float(high - low), past_edge
+    return _Plate(edge_axis, outward, float(high - low), float(level), past_edge)
+
+
+def _blocked(
+    sight: cKDTree,
+    center: NDArray[np.float64],
+    plate: _Plate,
+    table: NDArray[np.float64],
+    config: QuadricDetectorConfig,
+) -> bool:
+    """Test 3 against everything seen (``sight``): the share of the points in the fingers'
+    corridor, from ``center`` outward, that lie off the plate, higher than
+    ``plate_edge_margin`` above the table (the table under a low tab is not in the way)."""
+    scale = np.linalg.norm(table[:3])
+    seen = sight.data[sight.query_ball_point(center, config.plate_reach)]
+    seen = seen[(seen @ table[:3] + table[3]) / scale > config.plate_edge_margin]
+    offsets = seen - center
+    height = offsets @ (table[:3] / scale) - plate.level
+    fingers = np.abs(offsets @ plate.edge_axis) <= config.plate_finger_half_width
+    fingers &= (offsets @ plate.outward > -config.plate_edge_margin) & (
+        np.abs(height) <= config.plate_finger_clearance
+    )
+    off_plate = fingers & (np.abs(height) > config.plate_max_thickness)
+    return bool(off_plate.sum() > config.plate_max_blocked * max(int(fingers.sum()), 1))
 
 
 def _free_edge(
     along: NDArray[np.float64],
     across: NDArray[np.float64],
-    height: NDArray[np.float64],
     body: NDArray[np.bool_],
     config: QuadricDetectorConfig,
 ) -> float | None:
-    """Tests 3 and 4 on the points around a center: offsets ``along`` the outward direction
-    and ``across`` it (m), ``height`` above the plate (m), ``body`` the points off the
-    plate. The free edge's offset along the outward direction (m), or None."""
+    """Test 4 on the points around a center: offsets ``along`` the outward direction and
+    ``across`` it (m), ``body`` the points off the plate. The free edge's offset along the
+    outward direction (m), or None."""
     corridor = across <= config.plate_finger_half_width
-    fingers = corridor & (along > -config.plate_edge_margin)
-    fingers &= np.abs(height) <= config.plate_finger_clearance
-    if (fingers & body).sum() > config.plate_max_blocked * max(int(fingers.sum()), 1):
-        return None
     behind = corridor & body & (along <= -config.plate_edge_margin)
     plate = corridor & ~body
     if not behind.any() or not plate.any():
