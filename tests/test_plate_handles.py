@@ -29,7 +29,17 @@ def grid(xs: tuple[float, float], ys: tuple[float, float], zs: tuple[float, floa
     return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
 
 
-WALL = grid((-0.06, 0.06), (0.0, 0.0), (0.0, 0.1))  # faces the sensor (-y)
+def front_wall(radius: float = 0.08, height: float = 0.1) -> np.ndarray:
+    """The seen front half of a pot's wall: a cylinder about the vertical line x = 0,
+    y = ``radius``, its front at y = 0 facing the sensor, 2 mm apart (m)."""
+    angles = np.arange(-np.pi / 2, np.pi / 2, STEP / radius)
+    heights = np.arange(0.0, height + STEP / 2, STEP)
+    a, z = np.meshgrid(angles, heights, indexing="ij")
+    ring = np.stack([radius * np.sin(a), radius * (1 - np.cos(a)), z], axis=-1)
+    return ring.reshape(-1, 3)
+
+
+WALL = front_wall()
 TAB = grid((-0.03, 0.03), (-0.025, -STEP), (0.1, 0.1))  # at the wall's top, toward the sensor
 CONFIG = QuadricDetectorConfig.real_depth(plate_test=True)
 
@@ -42,10 +52,11 @@ def test_a_tab_standing_off_a_wall_is_a_plate_handle_and_the_wall_is_not() -> No
     cloud = np.concatenate([WALL, TAB])
     outer_tab = TAB[(TAB[:, 1] < -0.016) & (np.abs(TAB[:, 0]) < 0.02)]
     assert plates(cloud, outer_tab).mean() > 0.9
-    wall = WALL[(WALL[:, 2] < 0.08) & (np.abs(WALL[:, 0]) < 0.04)]
+    wall = WALL[(WALL[:, 2] < 0.08) & (np.abs(WALL[:, 0]) < 0.06)]
     assert not plates(cloud, wall).any()
-    found = plate_handles(cloud, cKDTree(cloud), outer_tab[:1], TABLE, EYE, CONFIG)
-    assert abs(found.axes[0] @ np.array([1.0, 0.0, 0.0])) > 0.95  # along the tab's edge
+    middle = outer_tab[np.argmin(np.abs(outer_tab[:, 0]))][None]  # straight out from the pot
+    found = plate_handles(cloud, cKDTree(cloud), middle, TABLE, EYE, CONFIG)
+    assert abs(found.axes[0] @ np.array([1.0, 0.0, 0.0])) > 0.99  # along the tab's edge
     assert found.widths[0] < 0.002  # a plane sampled exactly: no thickness
 
 

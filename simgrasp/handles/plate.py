@@ -9,8 +9,8 @@ is a plate handle when, in its surroundings within ``plate_reach`` (cloud frame,
 1. thin: the heights (along ``up``) of the points within ``neighborhood_half_size`` of ``c``
    span at most ``plate_max_thickness`` (5th-95th percentile): a horizontal plate;
 2. on a body: at least ``plate_min_body`` points lie farther than that above or below the
-   plate's height (the body the plate stands off); ``d``, the horizontal direction from
-   their centroid to ``c``, points from the body toward the plate's free edge;
+   plate's height (the body the plate stands off); ``d``, the horizontal direction from the
+   object's centroid to ``c``, is the way the plate must stand off, toward its free edge;
 3. clear for the fingers: within ``plate_finger_half_width`` of the line through ``c`` along
    ``d`` and within ``plate_finger_clearance`` above and below, at most ``plate_max_blocked``
    of the points from ``c`` outward lie off the plate (the jaws close across the plate from
@@ -89,8 +89,9 @@ def plate_handles(
     near = tree.query_ball_point(centers, config.neighborhood_half_size)
     around = tree.query_ball_point(centers, config.plate_reach)
     sight = sight or tree
+    middle = points.mean(axis=0)
     for i, center in enumerate(centers):
-        found = _plate_at(points, center, near[i], around[i], up, config)
+        found = _plate_at(points, center, near[i], around[i], up, middle, config)
         if found is None or _blocked(sight, center, found, table, config):
             continue
         if _seen(sight, viewpoint, found.past_edge, table, config):
@@ -118,6 +119,7 @@ def _plate_at(
     near: list[int],
     around: list[int],
     up: NDArray[np.float64],
+    middle: NDArray[np.float64],
     config: QuadricDetectorConfig,
 ) -> _Plate | None:
     """The plate at ``center`` when it passes tests 1, 2 and 4 of the plate test, else
@@ -133,8 +135,8 @@ def _plate_at(
     body = np.abs(height) > config.plate_max_thickness
     if body.sum() < config.plate_min_body:
         return None
-    level_offsets = offsets - np.outer(offsets @ up, up)
-    outward = -level_offsets[body].mean(axis=0)
+    outward = center - middle
+    outward -= (outward @ up) * up
     if np.linalg.norm(outward) < 1e-9:
         return None
     outward /= np.linalg.norm(outward)

@@ -242,7 +242,7 @@ def _with_plates(
     rows = first[~np.isin(hoods.source[first], hoods.source[accepted])]
     plane = np.asarray(table, dtype=np.float64) / np.linalg.norm(np.asarray(table)[:3])
     up = plane[:3]
-    sight = None if scene is None else cKDTree(np.asarray(scene, dtype=np.float64))
+    sight = None if scene is None else cKDTree(_voxelized(scene, config.voxel_size))
     eye = np.asarray(viewpoint, dtype=np.float64)
     plates = plate_handles(pts, tree, hoods.centers[rows], plane, eye, config, sight)
     rows = rows[plates.accepted]
@@ -255,6 +255,12 @@ def _with_plates(
     with_plates = accepted.copy()
     with_plates[rows] = True
     return with_plates
+
+
+def _voxelized(points: ArrayLike, voxel_size: float) -> NDArray[np.float64]:
+    """``points`` (M, 3) down-sampled on the detector's voxel grid (0: as they are)."""
+    points = np.asarray(points, dtype=np.float64)
+    return voxel_downsample(points, voxel_size)[0] if voxel_size > 0 else points
 
 
 def _plate_faces(
