@@ -21,9 +21,9 @@ from simgrasp.perception.segment_config import SegmentConfig
 
 SETTINGS = {
     "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth()),
-    "quadric real_depth + plate test": (
+    "quadric real_depth without plate test": (
         "quadric",
-        QuadricDetectorConfig.real_depth(plate_test=True),
+        QuadricDetectorConfig.real_depth(plate_test=False),
     ),
     "quadric default": ("quadric", QuadricDetectorConfig()),
     "tenpas default": ("tenpas", TenPasConfig()),

@@ -246,13 +246,15 @@ class QuadricDetectorConfig:
         """Settings for one object cut from a single real depth view (a Kinect-class sensor
         at 0.6-1.6 m): smaller neighborhoods sampled five times as densely, so a small handle
         (a pot's side tab) gathers support, handle centers on the seen surface (``handle_anchor``)
-        and no centrality weighting (a pot's two side handles are equally far from its center).
-        Measured on the osd-learn pots (docs/results/real-pots)."""
+        and no centrality weighting (a pot's two side handles are equally far from its center),
+        and the flat-plate test (``plate_test``: a pot's flat side tab seen face-on, which no
+        quadric fits). Measured on the osd-learn pots (docs/results/real-pots)."""
         base: dict[str, object] = dict(
             neighborhood_half_size=0.012,
             voxels_per_neighborhood=2.0,
             handle_anchor="surface",
             prefer_central=False,
+            plate_test=True,
         )
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]
