@@ -37,7 +37,8 @@ def rim_parents(
     if config.rim_band <= 0:
         return parents
     roots = [int(r) for r in np.unique(parents[FIRST_OBJECT:]) if r >= FIRST_OBJECT]
-    members = {root: np.isin(labels, np.flatnonzero(parents == root)) for root in roots}
+    root_of = parents[labels]
+    members = {root: root_of == root for root in roots}
     rims = {root: _rim(members[root], height, config) for root in roots}
     sizes = {root: int(members[root].sum()) for root in roots}
     basis = _plane_basis(plane)
