@@ -115,8 +115,9 @@ class QuadricDetectorConfig:
     plate_test: bool = False
     """Also accept flat-plate handles (:mod:`simgrasp.handles.plate`): a thin horizontal
     plate standing off the body (a pot's side tab seen face-on, which no quadric fits),
-    grasped across its thickness. Needs the support plane's upward normal (``detect(...,
-    up=...)``, given by ``detect --segment``) and a viewpoint; without them it is off."""
+    grasped across its thickness. Needs the table plane (``detect(..., table=...)``; also
+    ``scene=``, everything seen; ``detect --segment`` gives both) and a viewpoint; without
+    them it is off."""
     plate_reach: float = 0.05
     """Radius (m) around a center within which the plate's body and edge are looked for."""
     plate_max_thickness: float = 0.008
