@@ -15,12 +15,21 @@ from pathlib import Path
 
 import numpy as np
 
-from simgrasp.evaluation.real_pots import PotResult, evaluate_real_pots, summarize
+from simgrasp.evaluation.real_pots import (
+    POT_SEGMENTATION,
+    PotResult,
+    evaluate_real_pots,
+    summarize,
+)
 from simgrasp.handles import QuadricDetectorConfig, TenPasConfig
 from simgrasp.perception.segment_config import SegmentConfig
 
 SETTINGS = {
     "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth()),
+    "quadric real_depth without plate test": (
+        "quadric",
+        QuadricDetectorConfig.real_depth(plate_test=False),
+    ),
     "quadric default": ("quadric", QuadricDetectorConfig()),
     "tenpas default": ("tenpas", TenPasConfig()),
 }
@@ -45,11 +54,19 @@ def main() -> None:
     start = time.perf_counter()
     runs = {
         f"{name}, {cut} cut": evaluate_real_pots(
-            config, range(args.seeds), args.real_dir, detector=detector, cut=cut
+            config,
+            range(args.seeds),
+            args.real_dir,
+            detector=detector,
+            cut=cut,
+            segment_config=POT_SEGMENTATION,
         )
         for cut in CUTS
         for name, (detector, config) in SETTINGS.items()
     }
+    runs["quadric real_depth, segment cut without rim joins"] = evaluate_real_pots(
+        SETTINGS["quadric real_depth"][1], range(args.seeds), args.real_dir, cut="segment"
+    )
     runs["quadric real_depth, segment cut keeping creases"] = evaluate_real_pots(
         SETTINGS["quadric real_depth"][1],
         range(args.seeds),
@@ -101,9 +118,12 @@ def render_report(runs: dict[str, list[PotResult]], seeds: int, elapsed: float) 
         "# Handle detection on the real osd-learn pots",
         "",
         f"Each labeled pot cut from its scene by the scene segmentation (`segment` cut, "
-        f"`simgrasp.perception.segment.segment_scene`: the segment overlapping the labeled pot "
-        f"most, with its side parts, as `detect --segment` takes it) or by its ground-truth part "
-        f"labels (`labels` cut); the last two rows segment with "
+        f"`simgrasp.perception.segment.segment_scene` with rim joins, "
+        f"`SegmentConfig(rim_band=0.005)`: the object overlapping the labeled pot "
+        f"most, with its side parts and a joined inside, as `detect --segment --config "
+        f"real_depth.toml` takes it) or by its ground-truth part "
+        f"labels (`labels` cut); the row without rim joins segments with the defaults, the "
+        f"last two rows with "
         f"`SegmentConfig(concave_threshold=2.5, table_distance=0.003)` and without side parts "
         f"(`SegmentConfig(part_min_contact=0)`, the segmentation before them); normals toward "
         f"the sensor, "

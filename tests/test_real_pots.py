@@ -8,7 +8,7 @@ import pytest
 
 from simgrasp.assets.real import default_real_dir, osd_scene_file, read_labeled_scene
 from simgrasp.assets.scene_labels import load_scene_labels
-from simgrasp.evaluation.real_pots import labeled_pot, score_pot
+from simgrasp.evaluation.real_pots import POT_SEGMENTATION, labeled_pot, score_pot
 from simgrasp.handles import QuadricDetectorConfig
 
 REAL_DIR = default_real_dir()
@@ -66,14 +66,23 @@ def test_unknown_scene_is_a_clear_error(tmp_path) -> None:
 
 
 def test_the_committed_real_depth_preset_file_is_the_real_depth_preset() -> None:
-    """docs/results/README.md runs `detect --segment --config` with this file."""
+    """docs/results/README.md runs `detect --segment --config` with this file: the detector's
+    real_depth() preset and the pots' segmentation (rim joins)."""
     from pathlib import Path
 
     from simgrasp.config import build
     from simgrasp.config.files import read_config_file
     from simgrasp.handles.detector_config import DetectorConfig
+    from simgrasp.perception.segment_config import SegmentConfig
 
     preset = Path(__file__).parents[1] / "docs" / "results" / "real-pots" / "real_depth.toml"
     settings = read_config_file(preset)
-    detector = build(DetectorConfig, {k.removeprefix("detector."): v for k, v in settings.items()})
+    assert {k.split(".")[0] for k in settings} == {"detector", "segmentation"}
+    detector = build(DetectorConfig, section(settings, "detector"))
     assert detector.quadric == QuadricDetectorConfig.real_depth()
+    assert build(SegmentConfig, section(settings, "segmentation")) == POT_SEGMENTATION
+
+
+def section(settings: dict[str, object], name: str) -> dict[str, object]:
+    """The settings of one section of a config file, without its name."""
+    return {k.removeprefix(f"{name}."): v for k, v in settings.items() if k.startswith(f"{name}.")}

@@ -26,6 +26,10 @@ from simgrasp.perception.segment import segment_scene
 from simgrasp.perception.segment_config import SegmentConfig
 
 SENSOR_ORIGIN = np.zeros(3)
+POT_SEGMENTATION = SegmentConfig(rim_band=0.005)
+"""The segmentation the pots are cut with (and ``real_depth.toml`` gives ``detect
+--segment``): the defaults plus rim joins (:mod:`simgrasp.perception.segment_rims`), so an
+upright pot seen from above is one object, not its outside (with its tabs) and its inside."""
 
 
 @dataclass(frozen=True)
@@ -93,11 +97,24 @@ def score_pot(
     seed: int,
     detector: DetectorName = "quadric",
     cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
+    table: NDArray[np.float64] | None = None,
+    scene: NDArray[np.float64] | None = None,
 ) -> PotResult:
     """Detect handles on one pot cloud and score them against its label; ``cut`` records
-    how the cloud was cut (method, IoU with the labeled pot, handle points kept)."""
+    how the cloud was cut (method, IoU with the labeled pot, handle points kept), ``table`` is
+    the table plane and ``scene`` the scene's valid points (sensor frame) for the
+    plate test, as ``detect --segment`` gives them."""
     start = time.perf_counter()
-    detection = detect(points, None, config, seed, detector=detector, viewpoint=SENSOR_ORIGIN)
+    detection = detect(
+        points,
+        None,
+        config,
+        seed,
+        detector=detector,
+        viewpoint=SENSOR_ORIGIN,
+        table=table,
+        scene=scene,
+    )
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
     top = detection.handles[0].center[None] if detection.handles else np.zeros((0, 3))
@@ -131,7 +148,8 @@ def evaluate_real_pots(
     segment_config: SegmentConfig | None = None,
 ) -> list[PotResult]:
     """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
-    (``cut="segment"``) or by its ground-truth labels (``"labels"``)."""
+    (``cut="segment"``) or by its ground-truth labels (``"labels"``); the table plane
+    comes from the segmentation's plane either way."""
     if cut not in ("segment", "labels"):
         raise SimgraspError(f"cut must be 'segment' or 'labels', got {cut!r}")
     labels = labeled_scenes()
@@ -144,8 +162,12 @@ def evaluate_real_pots(
         )
         on_handle = labels[name].label.contains
         kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
+        plane = segment_scene(scene.cloud, segment_config).plane
+        seen = scene.points[np.isfinite(scene.points).all(axis=1)]
         results += [
-            score_pot(points, labels[name], config, s, detector, (cut, iou, float(kept)))
+            score_pot(
+                points, labels[name], config, s, detector, (cut, iou, float(kept)), plane, seen
+            )
             for s in seeds
         ]
     return results

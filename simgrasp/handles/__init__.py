@@ -41,18 +41,23 @@ def detect(
     *,
     detector: DetectorName = "quadric",
     viewpoint: ArrayLike | None = None,
+    table: ArrayLike | None = None,
+    scene: ArrayLike | None = None,
 ) -> Detection:
     """Detect handles in one object's cloud (N x 3, meters) with the chosen detector.
 
     ``normals`` (N x 3, pointing out of the object) are estimated when omitted: toward
     ``viewpoint`` for a single camera view, outward for a full object cloud. Results are in
-    the cloud's own frame.
+    the cloud's own frame. ``table``, the supporting plane ``[a, b, c, d]`` (unit normal up,
+    ``a x + b y + c z + d`` the height above it, cloud frame), lets the quadric detector's
+    plate test (``QuadricDetectorConfig.plate_test``) run; ``scene``, the whole cloud the
+    object was cut from, is what it checks a plate's free edge is seen against.
     """
     config = config if config is not None else default_config(detector)
     if detector == "quadric":
         if not isinstance(config, QuadricDetectorConfig):
             raise SimgraspError("the quadric detector needs a QuadricDetectorConfig")
-        return detect_quadric_handles(points, normals, config, seed, viewpoint)
+        return detect_quadric_handles(points, normals, config, seed, viewpoint, table, scene)
     if detector == "tenpas":
         if not isinstance(config, TenPasConfig):
             raise SimgraspError("the tenpas detector needs a TenPasConfig")

@@ -112,6 +112,37 @@ class QuadricDetectorConfig:
     transverse radius reflects the sensor's smoothed edge, not the part's thickness, and
     puts the axis centimeters behind the part; the seen surface is within half the
     part's thickness of its middle."""
+    plate_test: bool = False
+    """Also accept flat-plate handles (:mod:`simgrasp.handles.plate`): a thin horizontal
+    plate standing off the body (a pot's side tab seen face-on, which no quadric fits),
+    grasped across its thickness. Needs the table plane (``detect(..., table=...)``; also
+    ``scene=``, everything seen; ``detect --segment`` gives both) and a viewpoint; without
+    them it is off."""
+    plate_reach: float = 0.05
+    """Radius (m) around a center within which the plate's body and edge are looked for."""
+    plate_max_thickness: float = 0.008
+    """Largest height span (m, 5th-95th percentile) of a plate's neighborhood; points
+    farther above or below the plate are its body."""
+    plate_min_body: int = 10
+    """A plate needs at least this many body points within ``plate_reach``."""
+    plate_finger_half_width: float = 0.01
+    """Half width (m) of the corridor the fingers take, across the outward direction."""
+    plate_finger_clearance: float = 0.03
+    """Height (m) above and below the plate the fingers need free of the body."""
+    plate_max_blocked: float = 0.05
+    """Largest share of body points in the fingers' corridor from the center outward."""
+    plate_min_protrusion: float = 0.015
+    """The plate's free edge must lie at least this far (m) beyond the body's front: room
+    for a finger pad's contact."""
+    plate_max_depth: float = 0.035
+    """The free edge must lie at most this far (m) beyond the center: the fingers reach the
+    grasp point from the edge."""
+    plate_edge_margin: float = 0.005
+    """Margin (m): the center must stand this far off the body, and the point this far past
+    the free edge must be seen (no occluder nearer the sensor)."""
+    plate_ray_radius: float = 0.004
+    """A cloud point within this distance (m) of the ray to the point past the free edge
+    occludes it."""
     min_relative_score: float = 0.5
     """Handles scoring below this fraction of the best handle are dropped, and with them
     their candidates; candidates supporting no handle are always dropped. 0 keeps all."""
@@ -129,6 +160,12 @@ class QuadricDetectorConfig:
             "centrality_min_length",
             "cluster_distance",
             "voxels_per_neighborhood",
+            "plate_reach",
+            "plate_max_thickness",
+            "plate_finger_half_width",
+            "plate_finger_clearance",
+            "plate_max_depth",
+            "plate_ray_radius",
         )
         for name in positive:
             value = getattr(self, name)
@@ -153,6 +190,11 @@ class QuadricDetectorConfig:
         if self.neighborhood_shape not in ("cube", "sphere"):
             raise SimgraspError(
                 f"detector config: unknown neighborhood_shape {self.neighborhood_shape!r}"
+            )
+        if not 0 <= self.plate_max_blocked <= 1 or self.plate_min_body < 1:
+            raise SimgraspError(
+                "detector config: need 0 <= plate_max_blocked <= 1 and plate_min_body >= 1, "
+                f"got {self.plate_max_blocked}, {self.plate_min_body}"
             )
         if self.handle_anchor not in ("axis", "surface"):
             raise SimgraspError(f"detector config: unknown handle_anchor {self.handle_anchor!r}")
@@ -205,13 +247,15 @@ class QuadricDetectorConfig:
         """Settings for one object cut from a single real depth view (a Kinect-class sensor
         at 0.6-1.6 m): smaller neighborhoods sampled five times as densely, so a small handle
         (a pot's side tab) gathers support, handle centers on the seen surface (``handle_anchor``)
-        and no centrality weighting (a pot's two side handles are equally far from its center).
-        Measured on the osd-learn pots (docs/results/real-pots)."""
+        and no centrality weighting (a pot's two side handles are equally far from its center),
+        and the flat-plate test (``plate_test``: a pot's flat side tab seen face-on, which no
+        quadric fits). Measured on the osd-learn pots (docs/results/real-pots)."""
         base: dict[str, object] = dict(
             neighborhood_half_size=0.012,
             voxels_per_neighborhood=2.0,
             handle_anchor="surface",
             prefer_central=False,
+            plate_test=True,
         )
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]

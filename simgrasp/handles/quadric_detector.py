@@ -21,6 +21,7 @@ from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
+from simgrasp.handles.plate import plate_handles
 from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.perception import (
     estimate_normals,
@@ -45,6 +46,8 @@ def detect_quadric_handles(
     config: QuadricDetectorConfig | None = None,
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
+    table: ArrayLike | None = None,
+    scene: ArrayLike | None = None,
 ) -> Detection:
     """Detect handles in one object's point cloud.
 
@@ -55,6 +58,8 @@ def detect_quadric_handles(
         seed: seeds neighborhood sampling.
         viewpoint: camera position (cloud frame) for a single-view cloud: estimated normals
             are turned toward it; without it they are oriented outward for a full cloud.
+        table, scene: the supporting plane [a, b, c, d] and (M, 3) everything the sensor saw,
+            for the plate test (``config.plate_test``, :func:`plate_handles`).
 
     Returns:
         A :class:`Detection` in the cloud's frame. A cloud too small or too flat for any
@@ -70,21 +75,10 @@ def detect_quadric_handles(
         return Detection((), (), np.zeros((0, 3)), "quadric", timings, pts)
     with timed(timings, "normals"):
         tree = cKDTree(pts)
-        if nrm is None:
-            nrm = _estimate_normals(pts, config, viewpoint, tree)
-        elif config.own_normals:
-            given = nrm
-            nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
-            nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
+        nrm = _normals(pts, nrm, config, viewpoint, tree)
     rng = rng_for(seed, "quadric_detector", "sample")
     with timed(timings, "sample"):
-        center_index = sample_centers(
-            pts,
-            rng,
-            count=config.neighborhoods,
-            voxel_size=max(config.voxel_size, 1e-4),
-            per_voxels=config.voxels_per_neighborhood,
-        )
+        center_index = _sample(pts, rng, config)
         hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
     sampled_centers = pts[center_index[np.unique(hoods.source)]]
     if len(hoods.centers) == 0:
@@ -94,9 +88,26 @@ def detect_quadric_handles(
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
+        found = _Found.of(analysis, on_axis, hoods.centers, fit)
+        accepted = _with_plates(
+            found, pts, tree, hoods, accepted, (viewpoint, table, scene), config
+        )
     with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, fit, analysis, accepted, on_axis, hoods.centers, config)
+        handles, candidates = _cluster(pts, found, accepted, hoods.centers, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+
+
+def _sample(
+    pts: NDArray[np.float64], rng: np.random.Generator, config: QuadricDetectorConfig
+) -> NDArray[np.int64]:
+    """Indices of the sampled neighborhood centers (``sample_centers``)."""
+    return sample_centers(
+        pts,
+        rng,
+        count=config.neighborhoods,
+        voxel_size=max(config.voxel_size, 1e-4),
+        per_voxels=config.voxels_per_neighborhood,
+    )
 
 
 @dataclass(frozen=True)
@@ -179,12 +190,96 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
     return kept
 
 
+@dataclass(frozen=True)
+class _Found:
+    """Per neighborhood row: its handle point, unit handle axis, grasp width (m), kind name,
+    and the surface it was accepted on (quadric or plane coefficients)."""
+
+    points: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    widths: NDArray[np.float64]
+    kinds: NDArray[np.object_]
+    coefficients: NDArray[np.float64]
+    references: NDArray[np.float64]
+
+    @classmethod
+    def of(
+        cls,
+        analysis: QuadricAnalysis,
+        on_axis: NDArray[np.float64],
+        centers: NDArray[np.float64],
+        fit: QuadricFit,
+    ) -> _Found:
+        kinds = np.array([k.value if k else "" for k in analysis.kinds], dtype=object)
+        return cls(
+            on_axis.copy(),
+            analysis.handle_axes.copy(),
+            2 * analysis.transverse_semi_axes[:, 0],
+            kinds,
+            fit.coefficients.copy(),
+            fit.centroids.copy(),
+        )
+
+
+def _with_plates(
+    found: _Found,
+    pts: NDArray[np.float64],
+    tree: cKDTree,
+    hoods: _Neighborhoods,
+    accepted: NDArray[np.bool_],
+    view: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None],
+    config: QuadricDetectorConfig,
+) -> NDArray[np.bool_]:
+    """``accepted`` with the plate handles among the sampled centers no quadric passed (one
+    row each, its first); their rows of ``found`` are overwritten with the plate's handle
+    point (the center), edge axis, thickness and faces (:func:`_plate_faces`). ``view``: the
+    viewpoint, the table plane and the scene points, cloud frame; without ``plate_test``, a
+    viewpoint or a table plane, ``accepted`` as it is."""
+    viewpoint, table, scene = view
+    if not config.plate_test or viewpoint is None or table is None:
+        return accepted
+    _, first = np.unique(hoods.source, return_index=True)
+    rows = first[~np.isin(hoods.source[first], hoods.source[accepted])]
+    plane = np.asarray(table, dtype=np.float64) / np.linalg.norm(np.asarray(table)[:3])
+    up = plane[:3]
+    sight = None if scene is None else cKDTree(_voxelized(scene, config.voxel_size))
+    eye = np.asarray(viewpoint, dtype=np.float64)
+    plates = plate_handles(pts, tree, hoods.centers[rows], plane, eye, config, sight)
+    rows = rows[plates.accepted]
+    found.points[rows] = hoods.centers[rows]
+    found.axes[rows] = plates.axes[plates.accepted]
+    found.widths[rows] = plates.widths[plates.accepted]
+    found.kinds[rows] = "plate"
+    found.coefficients[rows] = _plate_faces(up, hoods.centers[rows] @ up, found.widths[rows])
+    found.references[rows] = hoods.centers[rows]
+    with_plates = accepted.copy()
+    with_plates[rows] = True
+    return with_plates
+
+
+def _voxelized(points: ArrayLike, voxel_size: float) -> NDArray[np.float64]:
+    """``points`` (M, 3) down-sampled on the detector's voxel grid (0: as they are)."""
+    points = np.asarray(points, dtype=np.float64)
+    return voxel_downsample(points, voxel_size)[0] if voxel_size > 0 else points
+
+
+def _plate_faces(
+    up: NDArray[np.float64], levels: NDArray[np.float64], thickness: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """(B, 10) coefficients of each plate's two faces, the planes ``up . x = level +- t / 2``
+    (a quadric of two parallel planes: ``(up . x - level)^2 - (t / 2)^2``)."""
+    quadratic = [up[0] ** 2, up[1] ** 2, up[2] ** 2, up[0] * up[1], up[0] * up[2], up[1] * up[2]]
+    rows = np.empty((len(levels), 10))
+    rows[:, :6] = quadratic
+    rows[:, 6:9] = -levels[:, None] * up
+    rows[:, 9] = levels**2 - (thickness / 2) ** 2
+    return rows
+
+
 def _cluster(
     pts: NDArray[np.float64],
-    fit: QuadricFit,
-    analysis: QuadricAnalysis,
+    found: _Found,
     accepted: NDArray[np.bool_],
-    on_axis: NDArray[np.float64],
     hood_centers: NDArray[np.float64],
     config: QuadricDetectorConfig,
 ) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
@@ -192,9 +287,9 @@ def _cluster(
     index = np.flatnonzero(accepted)
     centroid = pts.mean(axis=0)
     handles, members = cluster_handles(
-        on_axis[index],
-        analysis.handle_axes[index],
-        2 * analysis.transverse_semi_axes[index, 0],
+        found.points[index],
+        found.axes[index],
+        found.widths[index],
         distance=config.cluster_distance,
         min_support=config.min_support,
         object_center=centroid if config.prefer_central else None,
@@ -208,20 +303,37 @@ def _cluster(
     )
     supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
     quadrics = Quadric.batch(
-        fit.coefficients[supporting], config.kind_rtol, fit.centroids[supporting]
+        found.coefficients[supporting], config.kind_rtol, found.references[supporting]
     )
     candidates = tuple(
         Candidate(
             center=hood_centers[i],
             quadric=quadric,
-            kind=analysis.kinds[i].value,
-            axis=analysis.handle_axes[i],
-            width=float(2 * analysis.transverse_semi_axes[i, 0]),
-            handle_point=on_axis[i],
+            kind=str(found.kinds[i]),
+            axis=found.axes[i],
+            width=float(found.widths[i]),
+            handle_point=found.points[i],
         )
         for i, quadric in zip(supporting, quadrics, strict=True)
     )
     return handles, candidates
+
+
+def _normals(
+    pts: NDArray[np.float64],
+    given: NDArray[np.float64] | None,
+    config: QuadricDetectorConfig,
+    viewpoint: ArrayLike | None,
+    tree: cKDTree,
+) -> NDArray[np.float64]:
+    """The caller's normals, or estimated ones (``own_normals``: with the caller's signs)."""
+    if given is None:
+        return _estimate_normals(pts, config, viewpoint, tree)
+    if not config.own_normals:
+        return given
+    nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
+    nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
+    return nrm
 
 
 def _estimate_normals(

@@ -1,5 +1,7 @@
 """Handles in a whole scene: segment the scene cloud, then detect on each object's points
-(with its side parts: a pot's tabs come out of the segmentation as segments of their own).
+(with its side parts: a pot's tabs come out of the segmentation as segments of their own),
+the table plane and the whole scene (what the sensor saw) given to the quadric detector's
+plate test.
 
 Normals of a single-view scene are turned toward the sensor: the file's ``VIEWPOINT`` unless
 the caller gives another viewpoint. Results are in the scene cloud's frame (m).
@@ -105,6 +107,7 @@ def detect_in_scene(
         labels = list(segmentation.whole_objects())
     eye = scene.viewpoint if viewpoint is None else np.asarray(viewpoint, dtype=np.float64)
     config = config if config is not None else default_config(detector)
+    seen = scene.points[np.isfinite(scene.points).all(axis=1)].astype(np.float64)
     detections = tuple(
         (
             label,
@@ -115,6 +118,8 @@ def detect_in_scene(
                 seed,
                 detector=detector,
                 viewpoint=eye,
+                table=segmentation.plane,
+                scene=seen,
             ),
         )
         for label in labels

@@ -27,6 +27,7 @@ from simgrasp.perception.organized_segments import grid_components, inner_floors
 from simgrasp.perception.scene_cloud import SceneCloud
 from simgrasp.perception.segment_config import SegmentConfig
 from simgrasp.perception.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segment_rims import rim_parents
 from simgrasp.seeding import rng_for
 
 INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
@@ -127,7 +128,7 @@ def segment_scene(
     )
     if method == "grid":
         labels, objects = _timed(
-            timings, "parts", lambda: _parts(scene, labels, height, objects, config)
+            timings, "parts", lambda: _parts(scene, labels, height, plane, objects, config)
         )
         table = labels == TABLE
     timings["total"] = time.perf_counter() - start
@@ -233,16 +234,19 @@ def _parts(
     scene: SceneCloud,
     labels: NDArray[np.int32],
     height: NDArray[np.float32],
+    plane: NDArray[np.float64],
     objects: tuple[SegmentedObject, ...],
     config: SegmentConfig,
 ) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
     """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
-    set (:mod:`simgrasp.perception.segment_parts`, on the image grid)."""
+    set (:mod:`simgrasp.perception.segment_parts`, on the image grid; with ``rim_band``,
+    a round container's inside joined to its outside, :mod:`.segment_rims`)."""
     shape = (scene.height, scene.width)
     grid, height_grid = scene.grid(), height.reshape(shape)
     parents = part_parents(labels.reshape(shape), grid, height_grid, config)
     claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
     claimed = claimed.reshape(-1)
+    parents = rim_parents(claimed, scene.points, height, plane, parents, config)
     changed = set(np.unique(claimed[claimed != labels]).tolist())
     return claimed, tuple(
         replace(

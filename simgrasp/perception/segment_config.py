@@ -87,6 +87,17 @@ class SegmentConfig:
     part_edge_height: float = 0.002
     """... that lie more than this above the table (m) and within ``part_contact_distance``
     of it: the sensor's depth ramp from a tab 1 cm above the table down to the table."""
+    rim_band: float = 0.0
+    """Organized clouds: join the inside of a round container seen over its rim (its back
+    wall's inside and its floor) to its outside (:mod:`simgrasp.perception.segment_rims`),
+    taking each object's points within this distance (m) below its top as its top edge
+    (0: no joins)."""
+    rim_height_tolerance: float = 0.01
+    """The two objects' top heights (98th percentile above the table) agree within this (m)."""
+    rim_tolerance: float = 0.005
+    """Largest RMS distance (m) of both top edges from the circle fitted to them."""
+    rim_max_radius: float = 0.15
+    """Largest radius (m) of that circle: a container, not two straight edges in line."""
     min_object_points: int = 150
     """Segments with fewer points are dropped (label 0)."""
     cluster_voxel: float = 0.005
