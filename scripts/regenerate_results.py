@@ -5,7 +5,8 @@
     python scripts/regenerate_results.py evaluate chain
     python scripts/regenerate_results.py labels       # out/labels: check the labels by eye
 
-A rerun resumes an existing ``trials.jsonl`` (only missing trials run); delete it first for a
+A rerun resumes an existing ``trials.jsonl`` (only missing trials run) and is refused when the
+chain defaults changed since it was recorded (``defaults.json``); delete both first for a
 fresh run.
 """
 

@@ -12,6 +12,7 @@ import csv
 import itertools
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -27,7 +28,7 @@ import pytest
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.cli import main
 from simgrasp.evaluation.sweep import plan_trials
-from simgrasp.evaluation.trial_log import trial_key
+from simgrasp.evaluation.trial_log import DEFAULTS_FILE, trial_key
 from simgrasp.scenes.views import CHAIN_VIEWS
 
 pytestmark = pytest.mark.xdist_group("evaluate")
@@ -201,6 +202,27 @@ def test_rerunning_a_finished_sweep_runs_nothing(
     assert log.read_bytes() == before
     assert "16 trials in" in capsys.readouterr().out
     assert (resumed.out / "report.md").exists()
+
+
+def test_a_sweep_recorded_under_other_defaults_is_refused(
+    resumed: ResumedSweep, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A trial's identity is its settings that differ from the chain defaults: after a
+    default changed, resuming would mix trials of two configurations, so it is refused."""
+    out = tmp_path / "sweep"
+    shutil.copytree(resumed.out, out)
+    defaults = json.loads((out / DEFAULTS_FILE).read_text())
+    assert defaults["detector.kind"] == "quadric"
+    log = (out / "trials.jsonl").read_bytes()
+    defaults["detector.quadric.shell_thickness"] *= 2
+    defaults["a.setting.removed.since"] = 1
+    (out / DEFAULTS_FILE).write_text(json.dumps(defaults))
+    capsys.readouterr()
+    assert main(evaluate_args(out, 2)) == 2
+    err = capsys.readouterr().err
+    assert "other chain defaults (detector.quadric.shell_thickness:" in err, err
+    assert "removed.since" not in err
+    assert (out / "trials.jsonl").read_bytes() == log
 
 
 def test_torn_last_line_is_cut_off_and_the_trial_rerun(tmp_path: Path, reference: Path) -> None:

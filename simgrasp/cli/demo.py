@@ -42,6 +42,7 @@ def run(options: Options) -> int:
     from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.report import write_report
     from simgrasp.evaluation.sweep import TRIALS_FILE, plan_trials, run_sweep
+    from simgrasp.evaluation.trial_log import DEFAULTS_FILE
 
     ycb_dir = os.environ.get("SIMGRASP_YCB_DIR")
     objects = GENERATED_OBJECTS + (PAPER_OBJECTS if ycb_dir else ())
@@ -54,7 +55,8 @@ def run(options: Options) -> int:
     specs = plan_trials(objects, axes, range(seeds), options.chain)
     start = time.perf_counter()
     with claim_out_dir(options.out, invocation()):
-        (options.out / TRIALS_FILE).unlink(missing_ok=True)  # the demo always runs afresh
+        for name in (TRIALS_FILE, DEFAULTS_FILE):  # the demo always runs afresh
+            (options.out / name).unlink(missing_ok=True)
         records = run_sweep(specs, options.out, ycb_dir=ycb_dir, workers=options.workers)
     print(write_report(records, options.out, title="simgrasp demo"))
     print(

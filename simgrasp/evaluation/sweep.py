@@ -23,6 +23,7 @@ from simgrasp.evaluation.trial_log import (
     NOISE_DIGITS,
     TrialKey,
     TrialLog,
+    check_defaults,
     trial_key,
     trial_settings,
 )
@@ -192,6 +193,7 @@ def run_sweep(
 
     if len(set(s.key for s in specs)) != len(specs):
         raise SimgraspError("the sweep plan lists a trial twice")
+    check_defaults(Path(out_dir))
     log = TrialLog(Path(out_dir) / TRIALS_FILE)
     wanted = {spec.key for spec in specs}
     finished = {}

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from simgrasp.config.tree import build, diff
+from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
@@ -68,6 +68,38 @@ def trial_settings(config: ChainConfig) -> dict[str, Any]:
     if "noise" in settings:
         settings["noise"] = round(float(settings["noise"]), NOISE_DIGITS)
     return settings
+
+
+DEFAULTS_FILE = "defaults.json"
+"""The chain defaults (every setting, dotted keys) a sweep directory's ``settings`` fields are
+relative to."""
+
+
+def check_defaults(out_dir: Path) -> None:
+    """Write ``out_dir/defaults.json``, or refuse a directory whose trials were recorded under
+    other chain defaults: their identities (settings that differ from the defaults) would
+    name other settings now, and a resume would mix them with new trials. Settings one of the
+    two lacks (added or removed since) are not compared: a new setting starts at its default."""
+    path = Path(out_dir) / DEFAULTS_FILE
+    current = json.loads(json.dumps(flatten(ChainConfig())))
+    if not path.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(current, indent=1) + "\n", encoding="utf-8")
+        return
+    try:
+        earlier = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as error:
+        raise SimgraspError(f"{path} is not JSON ({error})") from error
+    if not isinstance(earlier, dict):
+        raise SimgraspError(f"{path} is not a table of chain settings")
+    changed = [key for key in current if key in earlier and earlier[key] != current[key]]
+    if changed:
+        shown = ", ".join(f"{k}: {earlier[k]!r} -> {current[k]!r}" for k in changed[:3])
+        more = f" and {len(changed) - 3} more" if len(changed) > 3 else ""
+        raise SimgraspError(
+            f"{out_dir} holds trials recorded under other chain defaults ({shown}{more}); "
+            f"use another --out, or delete its trials.jsonl and {DEFAULTS_FILE} to rerun"
+        )
 
 
 def record_settings(record: dict[str, Any]) -> dict[str, Any]:
