@@ -56,6 +56,20 @@ class QuadricDetectorConfig:
     fit passes the tests (the ``fit_method`` one preferred). Taubin fits use no normals and
     keep a thin part's size where noisy normals widen Birdal's; Birdal's keep wide, gently
     curved parts (a can's side) that a Taubin fit of a small patch does not constrain."""
+    fine_half_size: float = 0.0
+    """With a positive half size (m), a second, fine pass: neighborhoods of this half size
+    around centers of their own, fitted by ``fine_fit_method`` and tested with a
+    ``fine_shell_thickness`` shell; its candidates join the first pass's before clustering.
+    The first pass keeps wide, gently curved handles (a can's side), the fine one thin parts
+    whose first-pass fits come out wider than the part (a lying mug's strap). 0: no fine pass."""
+    fine_voxels_per_neighborhood: float = 3.0
+    """The fine pass's neighborhood density (as ``voxels_per_neighborhood``)."""
+    fine_fit_method: Literal["birdal", "taubin", "algebraic"] = "taubin"
+    """The fine pass's quadric fit; Taubin's uses no normals, so noisy normals (a Kinect's)
+    do not widen the fits of a thin part."""
+    fine_shell_thickness: float = 0.006
+    """The fine pass's shell thickness (m), as ``shell_thickness``: a thin part's shell stays
+    clear of the body next to it."""
     kind_rtol: float = 1e-2
     """Relative tolerance for rank decisions when classifying noisy fits (a smallest
     eigenvalue below ``kind_rtol`` x the largest counts as zero, i.e. a cylinder)."""
@@ -129,11 +143,17 @@ class QuadricDetectorConfig:
             "centrality_min_length",
             "cluster_distance",
             "voxels_per_neighborhood",
+            "fine_voxels_per_neighborhood",
+            "fine_shell_thickness",
         )
         for name in positive:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and value > 0):
                 raise SimgraspError(f"detector config: {name} must be positive, got {value!r}")
+        if self.fine_half_size < 0:
+            raise SimgraspError(
+                f"detector config: fine_half_size must be >= 0, got {self.fine_half_size}"
+            )
         if self.voxel_size < 0:
             raise SimgraspError(f"detector config: voxel_size must be >= 0, got {self.voxel_size}")
         if self.min_points < 9 or self.max_points < self.min_points:
@@ -156,7 +176,7 @@ class QuadricDetectorConfig:
             )
         if self.handle_anchor not in ("axis", "surface"):
             raise SimgraspError(f"detector config: unknown handle_anchor {self.handle_anchor!r}")
-        for name in ("fit_method", "second_fit_method"):
+        for name in ("fit_method", "second_fit_method", "fine_fit_method"):
             if getattr(self, name) not in ("birdal", "taubin", "algebraic", None):
                 raise SimgraspError(f"detector config: unknown {name} {getattr(self, name)!r}")
         if self.fit_method is None:

@@ -95,17 +95,20 @@ def shell_clear(
     the shell holds at most ``max_fraction`` of the points with ρ inside the shell's outer
     radius (i.e. the fingers would close around the handle without hitting other parts).
 
-    The candidates' cloud points come from one dual-tree query against ``tree`` (a ``cKDTree``
-    of the cloud) within the largest shell's reach; only those within ``half_length`` along
-    the axis get their ρ computed.
+    Each candidate's cloud points come from a ball query within its own shell's reach
+    (candidates of one batch differ in width: one common reach, the widest's, gathered
+    millions of far points for thousands of thin candidates); only those within
+    ``half_length`` along the axis get their ρ computed.
     """
     shell_out = outer_radius + gap + thickness
-    reach = float(np.sqrt(np.max(shell_out) ** 2 + half_length**2))
-    pairs = cKDTree(points_on_axis).sparse_distance_matrix(tree, reach, output_type="ndarray")
+    reach = np.sqrt(shell_out**2 + half_length**2)
     passed = np.ones(len(points_on_axis), dtype=bool)
-    if len(pairs) == 0:
+    lists = tree.query_ball_point(points_on_axis, reach, return_sorted=False)
+    counts = np.fromiter((len(found) for found in lists), dtype=np.int64, count=len(lists))
+    if counts.sum() == 0:
         return passed
-    candidate, index = pairs["i"], pairs["j"]
+    candidate = np.repeat(np.arange(len(points_on_axis)), counts)
+    index = np.concatenate([np.asarray(found, dtype=np.int64) for found in lists])
     offsets = tree.data.take(index, axis=0) - points_on_axis.take(candidate, axis=0)
     pair_axes = axes.take(candidate, axis=0)
     along = np.einsum("ni,ni->n", offsets, pair_axes)

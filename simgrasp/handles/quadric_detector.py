@@ -10,7 +10,7 @@ normals step.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -76,7 +76,80 @@ def detect_quadric_handles(
             given = nrm
             nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
             nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
-    rng = rng_for(seed, "quadric_detector", "sample")
+    passes = [
+        _run_pass(pts, nrm, tree, rng_for(seed, "quadric_detector", "sample"), config, timings)
+    ]
+    if config.fine_half_size > 0:
+        fine_rng = rng_for(seed, "quadric_detector", "fine")
+        passes.append(_run_pass(pts, nrm, tree, fine_rng, fine_pass_config(config), timings))
+    sampled_centers = np.concatenate([p.sampled_centers for p in passes])
+    if not any(p.fitted for p in passes):
+        return Detection((), (), sampled_centers, "quadric", timings, pts)
+    accepted = _Accepted.joined([p.accepted for p in passes])
+    with timed(timings, "cluster"):
+        handles, candidates = _cluster(pts, accepted, config)
+    return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+
+
+def fine_pass_config(config: QuadricDetectorConfig) -> QuadricDetectorConfig:
+    """The settings of the fine pass (``config.fine_*``): its neighborhoods, fit and shell."""
+    return replace(
+        config,
+        neighborhood_half_size=config.fine_half_size,
+        neighborhood_scales=(1.0,),
+        voxels_per_neighborhood=config.fine_voxels_per_neighborhood,
+        fit_method=config.fine_fit_method,
+        second_fit_method=None,
+        shell_thickness=config.fine_shell_thickness,
+        fine_half_size=0.0,
+    )
+
+
+@dataclass(frozen=True)
+class _Accepted:
+    """The accepted neighborhoods of one or more passes, (M, ...) arrays: neighborhood
+    centers, handle points on the axes, handle axes, smaller transverse semi-axes, quadric
+    coefficients and the centroids they are expressed about, kinds."""
+
+    centers: NDArray[np.float64]
+    on_axis: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    half_widths: NDArray[np.float64]
+    coefficients: NDArray[np.float64]
+    centroids: NDArray[np.float64]
+    kinds: NDArray[np.object_]
+
+    @classmethod
+    def none(cls) -> _Accepted:
+        vectors = np.zeros((0, 3))
+        return cls(
+            vectors, vectors, vectors, np.zeros(0), np.zeros((0, 10)), vectors, np.zeros(0, object)
+        )
+
+    @classmethod
+    def joined(cls, parts: list[_Accepted]) -> _Accepted:
+        return cls(*(_joined([getattr(p, f.name) for p in parts]) for f in fields(cls)))
+
+
+@dataclass(frozen=True)
+class _Pass:
+    """One pass's accepted neighborhoods, all its sampled centers (m) and whether it had
+    any neighborhood to fit."""
+
+    accepted: _Accepted
+    sampled_centers: NDArray[np.float64]
+    fitted: bool
+
+
+def _run_pass(
+    pts: NDArray[np.float64],
+    nrm: NDArray[np.float64],
+    tree: cKDTree,
+    rng: np.random.Generator,
+    config: QuadricDetectorConfig,
+    timings: dict[str, float],
+) -> _Pass:
+    """Sample neighborhoods, fit and test them with ``config``'s settings."""
     with timed(timings, "sample"):
         center_index = sample_centers(
             pts,
@@ -88,15 +161,25 @@ def detect_quadric_handles(
         hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
     sampled_centers = pts[center_index[np.unique(hoods.source)]]
     if len(hoods.centers) == 0:
-        return Detection((), (), sampled_centers, "quadric", timings, pts)
+        return _Pass(_Accepted.none(), sampled_centers, fitted=False)
     with timed(timings, "fit"):
         fit, hoods = _fit(hoods, config)
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
-        accepted = _first_per_center(accepted, hoods.source)
-    with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, fit, analysis, accepted, on_axis, hoods.centers, config)
-    return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+        index = np.flatnonzero(_first_per_center(accepted, hoods.source))
+    return _Pass(
+        _Accepted(
+            centers=hoods.centers[index],
+            on_axis=on_axis[index],
+            axes=analysis.handle_axes[index],
+            half_widths=analysis.transverse_semi_axes[index, 0],
+            coefficients=fit.coefficients[index],
+            centroids=fit.centroids[index],
+            kinds=analysis.kinds[index],
+        ),
+        sampled_centers,
+        fitted=True,
+    )
 
 
 @dataclass(frozen=True)
@@ -180,21 +263,14 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
 
 
 def _cluster(
-    pts: NDArray[np.float64],
-    fit: QuadricFit,
-    analysis: QuadricAnalysis,
-    accepted: NDArray[np.bool_],
-    on_axis: NDArray[np.float64],
-    hood_centers: NDArray[np.float64],
-    config: QuadricDetectorConfig,
+    pts: NDArray[np.float64], accepted: _Accepted, config: QuadricDetectorConfig
 ) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
     """Handles clustered from the accepted candidates, and the candidates supporting them."""
-    index = np.flatnonzero(accepted)
     centroid = pts.mean(axis=0)
     handles, members = cluster_handles(
-        on_axis[index],
-        analysis.handle_axes[index],
-        2 * analysis.transverse_semi_axes[index, 0],
+        accepted.on_axis,
+        accepted.axes,
+        2 * accepted.half_widths,
         distance=config.cluster_distance,
         min_support=config.min_support,
         object_center=centroid if config.prefer_central else None,
@@ -204,20 +280,20 @@ def _cluster(
         ),
         max_opening=config.gripper_max_opening if config.prefer_clearance else None,
         min_relative_score=config.min_relative_score,
-        anchors=hood_centers[index] if config.handle_anchor == "surface" else None,
+        anchors=accepted.centers if config.handle_anchor == "surface" else None,
     )
-    supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
+    supporting = np.sort(np.concatenate(list(members) or [np.zeros(0, int)]))
     quadrics = Quadric.batch(
-        fit.coefficients[supporting], config.kind_rtol, fit.centroids[supporting]
+        accepted.coefficients[supporting], config.kind_rtol, accepted.centroids[supporting]
     )
     candidates = tuple(
         Candidate(
-            center=hood_centers[i],
+            center=accepted.centers[i],
             quadric=quadric,
-            kind=analysis.kinds[i].value,
-            axis=analysis.handle_axes[i],
-            width=float(2 * analysis.transverse_semi_axes[i, 0]),
-            handle_point=on_axis[i],
+            kind=accepted.kinds[i].value,
+            axis=accepted.axes[i],
+            width=float(2 * accepted.half_widths[i]),
+            handle_point=accepted.on_axis[i],
         )
         for i, quadric in zip(supporting, quadrics, strict=True)
     )
