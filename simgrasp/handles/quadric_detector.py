@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 
 import simgrasp.handles.criteria as criteria
 from simgrasp.handles.cloud_input import validate_cloud
-from simgrasp.handles.cluster import cluster_handles
+from simgrasp.handles.cluster import best_first, cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.step_timer import new_timings, timed
@@ -85,9 +85,8 @@ def detect_quadric_handles(
     sampled_centers = np.concatenate([p.sampled_centers for p in passes])
     if not any(p.fitted for p in passes):
         return Detection((), (), sampled_centers, "quadric", timings, pts)
-    accepted = _Accepted.joined([p.accepted for p in passes])
     with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, accepted, config)
+        handles, candidates = _cluster(pts, [p.accepted for p in passes], config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
 
 
@@ -263,30 +262,46 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
 
 
 def _cluster(
-    pts: NDArray[np.float64], accepted: _Accepted, config: QuadricDetectorConfig
+    pts: NDArray[np.float64], passes: list[_Accepted], config: QuadricDetectorConfig
 ) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
-    """Handles clustered from the accepted candidates, and the candidates supporting them."""
+    """Handles clustered from each pass's accepted candidates on their own (single linkage
+    would chain a dense fine pass's candidates with the first pass's into one blob over a
+    handle and the body next to it), ranked together by score, and the candidates
+    supporting the handles kept."""
     centroid = pts.mean(axis=0)
-    handles, members = cluster_handles(
-        accepted.on_axis,
-        accepted.axes,
-        2 * accepted.half_widths,
-        distance=config.cluster_distance,
-        min_support=config.min_support,
-        object_center=centroid if config.prefer_central else None,
-        centrality_length=max(
-            config.centrality_min_length,
-            config.centrality_scale * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
-        ),
-        max_opening=config.gripper_max_opening if config.prefer_clearance else None,
-        min_relative_score=config.min_relative_score,
-        anchors=accepted.centers if config.handle_anchor == "surface" else None,
-    )
+    rms_radius = float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean()))
+    found: list[tuple[Handle, NDArray[np.int64]]] = []
+    offset = 0
+    for accepted in passes:
+        handles, members = cluster_handles(
+            accepted.on_axis,
+            accepted.axes,
+            2 * accepted.half_widths,
+            distance=config.cluster_distance,
+            min_support=config.min_support,
+            object_center=centroid if config.prefer_central else None,
+            centrality_length=max(
+                config.centrality_min_length, config.centrality_scale * rms_radius
+            ),
+            max_opening=config.gripper_max_opening if config.prefer_clearance else None,
+            min_relative_score=config.min_relative_score,
+            anchors=accepted.centers if config.handle_anchor == "surface" else None,
+        )
+        found.extend((h, m + offset) for h, m in zip(handles, members, strict=True))
+        offset += len(accepted.centers)
+    handles, members = best_first(found, config.min_relative_score)
+    return handles, _candidates(_Accepted.joined(passes), members, config)
+
+
+def _candidates(
+    accepted: _Accepted, members: tuple[NDArray[np.int64], ...], config: QuadricDetectorConfig
+) -> tuple[Candidate, ...]:
+    """The accepted neighborhoods in ``members`` (row indices) as candidates, in row order."""
     supporting = np.sort(np.concatenate(list(members) or [np.zeros(0, int)]))
     quadrics = Quadric.batch(
         accepted.coefficients[supporting], config.kind_rtol, accepted.centroids[supporting]
     )
-    candidates = tuple(
+    return tuple(
         Candidate(
             center=accepted.centers[i],
             quadric=quadric,
@@ -297,7 +312,6 @@ def _cluster(
         )
         for i, quadric in zip(supporting, quadrics, strict=True)
     )
-    return handles, candidates
 
 
 def _estimate_normals(
