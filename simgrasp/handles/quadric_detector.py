@@ -267,9 +267,11 @@ def _cluster(
     """Handles clustered from each pass's accepted candidates on their own (single linkage
     would chain a dense fine pass's candidates with the first pass's into one blob over a
     handle and the body next to it), ranked together by score, and the candidates
-    supporting the handles kept."""
+    supporting the handles kept. A later pass's handle counts only where the earlier passes
+    found none (:func:`_elsewhere`)."""
     centroid = pts.mean(axis=0)
     rms_radius = float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean()))
+    joined = _Accepted.joined(passes)
     found: list[tuple[Handle, NDArray[np.int64]]] = []
     offset = 0
     for accepted in passes:
@@ -287,10 +289,31 @@ def _cluster(
             min_relative_score=config.min_relative_score,
             anchors=accepted.centers if config.handle_anchor == "surface" else None,
         )
-        found.extend((h, m + offset) for h, m in zip(handles, members, strict=True))
+        pass_found = [(h, m + offset) for h, m in zip(handles, members, strict=True)]
+        found += _elsewhere(pass_found, found, joined.on_axis, config.cluster_distance)
         offset += len(accepted.centers)
     handles, members = best_first(found, config.min_relative_score)
-    return handles, _candidates(_Accepted.joined(passes), members, config)
+    return handles, _candidates(joined, members, config)
+
+
+def _elsewhere(
+    new: list[tuple[Handle, NDArray[np.int64]]],
+    earlier: list[tuple[Handle, NDArray[np.int64]]],
+    on_axis: NDArray[np.float64],
+    distance: float,
+) -> list[tuple[Handle, NDArray[np.int64]]]:
+    """The ``new`` handles none of whose candidates' handle points (rows of ``on_axis``)
+    lies within ``distance`` (m) of an ``earlier`` handle's: a part the first pass holds
+    keeps the first pass's handle, and so its grasp (a fork's or spatula's handle, found by
+    the fine pass too, narrower and placed elsewhere along it)."""
+    if not earlier or not new:
+        return new
+    tree = cKDTree(on_axis[np.concatenate([m for _, m in earlier])])
+    return [
+        (h, m)
+        for h, m in new
+        if np.isinf(tree.query(on_axis[m], distance_upper_bound=distance)[0]).all()
+    ]
 
 
 def _candidates(
