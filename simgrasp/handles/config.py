@@ -214,10 +214,9 @@ class QuadricDetectorConfig:
         and 0.90), with ideal depth 0.97 and 0.96 (0.90 and 0.91). A fine handle counts only
         away from the first pass's handles: where both find one (a fork's, a spatula's
         handle) the first pass's grasp held better (fork and spatula dropped in the tugs in 5
-        of their 40 trials when both handles were planned on). Detection and planning take
-        about 2.5 times as long as with one pass (0.19-0.27 s a trial against 0.08-0.10 s), a
-        whole trial about 1.3 times.
-        """
+        of their 40 trials when both handles were planned on). Detection takes about 3 times
+        as long as one pass (129 against 44 ms a Kinect chain cloud on one core,
+        ``benchmarks/bench_chain_detect.py``), a whole trial about 1.3 times."""
         base: dict[str, object] = dict(fine_half_size=0.012)
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]
