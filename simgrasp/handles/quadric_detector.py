@@ -86,7 +86,7 @@ def detect_quadric_handles(
     if not any(p.fitted for p in passes):
         return Detection((), (), sampled_centers, "quadric", timings, pts)
     with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, [p.accepted for p in passes], config)
+        handles, candidates = _cluster(pts, passes, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
 
 
@@ -262,19 +262,20 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
 
 
 def _cluster(
-    pts: NDArray[np.float64], passes: list[_Accepted], config: QuadricDetectorConfig
+    pts: NDArray[np.float64], passes: list[_Pass], config: QuadricDetectorConfig
 ) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
     """Handles clustered from each pass's accepted candidates on their own (single linkage
     would chain a dense fine pass's candidates with the first pass's into one blob over a
     handle and the body next to it), ranked together by score, and the candidates
     supporting the handles kept. A later pass's handle counts only where the earlier passes
-    found none (:func:`_elsewhere`)."""
+    found none (:func:`_elsewhere`). A handle's score is its support share of all passes'
+    accepted candidates, as one pass's is of its own (:func:`_pass_weights`)."""
     centroid = pts.mean(axis=0)
     rms_radius = float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean()))
-    joined = _Accepted.joined(passes)
+    joined = _Accepted.joined([p.accepted for p in passes])
     found: list[tuple[Handle, NDArray[np.int64]]] = []
     offset = 0
-    for accepted in passes:
+    for weight, accepted in zip(_pass_weights(passes), (p.accepted for p in passes), strict=True):
         handles, members = cluster_handles(
             accepted.on_axis,
             accepted.axes,
@@ -289,11 +290,24 @@ def _cluster(
             min_relative_score=config.min_relative_score,
             anchors=accepted.centers if config.handle_anchor == "surface" else None,
         )
-        pass_found = [(h, m + offset) for h, m in zip(handles, members, strict=True)]
+        pass_found = [
+            (replace(h, score=h.score * weight), m + offset)
+            for h, m in zip(handles, members, strict=True)
+        ]
         found += _elsewhere(pass_found, found, joined.on_axis, config.cluster_distance)
         offset += len(accepted.centers)
     handles, members = best_first(found, config.min_relative_score)
     return handles, _candidates(joined, members, config)
+
+
+def _pass_weights(passes: list[_Pass]) -> list[float]:
+    """Each pass's share of all passes' accepted candidates (1 for a single pass): the factor
+    from a handle's support share within its pass to its share of all candidates. Within its
+    pass, a fine handle of two candidates on a chips can, the fine pass's only ones, had the
+    score of a sole handle and outranked the first pass's handle of 27."""
+    counts = [len(p.accepted.centers) for p in passes]
+    total = sum(counts)
+    return [count / total if total > 0 else 1.0 for count in counts]
 
 
 def _elsewhere(
