@@ -211,7 +211,8 @@ class QuadricDetectorConfig:
         and with kinect depth (6 and 6 in seeds 10-19; in the others the strap lies under the
         mug), upright 10 / 10 with both (20 / 20 in seeds 0-19); the paper's objects with
         kinect depth at detection accuracy 0.94 and on-handle success 0.95 (one pass: 0.90
-        and 0.90), with ideal depth 0.97 and 0.96 (0.90 and 0.91). A fine handle counts only
+        and 0.90), with ideal depth 0.98 and 0.96 (0.90 and 0.91); in seeds 10-19 0.94 and
+        0.93 with kinect depth (0.86 and 0.88). A fine handle counts only
         away from the first pass's handles: where both find one (a fork's, a spatula's
         handle) the first pass's grasp held better (fork and spatula dropped in the tugs in 5
         of their 40 trials when both handles were planned on). Detection takes about 3 times
