@@ -153,6 +153,34 @@ def test_a_cloud_point_inside_a_finger_rejects_the_grasp() -> None:
     assert not collides(pose, between_pads, GEOMETRY, 0)
 
 
+def test_an_isolated_point_in_a_finger_is_a_flying_pixel_a_patch_is_an_obstacle() -> None:
+    """A depth sensor's flying pixel (a point with no neighbor within ``obstacle_radius``)
+    does not block a grasp; three points within a few millimeters of it (a surface) do."""
+    handle = _handle([0.0, 0.0, 0.1], [1.0, 0.0, 0.0])
+    free = grasps_from_handles(
+        [handle], np.zeros((0, 3)), np.zeros((1, 3)), GEOMETRY, 0.0, np.random.default_rng(0)
+    )
+    pose = free[0].world_T_tcp
+    in_finger = (
+        pose[:3, :3] @ np.array([0.0, GEOMETRY.max_opening / 2 + 0.005, -0.01]) + pose[:3, 3]
+    )
+
+    def poses(cloud: np.ndarray) -> list[np.ndarray]:
+        rng = np.random.default_rng(0)
+        grasps = grasps_from_handles([handle], cloud, np.zeros((1, 3)), GEOMETRY, 0.0, rng)
+        return [g.world_T_tcp for g in grasps]
+
+    assert any(np.allclose(p, pose) for p in poses(in_finger[None]))
+    patch = in_finger + np.array([[0.0, 0.0, 0.0], [0.002, 0.0, 0.0], [0.0, 0.0, 0.002]])
+    assert not any(np.allclose(p, pose) for p in poses(patch))
+    strict = PlannerConfig(obstacle_radius=0.0)
+    rng = np.random.default_rng(0)
+    grasps = grasps_from_handles(
+        [handle], in_finger[None], np.zeros((1, 3)), GEOMETRY, 0.0, rng, strict
+    )
+    assert not any(np.allclose(g.world_T_tcp, pose) for g in grasps)
+
+
 @pytest.fixture(scope="module")
 def hammer_model():
     return model_for("gen_hammer")

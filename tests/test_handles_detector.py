@@ -123,3 +123,27 @@ def test_a_second_fit_method_keeps_every_first_fit_candidate() -> None:
     assert first_centers <= both_centers
     assert len(both_centers) > len(first_centers)
     assert cloud.handle_share(both.handles[0].center[None]) == 1.0
+
+
+@pytest.mark.parametrize("make", [mug_like, hammer_like], ids=["mug_like", "hammer_like"])
+def test_a_fine_pass_handle_counts_only_where_the_first_pass_found_none(make) -> None:
+    """The fine pass finds these handles as well (on its own), but next to the first pass's
+    handle its own is dropped: two_scales() detects the first pass's handles and candidates
+    (their scores now shares of both passes' candidates)."""
+    cloud = make()
+    first = detect(cloud.points, seed=1)
+    fine = QuadricDetectorConfig.two_scales()
+    fine_alone = QuadricDetectorConfig(
+        neighborhood_half_size=fine.fine_half_size,
+        voxels_per_neighborhood=fine.fine_voxels_per_neighborhood,
+        fit_method=fine.fine_fit_method,
+        shell_thickness=fine.fine_shell_thickness,
+    )
+    alone = detect(cloud.points, config=fine_alone, seed=1)
+    assert alone.handles and cloud.handle_share(alone.handles[0].center[None]) == 1.0
+    both = detect(cloud.points, config=fine, seed=1)
+    assert len(both.handles) == len(first.handles)
+    for mine, theirs in zip(both.handles, first.handles, strict=True):
+        np.testing.assert_array_equal(mine.center, theirs.center)
+        assert 0 < mine.score < theirs.score
+    np.testing.assert_array_equal(both.candidate_centers, first.candidate_centers)

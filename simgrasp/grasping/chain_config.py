@@ -15,6 +15,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grasping.planner_config import PlannerConfig
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
+from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
@@ -27,11 +28,16 @@ BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
 
 @dataclass(frozen=True)
 class ChainDetectorConfig(DetectorConfig):
-    """The grasp proposer: a handle detector, or a baseline planner that ignores handles."""
+    """The grasp proposer: a handle detector, or a baseline planner that ignores handles.
+
+    The quadric detector's chain default is :meth:`QuadricDetectorConfig.two_scales` (the
+    defaults plus a fine Taubin pass for thin handles seen in fused depth views: a lying
+    mug's strap); ``detect`` and ``detect-eval`` on mesh clouds keep the plain defaults."""
 
     kind: ChainDetector = setting("quadric", flag="--detector")  # type: ignore[assignment]
     """quadric: quadric fits with the paper's criteria; tenpas: ten Pas & Platt 2013's shells;
     centroid: top-down grasps at the cloud centroid; random: random antipodal point pairs."""
+    quadric: QuadricDetectorConfig = field(default_factory=QuadricDetectorConfig.two_scales)
 
 
 def _chain_scene() -> SceneConfig:

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.planner_config import PlannerConfig
@@ -77,6 +78,20 @@ def collides(
 ) -> bool:
     """Whether more than ``limit`` cloud points fall inside the open gripper's boxes."""
     return _inside_count(gripper_distances(world_T_tcp, points_world, geometry)) > limit
+
+
+def obstacle_points(
+    points_world: NDArray[np.float64], config: PlannerConfig
+) -> NDArray[np.float64]:
+    """The cloud points the gripper must keep clear of: those with at least
+    ``config.obstacle_min_neighbors`` other points within ``config.obstacle_radius`` (isolated
+    points are flying pixels, not surfaces)."""
+    if config.obstacle_radius <= 0 or len(points_world) == 0:
+        return points_world
+    counts = cKDTree(points_world).query_ball_point(
+        points_world, config.obstacle_radius, return_length=True
+    )
+    return points_world[counts > config.obstacle_min_neighbors]
 
 
 def _inside_count(distances: NDArray[np.float64]) -> int:
@@ -188,6 +203,7 @@ def grasps_from_handles(
     handles = list(handles)[: config.max_handles]
     best_score = max((h.score for h in handles), default=1.0) or 1.0
     centroid = points_world.mean(axis=0) if len(points_world) else None
+    obstacles = obstacle_points(points_world, config)
     grasps = []
     for handle in handles:
         u, v = _downward_basis(handle.axis)
@@ -202,7 +218,7 @@ def grasps_from_handles(
                         (position, closing, approach),
                         handle.score / best_score,
                         lever,
-                        points_world,
+                        obstacles,
                         cameras,
                         geometry,
                         table_z,
@@ -227,7 +243,7 @@ def _scored_grasp(
     position_closing_approach: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     handle_score: float,
     lever: float,
-    points_world: NDArray[np.float64],
+    obstacles_world: NDArray[np.float64],
     cameras: NDArray[np.float64],
     geometry: GripperGeometry,
     table_z: float,
@@ -242,7 +258,7 @@ def _scored_grasp(
     pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
     if pose is None:
         return None
-    distances = gripper_distances(pose, points_world, geometry)
+    distances = gripper_distances(pose, obstacles_world, geometry)
     if _inside_count(distances) > config.max_colliding_points:
         return None
     clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
@@ -284,12 +300,13 @@ def centroid_grasps(
     _, vectors = np.linalg.eigh(spread)
     narrow = np.append(vectors[:, 0], 0.0)
     down = np.array([0.0, 0.0, -1.0])
+    obstacles = obstacle_points(points_world, config)
     grasps = []
     for step in range(6):
         angle = np.radians(30 * step)
         closing = np.cos(angle) * narrow + np.sin(angle) * np.cross(down, narrow)
         pose = top_down_above_table(centroid, closing, geometry, table_z, config)
-        if collides(pose, points_world, geometry, config.max_colliding_points):
+        if collides(pose, obstacles, geometry, config.max_colliding_points):
             continue
         grasps.append(
             Grasp(
@@ -313,6 +330,7 @@ def antipodal_grasps(
     """Baseline: random antipodal point pairs (normals opposed along the line joining them,
     closer than the opening), approached from a random direction perpendicular to the jaws."""
     count = len(points_world)
+    obstacles = obstacle_points(points_world, config)
     first = rng.integers(0, count, config.antipodal_samples)
     second = rng.integers(0, count, config.antipodal_samples)
     grasps = []
@@ -338,7 +356,7 @@ def antipodal_grasps(
         )
         if pose is None:
             continue
-        if collides(pose, points_world, geometry, config.max_colliding_points):
+        if collides(pose, obstacles, geometry, config.max_colliding_points):
             continue
         grasps.append(
             Grasp(

@@ -65,10 +65,10 @@ def cluster_handles(
         centers = handle_points if anchors is None else anchors
         handle = _handle_from_members(centers[members], axes[members], widths[members], count)
         found.append((_weighted(handle, object_center, centrality_length, max_opening), members))
-    return _best_first(found, min_relative_score)
+    return best_first(found, min_relative_score)
 
 
-def _best_first(
+def best_first(
     found: list[tuple[Handle, NDArray[np.int64]]], min_relative_score: float
 ) -> tuple[tuple[Handle, ...], tuple[NDArray[np.int64], ...]]:
     """The handles scoring at least ``min_relative_score`` of the best, best first, with

@@ -14,6 +14,8 @@ from simgrasp.quadric import QuadricKind
 
 CYLINDER = QuadricKind.REAL_ELLIPTIC_CYLINDER
 ELLIPSOID = QuadricKind.REAL_ELLIPSOID
+REACH_STEP = 0.005
+"""Shell test candidates are queried in groups whose reach (m) rounds up to one multiple."""
 
 
 def handle_points(
@@ -95,17 +97,26 @@ def shell_clear(
     the shell holds at most ``max_fraction`` of the points with ρ inside the shell's outer
     radius (i.e. the fingers would close around the handle without hitting other parts).
 
-    The candidates' cloud points come from one dual-tree query against ``tree`` (a ``cKDTree``
-    of the cloud) within the largest shell's reach; only those within ``half_length`` along
-    the axis get their ρ computed.
+    The candidates' cloud points come from dual-tree queries against ``tree`` (a ``cKDTree``
+    of the cloud), one per group of candidates whose shells reach about as far (to the next
+    ``REACH_STEP``): one common reach, the widest candidate's, gathered millions of far points
+    for thousands of thin candidates. Only points within ``half_length`` along the axis get
+    their ρ computed.
     """
     shell_out = outer_radius + gap + thickness
-    reach = float(np.sqrt(np.max(shell_out) ** 2 + half_length**2))
-    pairs = cKDTree(points_on_axis).sparse_distance_matrix(tree, reach, output_type="ndarray")
+    groups = np.ceil(np.sqrt(shell_out**2 + half_length**2) / REACH_STEP)
     passed = np.ones(len(points_on_axis), dtype=bool)
-    if len(pairs) == 0:
+    found = []
+    for group in np.unique(groups):
+        members = np.flatnonzero(groups == group)
+        pairs = cKDTree(points_on_axis[members]).sparse_distance_matrix(
+            tree, group * REACH_STEP, output_type="ndarray"
+        )
+        found.append((members[pairs["i"]], pairs["j"]))
+    candidate = np.concatenate([c for c, _ in found])
+    index = np.concatenate([j for _, j in found])
+    if len(candidate) == 0:
         return passed
-    candidate, index = pairs["i"], pairs["j"]
     offsets = tree.data.take(index, axis=0) - points_on_axis.take(candidate, axis=0)
     pair_axes = axes.take(candidate, axis=0)
     along = np.einsum("ni,ni->n", offsets, pair_axes)

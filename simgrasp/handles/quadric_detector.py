@@ -10,7 +10,7 @@ normals step.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 
 import simgrasp.handles.criteria as criteria
 from simgrasp.handles.cloud_input import validate_cloud
-from simgrasp.handles.cluster import cluster_handles
+from simgrasp.handles.cluster import best_first, cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.plate import plate_handles
@@ -76,25 +76,99 @@ def detect_quadric_handles(
     with timed(timings, "normals"):
         tree = cKDTree(pts)
         nrm = _normals(pts, nrm, config, viewpoint, tree)
+    view = (viewpoint, table, scene)
     rng = rng_for(seed, "quadric_detector", "sample")
+    passes = [_run_pass(pts, nrm, tree, rng, view, config, timings)]
+    if config.fine_half_size > 0:
+        fine_rng = rng_for(seed, "quadric_detector", "fine")
+        fine = fine_pass_config(config)
+        passes.append(_run_pass(pts, nrm, tree, fine_rng, view, fine, timings))
+    sampled_centers = np.concatenate([p.sampled_centers for p in passes])
+    if not any(p.fitted for p in passes):
+        return Detection((), (), sampled_centers, "quadric", timings, pts)
+    with timed(timings, "cluster"):
+        handles, candidates = _cluster(pts, passes, config)
+    return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+
+
+def fine_pass_config(config: QuadricDetectorConfig) -> QuadricDetectorConfig:
+    """The settings of the fine pass (``config.fine_*``): its neighborhoods, fit and shell."""
+    return replace(
+        config,
+        neighborhood_half_size=config.fine_half_size,
+        neighborhood_scales=(1.0,),
+        voxels_per_neighborhood=config.fine_voxels_per_neighborhood,
+        fit_method=config.fine_fit_method,
+        second_fit_method=None,
+        shell_thickness=config.fine_shell_thickness,
+        fine_half_size=0.0,
+        plate_test=False,
+    )
+
+
+@dataclass(frozen=True)
+class _Accepted:
+    """The accepted neighborhoods of one or more passes, (M, ...) arrays: neighborhood
+    centers, handle points on the axes, handle axes, smaller transverse semi-axes, quadric
+    coefficients (a plate's: its two faces) and the points they are expressed about, kind
+    names (``"plate"`` for the plate test's)."""
+
+    centers: NDArray[np.float64]
+    on_axis: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    half_widths: NDArray[np.float64]
+    coefficients: NDArray[np.float64]
+    centroids: NDArray[np.float64]
+    kinds: NDArray[np.object_]
+
+    @classmethod
+    def none(cls) -> _Accepted:
+        vectors = np.zeros((0, 3))
+        return cls(
+            vectors, vectors, vectors, np.zeros(0), np.zeros((0, 10)), vectors, np.zeros(0, object)
+        )
+
+    @classmethod
+    def joined(cls, parts: list[_Accepted]) -> _Accepted:
+        return cls(*(_joined([getattr(p, f.name) for p in parts]) for f in fields(cls)))
+
+
+@dataclass(frozen=True)
+class _Pass:
+    """One pass's accepted neighborhoods, all its sampled centers (m) and whether it had
+    any neighborhood to fit."""
+
+    accepted: _Accepted
+    sampled_centers: NDArray[np.float64]
+    fitted: bool
+
+
+def _run_pass(
+    pts: NDArray[np.float64],
+    nrm: NDArray[np.float64],
+    tree: cKDTree,
+    rng: np.random.Generator,
+    view: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None],
+    config: QuadricDetectorConfig,
+    timings: dict[str, float],
+) -> _Pass:
+    """Sample neighborhoods, fit and test them with ``config``'s settings; with the plate
+    test, plates among the centers no quadric passed (``view``: see :func:`_with_plates`)."""
     with timed(timings, "sample"):
         center_index = _sample(pts, rng, config)
         hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
     sampled_centers = pts[center_index[np.unique(hoods.source)]]
     if len(hoods.centers) == 0:
-        return Detection((), (), sampled_centers, "quadric", timings, pts)
+        return _Pass(_Accepted.none(), sampled_centers, fitted=False)
     with timed(timings, "fit"):
         fit, hoods = _fit(hoods, config)
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
-        found = _Found.of(analysis, on_axis, hoods.centers, fit)
-        accepted = _with_plates(
-            found, pts, tree, hoods, accepted, (viewpoint, table, scene), config
-        )
-    with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, found, accepted, hoods.centers, config)
-    return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
+        found = _Found.of(analysis, on_axis, fit)
+        accepted = _with_plates(found, pts, tree, hoods, accepted, view, config)
+    index = np.flatnonzero(accepted)
+    return _Pass(found.accepted(index, hoods.centers), sampled_centers, fitted=True)
 
 
 def _sample(
@@ -207,7 +281,6 @@ class _Found:
         cls,
         analysis: QuadricAnalysis,
         on_axis: NDArray[np.float64],
-        centers: NDArray[np.float64],
         fit: QuadricFit,
     ) -> _Found:
         kinds = np.array([k.value if k else "" for k in analysis.kinds], dtype=object)
@@ -218,6 +291,18 @@ class _Found:
             kinds,
             fit.coefficients.copy(),
             fit.centroids.copy(),
+        )
+
+    def accepted(self, rows: NDArray[np.int64], centers: NDArray[np.float64]) -> _Accepted:
+        """The ``rows`` (with their neighborhood ``centers``, all rows) as accepted ones."""
+        return _Accepted(
+            centers=centers[rows],
+            on_axis=self.points[rows],
+            axes=self.axes[rows],
+            half_widths=self.widths[rows] / 2,
+            coefficients=self.coefficients[rows],
+            centroids=self.references[rows],
+            kinds=self.kinds[rows],
         )
 
 
@@ -277,63 +362,93 @@ def _plate_faces(
 
 
 def _cluster(
-    pts: NDArray[np.float64],
-    found: _Found,
-    accepted: NDArray[np.bool_],
-    hood_centers: NDArray[np.float64],
-    config: QuadricDetectorConfig,
+    pts: NDArray[np.float64], passes: list[_Pass], config: QuadricDetectorConfig
 ) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
-    """Handles clustered from the accepted candidates, and the candidates supporting them."""
-    index = np.flatnonzero(accepted)
+    """Handles clustered from each pass's accepted candidates on their own (single linkage
+    would chain a dense fine pass's candidates with the first pass's into one blob over a
+    handle and the body next to it), ranked together by score, and the candidates
+    supporting the handles kept. A later pass's handle counts only where the earlier passes
+    found none (:func:`_elsewhere`). A handle's score is its support share of all passes'
+    accepted candidates, as one pass's is of its own (:func:`_pass_weights`)."""
     centroid = pts.mean(axis=0)
-    handles, members = cluster_handles(
-        found.points[index],
-        found.axes[index],
-        found.widths[index],
-        distance=config.cluster_distance,
-        min_support=config.min_support,
-        object_center=centroid if config.prefer_central else None,
-        centrality_length=max(
-            config.centrality_min_length,
-            config.centrality_scale * float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean())),
-        ),
-        max_opening=config.gripper_max_opening if config.prefer_clearance else None,
-        min_relative_score=config.min_relative_score,
-        anchors=hood_centers[index] if config.handle_anchor == "surface" else None,
-    )
-    supporting = np.sort(np.concatenate([index[m] for m in members] or [np.zeros(0, int)]))
+    rms_radius = float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean()))
+    joined = _Accepted.joined([p.accepted for p in passes])
+    found: list[tuple[Handle, NDArray[np.int64]]] = []
+    offset = 0
+    for weight, accepted in zip(_pass_weights(passes), (p.accepted for p in passes), strict=True):
+        handles, members = cluster_handles(
+            accepted.on_axis,
+            accepted.axes,
+            2 * accepted.half_widths,
+            distance=config.cluster_distance,
+            min_support=config.min_support,
+            object_center=centroid if config.prefer_central else None,
+            centrality_length=max(
+                config.centrality_min_length, config.centrality_scale * rms_radius
+            ),
+            max_opening=config.gripper_max_opening if config.prefer_clearance else None,
+            min_relative_score=config.min_relative_score,
+            anchors=accepted.centers if config.handle_anchor == "surface" else None,
+        )
+        pass_found = [
+            (replace(h, score=h.score * weight), m + offset)
+            for h, m in zip(handles, members, strict=True)
+        ]
+        found += _elsewhere(pass_found, found, joined.on_axis, config.cluster_distance)
+        offset += len(accepted.centers)
+    handles, members = best_first(found, config.min_relative_score)
+    return handles, _candidates(joined, members, config)
+
+
+def _pass_weights(passes: list[_Pass]) -> list[float]:
+    """Each pass's share of all passes' accepted candidates (1 for a single pass): the factor
+    from a handle's support share within its pass to its share of all candidates. Within its
+    pass, a fine handle of two candidates on a chips can, the fine pass's only ones, had the
+    score of a sole handle and outranked the first pass's handle of 27."""
+    counts = [len(p.accepted.centers) for p in passes]
+    total = sum(counts)
+    return [count / total if total > 0 else 1.0 for count in counts]
+
+
+def _elsewhere(
+    new: list[tuple[Handle, NDArray[np.int64]]],
+    earlier: list[tuple[Handle, NDArray[np.int64]]],
+    on_axis: NDArray[np.float64],
+    distance: float,
+) -> list[tuple[Handle, NDArray[np.int64]]]:
+    """The ``new`` handles none of whose candidates' handle points (rows of ``on_axis``)
+    lies within ``distance`` (m) of an ``earlier`` handle's: a part the first pass holds
+    keeps the first pass's handle, and so its grasp (a fork's or spatula's handle, found by
+    the fine pass too, narrower and placed elsewhere along it)."""
+    if not earlier or not new:
+        return new
+    tree = cKDTree(on_axis[np.concatenate([m for _, m in earlier])])
+    return [
+        (h, m)
+        for h, m in new
+        if np.isinf(tree.query(on_axis[m], distance_upper_bound=distance)[0]).all()
+    ]
+
+
+def _candidates(
+    accepted: _Accepted, members: tuple[NDArray[np.int64], ...], config: QuadricDetectorConfig
+) -> tuple[Candidate, ...]:
+    """The accepted neighborhoods in ``members`` (row indices) as candidates, in row order."""
+    supporting = np.sort(np.concatenate(list(members) or [np.zeros(0, int)]))
     quadrics = Quadric.batch(
-        found.coefficients[supporting], config.kind_rtol, found.references[supporting]
+        accepted.coefficients[supporting], config.kind_rtol, accepted.centroids[supporting]
     )
-    candidates = tuple(
+    return tuple(
         Candidate(
-            center=hood_centers[i],
+            center=accepted.centers[i],
             quadric=quadric,
-            kind=str(found.kinds[i]),
-            axis=found.axes[i],
-            width=float(found.widths[i]),
-            handle_point=found.points[i],
+            kind=str(accepted.kinds[i]),
+            axis=accepted.axes[i],
+            width=float(2 * accepted.half_widths[i]),
+            handle_point=accepted.on_axis[i],
         )
         for i, quadric in zip(supporting, quadrics, strict=True)
     )
-    return handles, candidates
-
-
-def _normals(
-    pts: NDArray[np.float64],
-    given: NDArray[np.float64] | None,
-    config: QuadricDetectorConfig,
-    viewpoint: ArrayLike | None,
-    tree: cKDTree,
-) -> NDArray[np.float64]:
-    """The caller's normals, or estimated ones (``own_normals``: with the caller's signs)."""
-    if given is None:
-        return _estimate_normals(pts, config, viewpoint, tree)
-    if not config.own_normals:
-        return given
-    nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
-    nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
-    return nrm
 
 
 def _estimate_normals(
@@ -401,3 +516,20 @@ def _test(
         )
         accepted[idx[~clear]] = False
     return accepted, on_axis, analysis
+
+
+def _normals(
+    pts: NDArray[np.float64],
+    given: NDArray[np.float64] | None,
+    config: QuadricDetectorConfig,
+    viewpoint: ArrayLike | None,
+    tree: cKDTree,
+) -> NDArray[np.float64]:
+    """The caller's normals, or estimated ones (``own_normals``: with the caller's signs)."""
+    if given is None:
+        return _estimate_normals(pts, config, viewpoint, tree)
+    if not config.own_normals:
+        return given
+    nrm = estimate_normals(pts, radius=config.normal_radius, orient="none", tree=tree)
+    nrm[np.einsum("ij,ij->i", nrm, given) < 0] *= -1
+    return nrm

@@ -1,0 +1,82 @@
+"""Seconds to detect handles in the full chain's fused camera clouds: the chain's default
+``QuadricDetectorConfig.two_scales()`` against the paper's single pass, in one run (medians).
+
+The clouds are the chain's own (stable placement, 4 views, the given sensor) for the paper's
+objects, one scene per seed; each is detected with both settings in turn, ``--runs`` times.
+
+    SIMGRASP_YCB_DIR=../shared/ycb python benchmarks/bench_chain_detect.py --runs 5
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
+
+import numpy as np  # noqa: E402
+
+from simgrasp.assets.model import model_for  # noqa: E402
+from simgrasp.assets.object_sets import PAPER_OBJECTS  # noqa: E402
+from simgrasp.grasping.chain_config import ChainConfig  # noqa: E402
+from simgrasp.grippers import make_gripper  # noqa: E402
+from simgrasp.handles import QuadricDetectorConfig, detect  # noqa: E402
+from simgrasp.perception.sensors.settings import SensorSettings  # noqa: E402
+from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer  # noqa: E402
+from simgrasp.scenes.observe import observe, viewpoint_normals  # noqa: E402
+from simgrasp.scenes.scene import build_scene  # noqa: E402
+
+SETTINGS = {
+    "single pass": QuadricDetectorConfig(),
+    "two_scales()": QuadricDetectorConfig.two_scales(),
+}
+
+
+def chain_clouds(sensor: str, seeds: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(points, viewpoint normals) of the chain's cloud of each paper object and seed."""
+    config = ChainConfig(sensor=SensorSettings(kind=sensor))  # type: ignore[arg-type]
+    gripper = make_gripper(config.gripper)
+    clouds = []
+    for name in PAPER_OBJECTS:
+        model = model_for(name)
+        for seed in range(seeds):
+            scene = build_scene(model, gripper, config.scene, seed)
+            cloud = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor).cloud
+            clouds.append((cloud.points_world, viewpoint_normals(cloud)))
+    close_kept_renderer()
+    return clouds
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sensor", default="kinect", choices=("ideal", "kinect"))
+    parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument("--runs", type=int, default=5)
+    args = parser.parse_args()
+
+    clouds = chain_clouds(args.sensor, args.seeds)
+    per_cloud: dict[str, list[float]] = {name: [] for name in SETTINGS}
+    for _ in range(args.runs):
+        for name, settings in SETTINGS.items():
+            start = time.perf_counter()
+            for seed, (points, normals) in enumerate(clouds):
+                detect(points, normals, settings, seed)
+            per_cloud[name].append((time.perf_counter() - start) / len(clouds))
+    median = {name: float(np.median(values)) for name, values in per_cloud.items()}
+    print(
+        f"{len(clouds)} chain clouds ({len(PAPER_OBJECTS)} paper objects x {args.seeds} seeds, "
+        f"{args.sensor} depth), median of {args.runs} runs, one core"
+    )
+    for name, seconds in median.items():
+        print(f"{name:14s} {1000 * seconds:6.0f} ms a cloud")
+    print(f"two_scales() / single pass: {median['two_scales()'] / median['single pass']:.2f}x")
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except FileNotFoundError as exc:  # YCB meshes missing: nothing here runs without them
+        sys.exit(f"bench_chain_detect.py: skipped, it measures YCB objects: {exc}")
