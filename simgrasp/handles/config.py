@@ -7,6 +7,29 @@ from typing import Literal
 
 from simgrasp.errors import SimgraspError
 
+_POSITIVE = (
+    "gripper_max_opening",
+    "normal_radius",
+    "neighborhood_half_size",
+    "kind_rtol",
+    "center_tolerance",
+    "shell_thickness",
+    "shell_half_length",
+    "centrality_scale",
+    "centrality_min_length",
+    "cluster_distance",
+    "voxels_per_neighborhood",
+    "plate_reach",
+    "plate_max_thickness",
+    "plate_finger_half_width",
+    "plate_finger_clearance",
+    "plate_max_depth",
+    "plate_ray_radius",
+    "fine_voxels_per_neighborhood",
+    "fine_shell_thickness",
+)
+"""The :class:`QuadricDetectorConfig` settings that must be positive."""
+
 
 @dataclass(frozen=True)
 class QuadricDetectorConfig:
@@ -164,37 +187,15 @@ class QuadricDetectorConfig:
     their candidates; candidates supporting no handle are always dropped. 0 keeps all."""
 
     def __post_init__(self) -> None:
-        positive = (
-            "gripper_max_opening",
-            "normal_radius",
-            "neighborhood_half_size",
-            "kind_rtol",
-            "center_tolerance",
-            "shell_thickness",
-            "shell_half_length",
-            "centrality_scale",
-            "centrality_min_length",
-            "cluster_distance",
-            "voxels_per_neighborhood",
-            "plate_reach",
-            "plate_max_thickness",
-            "plate_finger_half_width",
-            "plate_finger_clearance",
-            "plate_max_depth",
-            "plate_ray_radius",
-            "fine_voxels_per_neighborhood",
-            "fine_shell_thickness",
-        )
-        for name in positive:
+        for name in _POSITIVE:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and value > 0):
                 raise SimgraspError(f"detector config: {name} must be positive, got {value!r}")
-        if self.fine_half_size < 0:
-            raise SimgraspError(
-                f"detector config: fine_half_size must be >= 0, got {self.fine_half_size}"
-            )
-        if self.voxel_size < 0:
-            raise SimgraspError(f"detector config: voxel_size must be >= 0, got {self.voxel_size}")
+        for name in ("voxel_size", "fine_half_size"):
+            if getattr(self, name) < 0:
+                raise SimgraspError(
+                    f"detector config: {name} must be >= 0, got {getattr(self, name)}"
+                )
         if self.min_points < 9 or self.max_points < self.min_points:
             raise SimgraspError(
                 "detector config: need 9 <= min_points <= max_points, got "
