@@ -2,8 +2,8 @@
 
 For each object (default the YCB hammer and mug) and gripper, ``--n`` antipodal grasps are
 sampled (``simgrasp sample-grasps``, seed 0, clear of the table of scene seed 0) and labeled
-in this one process, once per protocol, on one compiled scene (:class:`GraspLabeler`). In the
-same run, for the same scene and the same number of steps:
+in this one process, once per protocol, on one compiled scene (:class:`GraspLabeler`), after
+one untimed warm-up grasp. In the same run, for the same scene and the same number of steps:
 
 - ``replay`` (the ratio's baseline): the labeling's own ``mj_step`` calls with no harness.
   The first ``--replay`` grasps are labeled again while recording the integration state
@@ -60,6 +60,7 @@ def parked_seconds(labeler: GraspLabeler, steps: int, nstep: int) -> float:
 
 def bench_protocol(model, obj: str, gripper: str, protocol: str, grasps, replay: int) -> dict:
     labeler = GraspLabeler(model, LabelConfig(obj, gripper, protocol))
+    labeler.label(-1, *grasps[0])  # warm-up, not timed: first calls import and allocate
     walls, steps, held = [], 0, 0
     for index, (pose, width) in enumerate(grasps):
         start = time.perf_counter()
