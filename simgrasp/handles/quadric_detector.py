@@ -110,8 +110,8 @@ def fine_pass_config(config: QuadricDetectorConfig) -> QuadricDetectorConfig:
 class _Accepted:
     """The accepted neighborhoods of one or more passes, (M, ...) arrays: neighborhood
     centers, handle points on the axes, handle axes, smaller transverse semi-axes, quadric
-    coefficients (a plate's: its two faces) and the points they are expressed about, kind
-    names (``"plate"`` for the plate test's)."""
+    coefficients (a plate's: its two faces) and the points they are expressed about, kinds
+    (``QuadricKind``, or ``"plate"`` for the plate test's)."""
 
     centers: NDArray[np.float64]
     on_axis: NDArray[np.float64]
@@ -131,6 +131,28 @@ class _Accepted:
     @classmethod
     def joined(cls, parts: list[_Accepted]) -> _Accepted:
         return cls(*(_joined([getattr(p, f.name) for p in parts]) for f in fields(cls)))
+
+    @classmethod
+    def of(
+        cls,
+        centers: NDArray[np.float64],
+        analysis: QuadricAnalysis,
+        on_axis: NDArray[np.float64],
+        fit: QuadricFit,
+    ) -> _Accepted:
+        """Every fitted neighborhood as a row (copies: the plate test overwrites rows)."""
+        return cls(
+            centers,
+            on_axis.copy(),
+            analysis.handle_axes.copy(),
+            analysis.transverse_semi_axes[:, 0].copy(),
+            fit.coefficients.copy(),
+            fit.centroids.copy(),
+            analysis.kinds.astype(object),
+        )
+
+    def rows(self, index: NDArray[np.int64]) -> _Accepted:
+        return type(self)(*(getattr(self, f.name)[index] for f in fields(self)))
 
 
 @dataclass(frozen=True)
@@ -165,10 +187,9 @@ def _run_pass(
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
-        found = _Found.of(analysis, on_axis, fit)
+        found = _Accepted.of(hoods.centers, analysis, on_axis, fit)
         accepted = _with_plates(found, pts, tree, hoods, accepted, view, config)
-    index = np.flatnonzero(accepted)
-    return _Pass(found.accepted(index, hoods.centers), sampled_centers, fitted=True)
+    return _Pass(found.rows(np.flatnonzero(accepted)), sampled_centers, fitted=True)
 
 
 def _sample(
@@ -264,50 +285,8 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
     return kept
 
 
-@dataclass(frozen=True)
-class _Found:
-    """Per neighborhood row: its handle point, unit handle axis, grasp width (m), kind name,
-    and the surface it was accepted on (quadric or plane coefficients)."""
-
-    points: NDArray[np.float64]
-    axes: NDArray[np.float64]
-    widths: NDArray[np.float64]
-    kinds: NDArray[np.object_]
-    coefficients: NDArray[np.float64]
-    references: NDArray[np.float64]
-
-    @classmethod
-    def of(
-        cls,
-        analysis: QuadricAnalysis,
-        on_axis: NDArray[np.float64],
-        fit: QuadricFit,
-    ) -> _Found:
-        kinds = np.array([k.value if k else "" for k in analysis.kinds], dtype=object)
-        return cls(
-            on_axis.copy(),
-            analysis.handle_axes.copy(),
-            2 * analysis.transverse_semi_axes[:, 0],
-            kinds,
-            fit.coefficients.copy(),
-            fit.centroids.copy(),
-        )
-
-    def accepted(self, rows: NDArray[np.int64], centers: NDArray[np.float64]) -> _Accepted:
-        """The ``rows`` (with their neighborhood ``centers``, all rows) as accepted ones."""
-        return _Accepted(
-            centers=centers[rows],
-            on_axis=self.points[rows],
-            axes=self.axes[rows],
-            half_widths=self.widths[rows] / 2,
-            coefficients=self.coefficients[rows],
-            centroids=self.references[rows],
-            kinds=self.kinds[rows],
-        )
-
-
 def _with_plates(
-    found: _Found,
+    found: _Accepted,
     pts: NDArray[np.float64],
     tree: cKDTree,
     hoods: _Neighborhoods,
@@ -331,12 +310,13 @@ def _with_plates(
     eye = np.asarray(viewpoint, dtype=np.float64)
     plates = plate_handles(pts, tree, hoods.centers[rows], plane, eye, config, sight)
     rows = rows[plates.accepted]
-    found.points[rows] = hoods.centers[rows]
+    thickness = plates.widths[plates.accepted]
+    found.on_axis[rows] = hoods.centers[rows]
     found.axes[rows] = plates.axes[plates.accepted]
-    found.widths[rows] = plates.widths[plates.accepted]
+    found.half_widths[rows] = thickness / 2
     found.kinds[rows] = "plate"
-    found.coefficients[rows] = _plate_faces(up, hoods.centers[rows] @ up, found.widths[rows])
-    found.references[rows] = hoods.centers[rows]
+    found.coefficients[rows] = _plate_faces(up, hoods.centers[rows] @ up, thickness)
+    found.centroids[rows] = hoods.centers[rows]
     with_plates = accepted.copy()
     with_plates[rows] = True
     return with_plates
