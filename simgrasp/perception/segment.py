@@ -25,12 +25,11 @@ from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.organized_segments import grid_components, inner_floors
 from simgrasp.perception.scene_cloud import SceneCloud
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segment_config import FIRST_OBJECT, INVALID, TABLE, SegmentConfig
 from simgrasp.perception.segment_parts import claim_table_edges, part_parents
 from simgrasp.perception.segment_rims import rim_parents
 from simgrasp.seeding import rng_for
 
-INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
 Method = Literal["auto", "grid", "dbscan"]
 
 

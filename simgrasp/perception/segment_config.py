@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
+"""Segmentation labels: no valid point, the table, the first object (objects count up)."""
+
 
 @dataclass(frozen=True)
 class SegmentConfig:

@@ -21,9 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.perception.segment_config import SegmentConfig
-
-TABLE, FIRST_OBJECT = 1, 2
+from simgrasp.perception.segment_config import FIRST_OBJECT, TABLE, SegmentConfig
 
 
 def part_parents(
