@@ -64,23 +64,19 @@ def main() -> None:
         for cut in CUTS
         for name, (detector, config) in SETTINGS.items()
     }
-    runs["quadric real_depth, segment cut without rim joins"] = evaluate_real_pots(
-        SETTINGS["quadric real_depth"][1], range(args.seeds), args.real_dir, cut="segment"
-    )
-    runs["quadric real_depth, segment cut keeping creases"] = evaluate_real_pots(
-        SETTINGS["quadric real_depth"][1],
-        range(args.seeds),
-        args.real_dir,
-        cut="segment",
-        segment_config=CREASE_KEEPING,
-    )
-    runs["quadric real_depth, segment cut without side parts"] = evaluate_real_pots(
-        SETTINGS["quadric real_depth"][1],
-        range(args.seeds),
-        args.real_dir,
-        cut="segment",
-        segment_config=WITHOUT_PARTS,
-    )
+    segmentations = {
+        "without rim joins": SegmentConfig(),
+        "keeping creases": CREASE_KEEPING,
+        "without side parts": WITHOUT_PARTS,
+    }
+    for variant, segmentation in segmentations.items():
+        runs[f"quadric real_depth, segment cut {variant}"] = evaluate_real_pots(
+            SETTINGS["quadric real_depth"][1],
+            range(args.seeds),
+            args.real_dir,
+            cut="segment",
+            segment_config=segmentation,
+        )
     write_csv(args.out / "results.csv", runs)
     report = render_report(runs, args.seeds, time.perf_counter() - start)
     (args.out / "report.md").write_text(report)
