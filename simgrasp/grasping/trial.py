@@ -176,8 +176,8 @@ class _Runner:
 
     def wait(self, duration: float, min_time: float = 0.0) -> None:
         """Step up to ``duration`` seconds with the target still; with
-        ``config.quiet_speed``, end early once every generalized velocity has stayed below it
-        for ``config.quiet_time`` and ``min_time`` has passed."""
+        ``config.quiet_speed``, end early once :meth:`relative_speed` has stayed below it for
+        ``config.quiet_time`` and ``min_time`` has passed."""
         config = self.config
         if config.quiet_speed is None:
             self.advance(duration)

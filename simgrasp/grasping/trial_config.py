@@ -81,9 +81,10 @@ class TrialConfig:
     out of reach)."""
     quiet_speed: float | None = None
     """Early end of the waiting phases: the settle, the close, the hold, each tug after
-    ``quiet_min_tug`` and each rest end once every generalized velocity of the scene (m/s,
-    rad/s) has stayed below this for ``quiet_time``: the scene is at rest, and more waiting
-    changes nothing. None: every phase runs its full time (the full protocol)."""
+    ``quiet_min_tug`` and each rest end once no point of the object has moved faster than
+    this relative to the gripper, and no finger joint either (m/s; rad/s for a hinge), for
+    ``quiet_time``: the grip is at rest, and more waiting changes nothing. None: every phase
+    runs its full time (the full protocol)."""
     quiet_time: float = 0.06
     """How long (s) the scene must stay below ``quiet_speed`` to end a waiting phase."""
     quiet_min_tug: float = 0.1
