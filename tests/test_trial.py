@@ -113,10 +113,11 @@ def test_grasp_far_from_the_object_is_missed(hammer_scene: Scene) -> None:
     world_T_tcp = grasp.world_T_tcp.copy()
     world_T_tcp[:2, 3] = far[:2]
     assert mesh_world.nearest.on_surface([world_T_tcp[:3, 3]])[1][0] > 0.10
-    result = run_trial(hammer_scene, Grasp(world_T_tcp, grasp.width))
-    assert result.success is False
-    assert result.failure == "missed"
-    assert not result.on_handle
+    for config in (TrialConfig(), FAST_TRIAL):  # the fast close, touching nothing, runs its cap
+        result = run_trial(hammer_scene, Grasp(world_T_tcp, grasp.width), config)
+        assert result.success is False
+        assert result.failure == "missed"
+        assert not result.on_handle
 
 
 def test_too_wide_head_is_not_lifted(hammer_scene: Scene) -> None:
@@ -201,12 +202,70 @@ def test_waiting_phases_end_once_the_grip_is_at_rest(hammer_scene: Scene) -> Non
     assert (early.success, early.on_handle) == (full_time.success, full_time.on_handle)
     assert early.success and early.on_handle
     assert early.steps < full_time.steps
-    floor = (
-        quiet.settle_time
-        + quiet.close_time
+    floor = (  # the approach and the lift never end early; every tug lasts its minimum
+        quiet.pregrasp_distance / quiet.approach_speed
+        + quiet.lift_height / quiet.lift_speed
         + len(quiet.perturb_directions) * (quiet.quiet_min_tug + quiet.quiet_time)
     )
     assert early.sim_time > floor
+
+
+def test_the_fast_close_squeezes_a_set_time_once_both_fingers_touch(hammer_scene: Scene) -> None:
+    """With ``squeeze_time`` the close ends that long after both fingers touch the handle (or
+    at rest sooner), however far the fully open jaws had to travel: the fast protocol holds the
+    handle as the full one does, and a later ``close_time`` cap changes nothing."""
+    moments: dict[str, float] = {}
+    fast = run_trial(
+        hammer_scene,
+        handle_grasp(hammer_scene),
+        FAST_TRIAL,
+        on_phase=lambda phase, scene: moments.__setitem__(phase, float(scene.data.time)),
+    )
+    assert fast.success and fast.on_handle
+    approach = FAST_TRIAL.pregrasp_distance / FAST_TRIAL.approach_speed
+    closing = moments["closed"] - moments["pregrasp"] - approach - 2 * FAST_TRIAL.control_dt
+    assert FAST_TRIAL.quiet_time < closing < FAST_TRIAL.close_time
+    later_cap = dataclasses.replace(FAST_TRIAL, close_time=2.0)
+    assert run_trial(hammer_scene, handle_grasp(hammer_scene), later_cap) == fast
+
+
+def test_a_sleeping_object_wakes_when_the_gripper_touches_it(hammer_scene: Scene) -> None:
+    """With ``sleep`` the hammer lying still is asleep when the gripper arrives and wakes at its
+    touch: the record is the one of a hammer kept awake (but for the micrometers an awake
+    hammer creeps on the table)."""
+    awake: dict[str, bool] = {}
+    asleep = run_trial(
+        hammer_scene,
+        handle_grasp(hammer_scene),
+        FAST_TRIAL,
+        on_phase=lambda phase, scene: awake.__setitem__(
+            phase, bool(scene.data.body_awake[scene.object_body])
+        ),
+    )
+    assert awake == {"pregrasp": False, "closed": True, "lifted": True, "perturbed": True}
+    kept_awake = dataclasses.replace(FAST_TRIAL, sleep=False)
+    awake_result = run_trial(hammer_scene, handle_grasp(hammer_scene), kept_awake)
+    verdict = ("success", "failure", "on_handle", "steps")
+    assert [getattr(awake_result, f) for f in verdict] == [getattr(asleep, f) for f in verdict]
+    assert awake_result.lift_height == pytest.approx(asleep.lift_height, abs=1e-4)
+
+
+def test_a_coarser_step_from_the_hold_on_keeps_the_verdict(
+    hammer_scene: Scene, handle_result
+) -> None:
+    """``hold_timestep`` steps the hold and the tugs with 3 ms instead of 2 ms: the same
+    verdict in fewer steps over the same simulated time; the next trial starts with the
+    scene's own step again (the full protocol's record is unchanged)."""
+    fine = run_trial(
+        hammer_scene,
+        handle_grasp(hammer_scene),
+        dataclasses.replace(FAST_TRIAL, hold_timestep=None),
+    )
+    coarse = run_trial(hammer_scene, handle_grasp(hammer_scene), FAST_TRIAL)
+    assert (coarse.success, coarse.on_handle) == (fine.success, fine.on_handle) == (True, True)
+    assert coarse.steps < fine.steps
+    assert coarse.sim_time == pytest.approx(fine.sim_time, abs=0.2)
+    assert run_trial(hammer_scene, handle_grasp(hammer_scene)) == handle_result
 
 
 def test_a_tug_that_tears_the_object_out_is_not_cut_short(hammer_scene: Scene) -> None:

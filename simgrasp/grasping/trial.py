@@ -7,8 +7,9 @@ Phases (world frame, meters, seconds; the gripper follows a mocap target through
    the TCP); touching anything there is ``invalid_start``.
 3. approach: the target moves to the grasp pose at ``approach_speed``; if the TCP is held back
    or the object is shoved, ``approach_collision``.
-4. close: the jaws squeeze (force limited) for ``close_time``; unless both fingers touch the
-   object, ``missed``.
+4. close: the jaws close and squeeze (force limited) for ``close_time`` (or, with
+   ``squeeze_time``, that long after both fingers touch); unless both fingers touch the object,
+   ``missed``.
 5. lift by ``lift_height`` at ``lift_speed``, then hold ``hold_time``; unless the object rose
    with the gripper and both fingers still touch it, ``slipped_in_lift``. Contacts at the end of
    the hold give ``on_handle``.
@@ -117,6 +118,11 @@ _GRIPPER, _OBJECT = 2, 3
 exactly when the product of its two geoms' codes is 6 (``_Runner.gripper_object``)."""
 
 
+_TOUCH_OBJECT, _TOUCH_LEFT, _TOUCH_RIGHT = 1, 2, 4
+"""Codes of object and finger geoms (others 0) for :meth:`_Runner.fingers_touch`: a contact's
+two codes OR to 3 (left finger) or 5 (right finger) when it joins a finger and the object."""
+
+
 class _Released(Exception):
     """The object has left the jaws (see ``TrialConfig.release_gap``)."""
 
@@ -136,6 +142,8 @@ class _Runner:
         model = self.scene.model
         self.model, self.data = model, self.scene.data
         self.nstep = self.config.control_steps
+        self.control_dt = self.config.control_dt
+        """Simulated time (s) of one control period: ``nstep`` steps of the model's time step."""
         warning = mujoco.mjtWarning
         self.unstable = [
             int(w) for w in (warning.mjWARN_BADQPOS, warning.mjWARN_BADQVEL, warning.mjWARN_BADQACC)
@@ -159,13 +167,28 @@ class _Runner:
         )
         free = self.scene.gripper.free_dof
         gripper_dofs = np.flatnonzero(np.isin(model.dof_bodyid, self.scene.gripper.body_ids))
-        self.finger_dofs = gripper_dofs[(gripper_dofs < free) | (gripper_dofs >= free + 6)]
+        finger_dofs = gripper_dofs[(gripper_dofs < free) | (gripper_dofs >= free + 6)]
+        self.finger_dofs: list[int] = finger_dofs.tolist()
+        # Live views of the data the checks read after every control step (read as Python
+        # floats: for a handful of numbers that is several times faster than numpy calls).
+        data = self.data
+        self.pair_rows: list[list[bool]] = self.gripper_object.tolist()
+        touch = np.zeros(model.ngeom, dtype=int)
+        (left, right), touch[self.object_geoms] = self.scene.gripper.finger_geoms, _TOUCH_OBJECT
+        touch[list(left)], touch[list(right)] = _TOUCH_LEFT, _TOUCH_RIGHT
+        self.touch_codes: list[int] = touch.tolist()
+        self.warning_counts = data.warning.number
+        self.qvel = data.qvel
+        self.object_cvel = data.cvel[self.object_body]
+        self.gripper_cvel = data.cvel[self.gripper_root]
+        self.object_com = data.subtree_com[self.object_body]
+        self.gripper_com = data.subtree_com[self.gripper_root]
 
     def advance(
         self, duration: float, mocap_from: NDArray | None = None, to: NDArray | None = None
     ):
         """Step ``duration`` seconds; with ``mocap_from``/``to``, move the target linearly."""
-        chunks = max(1, int(round(duration / self.config.control_dt)))
+        chunks = max(1, int(round(duration / self.control_dt)))
         data, model, nstep = self.data, self.model, self.nstep
         for k in range(1, chunks + 1):
             if mocap_from is not None:
@@ -182,9 +205,9 @@ class _Runner:
         if config.quiet_speed is None:
             self.advance(duration)
             return
-        chunks = max(1, int(round(duration / config.control_dt)))
-        quiet_needed = max(1, int(round(config.quiet_time / config.control_dt)))
-        min_chunks = int(round(min_time / config.control_dt))
+        chunks = max(1, int(round(duration / self.control_dt)))
+        quiet_needed = max(1, int(round(config.quiet_time / self.control_dt)))
+        min_chunks = int(round(min_time / self.control_dt))
         quiet = 0
         for k in range(1, chunks + 1):
             mujoco.mj_step(self.model, self.data, self.nstep)
@@ -194,15 +217,39 @@ class _Runner:
             if quiet >= quiet_needed and k >= min_chunks:
                 return
 
+    def wait_for_touch(self, limit: float) -> float:
+        """Step until both fingers touch the object, at most ``limit`` seconds; returns the
+        time stepped (s)."""
+        chunks = max(1, int(round(limit / self.control_dt)))
+        for k in range(1, chunks + 1):
+            mujoco.mj_step(self.model, self.data, self.nstep)
+            self.steps += self.nstep
+            self.check()
+            if self.fingers_touch():
+                return k * self.control_dt
+        return chunks * self.control_dt
+
+    def fingers_touch(self) -> bool:
+        """Whether both fingers touch the object now."""
+        codes, touched = self.touch_codes, 0
+        for first, second in self.data.contact.geom.tolist():
+            pair = codes[first] | codes[second]
+            touched |= pair if pair in (3, 5) else 0
+        return touched == 7
+
+    def use_timestep(self, timestep: float, nstep: int) -> None:
+        """Step with ``timestep`` (s), ``nstep`` steps per control period, from now on."""
+        self.model.opt.timestep = timestep
+        self.nstep, self.control_dt = nstep, timestep * nstep
+
     def relative_speed(self) -> float:
         """A bound (m/s) on how fast any point of the object moves relative to the gripper,
         or a finger joint moves (m/s or rad/s): the larger of the two. From ``cvel`` (each
         body's velocity at its tree's center of mass, world axes) of the last step."""
-        data = self.data
-        wo0, wo1, wo2, vo0, vo1, vo2 = data.cvel[self.object_body].tolist()
-        wg0, wg1, wg2, vg0, vg1, vg2 = data.cvel[self.gripper_root].tolist()
-        o0, o1, o2 = data.subtree_com[self.object_body].tolist()
-        g0, g1, g2 = data.subtree_com[self.gripper_root].tolist()
+        wo0, wo1, wo2, vo0, vo1, vo2 = self.object_cvel.tolist()
+        wg0, wg1, wg2, vg0, vg1, vg2 = self.gripper_cvel.tolist()
+        o0, o1, o2 = self.object_com.tolist()
+        g0, g1, g2 = self.gripper_com.tolist()
         d0, d1, d2 = o0 - g0, o1 - g1, o2 - g2
         linear = math.hypot(
             vo0 - vg0 - (wg1 * d2 - wg2 * d1),
@@ -210,26 +257,26 @@ class _Runner:
             vo2 - vg2 - (wg0 * d1 - wg1 * d0),
         )
         angular = math.hypot(wo0 - wg0, wo1 - wg1, wo2 - wg2)
-        fingers = max(map(abs, data.qvel[self.finger_dofs].tolist()), default=0.0)
+        qvel = self.qvel.tolist()
+        fingers = max((abs(qvel[dof]) for dof in self.finger_dofs), default=0.0)
         return max(linear + angular * self.object_radius, fingers)
 
     def check(self) -> None:
         """Raise ``_Diverged`` or ``_Released`` when the state calls for it (runs after every
-        control step: kept to a few array reads)."""
+        control step: kept to a few reads of live views)."""
         data, config = self.data, self.config
-        warnings = data.warning.number
-        if any(warnings[w] for w in self.unstable):
+        counts = self.warning_counts.tolist()
+        if any(counts[w] for w in self.unstable):
             raise _Diverged
-        if np.abs(data.qvel).max() > config.max_speed:
+        if max(map(abs, self.qvel.tolist())) > config.max_speed:
             raise _Diverged
-        if data.ncon == 0:
-            if self.watch_release and self._object_clear():
+        if data.ncon:
+            contacts = data.contact
+            if min(contacts.dist.tolist()) < -config.max_penetration:
+                raise _Diverged
+            if self.watch_release and not self._touching(contacts.geom) and self._object_clear():
                 raise _Released
-            return
-        contacts = data.contact
-        if contacts.dist.min() < -config.max_penetration:
-            raise _Diverged
-        if self.watch_release and not self._touching(contacts.geom) and self._object_clear():
+        elif self.watch_release and self._object_clear():
             raise _Released
 
     def _object_clear(self) -> bool:
@@ -244,7 +291,8 @@ class _Runner:
 
     def _touching(self, contact_geoms: NDArray[np.int32]) -> bool:
         """Whether any contact (rows of geom id pairs) joins an object and a gripper geom."""
-        return bool(self.gripper_object[contact_geoms[:, 0], contact_geoms[:, 1]].any())
+        rows = self.pair_rows
+        return any(rows[first][second] for first, second in contact_geoms.tolist())
 
 
 def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64]:
@@ -257,10 +305,14 @@ def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64
 
 
 def _start(scene: Scene, config: TrialConfig) -> None:
-    """Reset the scene for a trial (``mj_resetData``, no rebuild); a free-floating object is
-    raised and its gravity compensated."""
+    """Reset the scene for a trial (``mj_resetData``, no rebuild) with the trial's time step and
+    sleep setting; a free-floating object is raised and its gravity compensated."""
+    options, sleep = scene.model.opt, int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    options.enableflags = (
+        (options.enableflags | sleep) if config.sleep else (options.enableflags & ~sleep)
+    )
     scene.reset()
-    scene.model.opt.timestep = config.timestep
+    options.timestep = config.timestep
     scene.model.body_gravcomp[scene.object_body] = 1.0 if config.free_floating else 0.0
     if config.free_floating:
         scene.data.qpos[scene.object_qpos + 2] += config.float_height
@@ -301,7 +353,7 @@ def run_trial(
         grasp_source=grasp.source,
         success=success,
         failure=failure,
-        sim_time=trial.runner.steps * config.timestep,
+        sim_time=float(scene.data.time),
         steps=trial.runner.steps,
         timings_s=trial.timings,
         **trial.record,
@@ -388,8 +440,8 @@ def _open_jaws(trial: _Trial, width: float) -> None:
     data, gripper = trial.scene.data, trial.scene.gripper
     elapsed = 0.0
     while abs(gripper.opening(data) - width) > OPEN_TOLERANCE and elapsed < OPEN_LIMIT:
-        trial.runner.advance(trial.config.control_dt)
-        elapsed += trial.config.control_dt
+        trial.runner.advance(trial.runner.control_dt)
+        elapsed += trial.runner.control_dt
 
 
 def _pregrasp(trial: _Trial) -> Failure | None:
@@ -416,7 +468,7 @@ def _approach(trial: _Trial) -> Failure | None:
     gripper.command_tcp(data, grasp.world_T_tcp)
     mocap_goal = data.mocap_pos[gripper.mocap_id].copy()
     trial.runner.advance(config.pregrasp_distance / config.approach_speed, mocap_start, mocap_goal)
-    trial.runner.advance(2 * config.control_dt)  # let the weld catch up
+    trial.runner.advance(2 * trial.runner.control_dt)  # let the weld catch up
     lag = np.linalg.norm(gripper.world_T_tcp(data)[:3, 3] - grasp.world_T_tcp[:3, 3])
     settled = trial.world_T_object_settled
     assert settled is not None, "the approach follows the settle"
@@ -429,9 +481,14 @@ def _approach(trial: _Trial) -> Failure | None:
 
 def _close(trial: _Trial) -> Failure | None:
     """4. The jaws squeeze; unless both fingers touch the object, ``missed``."""
-    scene = trial.scene
+    scene, config, runner = trial.scene, trial.config, trial.runner
     scene.gripper.close(scene.data)
-    trial.runner.wait(trial.config.close_time)
+    if config.squeeze_time is None:
+        runner.wait(config.close_time)
+    else:
+        closing = runner.wait_for_touch(config.close_time)
+        if closing < config.close_time:
+            runner.wait(min(config.squeeze_time, config.close_time - closing))
     trial.moment("closed")
     trial.lap("close")
     if not trial.held().both:
@@ -455,6 +512,8 @@ def _lift_and_hold(trial: _Trial) -> Failure | None:
             scene.model.body_gravcomp[scene.object_body] = 0.0
         else:
             trial.runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
+        if config.hold_timestep is not None:
+            trial.runner.use_timestep(config.hold_timestep, config.hold_control_steps)
         trial.runner.wait(config.hold_time)
     except _Released:
         trial.lap("lift_hold")
