@@ -1,5 +1,5 @@
-"""Record every ``mj_step`` call a harness makes on one model, and replay the calls as raw
-stepping, so a benchmark can compare the harness with the physics alone (same steps)."""
+"""Compare a harness with the physics alone on the same steps: record every ``mj_step`` call a
+harness makes on one model and replay the calls as raw stepping, or time the calls in place."""
 
 from __future__ import annotations
 
@@ -47,3 +47,26 @@ def replay_seconds(model: mujoco.MjModel, data: mujoco.MjData, calls: Calls) -> 
         mujoco.mj_step(model, data, nstep)
         total += time.perf_counter() - start
     return total
+
+
+@contextlib.contextmanager
+def timed_steps(model: mujoco.MjModel) -> Iterator[list[float]]:
+    """Within the block, add up the seconds spent inside each ``mj_step`` of ``model`` (one
+    list item). Unlike a replay this needs no state restore: MuJoCo's sleep state (which bodies
+    sleep) is not part of ``mj_getState`` and could not be replayed."""
+    seconds = [0.0]
+    original = mujoco.mj_step
+
+    def timed_step(m, d, nstep=1):
+        if m is not model:
+            original(m, d, nstep)
+            return
+        start = time.perf_counter()
+        original(m, d, nstep)
+        seconds[0] += time.perf_counter() - start
+
+    mujoco.mj_step = timed_step
+    try:
+        yield seconds
+    finally:
+        mujoco.mj_step = original

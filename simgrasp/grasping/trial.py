@@ -237,10 +237,17 @@ class _Runner:
             touched |= pair if pair in (3, 5) else 0
         return touched == 7
 
-    def use_timestep(self, timestep: float, nstep: int) -> None:
-        """Step with ``timestep`` (s), ``nstep`` steps per control period, from now on."""
-        self.model.opt.timestep = timestep
-        self.nstep, self.control_dt = nstep, timestep * nstep
+    def use_hold_timestep(self) -> None:
+        """From now on step with ``config.hold_timestep``, capped at the gripper's
+        ``max_timestep``, keeping the control period (no change when that is no coarser)."""
+        config = self.config
+        if config.hold_timestep is None:
+            return
+        timestep = min(config.hold_timestep, self.scene.gripper.gripper.max_timestep)
+        if timestep <= config.timestep:
+            return
+        self.nstep = max(1, round(config.control_dt / timestep))
+        self.model.opt.timestep, self.control_dt = timestep, timestep * self.nstep
 
     def relative_speed(self) -> float:
         """A bound (m/s) on how fast any point of the object moves relative to the gripper,
@@ -512,8 +519,7 @@ def _lift_and_hold(trial: _Trial) -> Failure | None:
             scene.model.body_gravcomp[scene.object_body] = 0.0
         else:
             trial.runner.advance(config.lift_height / config.lift_speed, lift_start, lift_goal)
-        if config.hold_timestep is not None:
-            trial.runner.use_timestep(config.hold_timestep, config.hold_control_steps)
+        trial.runner.use_hold_timestep()
         trial.runner.wait(config.hold_time)
     except _Released:
         trial.lap("lift_hold")

@@ -31,10 +31,10 @@ class TrialConfig:
     control_steps: int = 10
     """Physics steps between control updates (``mj_step`` with ``nstep``)."""
     hold_timestep: float | None = None
-    """Physics time step (s) from the hold on (the hold, the tugs and their rests), with the
-    control period kept (``hold_control_steps``); None: ``timestep`` throughout. The jaws'
-    impact in the close and the lift's start need the fine step; a grip under slowly changing
-    loads does not."""
+    """Physics time step (s) from the hold on (the hold, the tugs and their rests), at most the
+    gripper's ``max_timestep``, in whole steps per control period of about the same length;
+    None: ``timestep`` throughout. The jaws' impact in the close and the lift's start need the
+    fine step; a grip under slowly changing loads may not."""
     settle_time: float = 0.5
     """Time the object rests on the table before the grasp (s)."""
     pregrasp_distance: float = 0.10
@@ -153,13 +153,6 @@ class TrialConfig:
         return self.timestep * self.control_steps
 
     @property
-    def hold_control_steps(self) -> int:
-        """Physics steps per control period from the hold on (``hold_timestep``)."""
-        if self.hold_timestep is None:
-            return self.control_steps
-        return max(1, round(self.control_dt / self.hold_timestep))
-
-    @property
     def rest_time(self) -> float:
         """Rest after each tug (s)."""
         return self.perturb_time if self.perturb_rest is None else self.perturb_rest
@@ -187,7 +180,9 @@ cut away.
 - Waiting ends at rest: the settle, the close, the hold, each tug after 0.04 s and each rest end
   once the object has been still in the jaws for 40 ms (every point under 1 cm/s relative to
   the gripper, the fingers too): a grip at rest under a constant load stays as it is.
-- A 3 ms time step from the hold on (7 steps per 21 ms control period), 2 ms before it.
+- A 3 ms time step from the hold on (7 steps per 21 ms control period), 2 ms before it, for
+  grippers measured to allow it (``Gripper.max_timestep``: the built-in one; the Robotiq
+  2F-85 keeps 2 ms: at 3 ms its verdicts on 100 hammer grasps agreed on 90 %, at 2 ms 96 %).
 - The object sleeps while it lies still on the table (``sleep``): the approach's steps cost
   about two thirds as much.
 

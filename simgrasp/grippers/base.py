@@ -35,6 +35,9 @@ class Gripper(ABC):
         grip_force: nominal squeezing force per jaw (N), for documentation and reports.
         finger_reach: how far the fingertips reach past the TCP along +z (m), the most over
             the stroke; a grasp whose TCP is closer than this to the table hits it.
+        max_timestep: the coarsest physics time step (s) at which a grip of this gripper is
+            simulated as at the scene's 2 ms (``TrialConfig.hold_timestep`` is capped at it);
+            2 ms unless measured otherwise.
     """
 
     name: str
@@ -47,6 +50,7 @@ class Gripper(ABC):
     ctrl_closed: float
     grip_force: float
     finger_reach: float
+    max_timestep: float = 0.002
 
     @abstractmethod
     def load_spec(self) -> mujoco.MjSpec:
