@@ -5,7 +5,8 @@ Every labeled grasp is appended to ``OUT/labels.jsonl`` as it finishes (one line
 ``kill -9``; its workers exit with it) loses at most the grasp being written; run the same
 command again and only the missing grasps run. ``OUT/run.json`` names what the directory
 labels (object, gripper, protocol, seed, placement, the grasp file's SHA-256, every trial
-setting of the protocol): a second run with other settings or another file, or after the
+setting of the protocol, the gripper's time-step cap where the protocol coarsens the step): a
+second run with other settings or another file, or after the
 protocol's definition changed, is refused instead of mixing labels. Rows that are not
 grasps get a record with failure ``invalid`` and are never executed.
 
@@ -32,6 +33,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.trial_log import TrialLog
 from simgrasp.grasping.grasp_sets import GraspSet
 from simgrasp.grasping.labeling import INVALID, LabelConfig, invalid_record, label_one, prepare
+from simgrasp.grippers import make_gripper
 from simgrasp.ray_session import ray_session
 
 Backend = Literal["local", "ray"]
@@ -126,6 +128,8 @@ def label_grasp_set(
     run = {**asdict(config), "grasps": str(grasp_file), "grasps_sha256": file_digest(grasp_file)}
     run["count"] = len(grasps)
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
+    if config.trial.hold_timestep is not None:  # the step actually used is capped by the gripper
+        run["gripper_max_timestep"] = make_gripper(config.gripper).max_timestep
     check_run(out_dir, {k: v for k, v in run.items() if k != "grasps"})
     log = TrialLog(out_dir / LABELS_FILE, key=label_key)
     finished = {label_key(r): r for r in log.load() if 0 <= label_key(r) < len(grasps)}

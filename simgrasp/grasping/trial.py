@@ -22,10 +22,13 @@ has been let go: the phase ends there with its failure (its fall onto the table,
 hull can tunnel deep enough to look like a divergence, is not simulated).
 
 Protocols: ``full`` (:class:`TrialConfig`'s defaults: ``trial``, ``evaluate``, the env) and
-``fast`` (:data:`FAST_TRIAL`, for labeling grasp sets). ``TrialConfig.free_floating`` runs the
-trial in free space as ACRONYM does: the object floats with its gravity compensated, the
-gripper appears at the grasp itself and closes (phases 2-4 without the pre-grasp offset and the
-approach), then the object's gravity comes on instead of the lift (phase 5), then the tugs.
+``fast`` (:data:`FAST_TRIAL`, for labeling grasp sets: waits that end once the grip is at rest,
+a squeeze of set length once both fingers touch, a coarser step from the hold on where the
+gripper allows it, the resting object asleep until touched). ``TrialConfig.free_floating``
+runs the trial in free space as ACRONYM does: the object floats with its gravity compensated,
+the gripper appears at the grasp itself and closes (phases 2-4 without the pre-grasp offset
+and the approach), then the object's gravity comes on instead of the lift (phase 5), then the
+tugs.
 
 Divergence (a non-finite state MuJoCo had to reset, its bad-qacc warning, penetration or speed
 beyond the limits) ends the trial as ``sim_unstable`` with ``success = None``: neither success
