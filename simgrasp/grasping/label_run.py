@@ -6,9 +6,9 @@ Every labeled grasp is appended to ``OUT/labels.jsonl`` as it finishes (one line
 command again and only the missing grasps run. ``OUT/run.json`` names what the directory
 labels (object, gripper, protocol, seed, placement, the grasp file's SHA-256, every trial
 setting of the protocol, the gripper's time-step cap where the protocol coarsens the step): a
-second run with other settings or another file, or after the
-protocol's definition changed, is refused instead of mixing labels. Rows that are not
-grasps get a record with failure ``invalid`` and are never executed.
+second run with other settings or another file, or after the protocol's definition changed,
+is refused instead of mixing labels. Rows that are not grasps get a record with failure
+``invalid`` and are never executed.
 
 Outputs in input order: ``labels.npz`` (bool ``success`` and ``on_handle``, str ``failure``:
 empty for a success, float ``handle_fraction`` and ``lift_height``), ``summary.json``.

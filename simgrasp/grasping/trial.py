@@ -122,8 +122,9 @@ exactly when the product of its two geoms' codes is 6 (``_Runner.gripper_object`
 
 
 _TOUCH_OBJECT, _TOUCH_LEFT, _TOUCH_RIGHT = 1, 2, 4
-"""Codes of object and finger geoms (others 0) for :meth:`_Runner.fingers_touch`: a contact's
-two codes OR to 3 (left finger) or 5 (right finger) when it joins a finger and the object."""
+"""Codes of object and finger geoms (others 0) for :meth:`_Runner.fingers_touch`."""
+_FINGER_ON_OBJECT = (_TOUCH_OBJECT | _TOUCH_LEFT, _TOUCH_OBJECT | _TOUCH_RIGHT)
+"""A contact's two codes OR to one of these when it joins a finger and the object."""
 
 
 class _Released(Exception):
@@ -237,8 +238,8 @@ class _Runner:
         codes, touched = self.touch_codes, 0
         for first, second in self.data.contact.geom.tolist():
             pair = codes[first] | codes[second]
-            touched |= pair if pair in (3, 5) else 0
-        return touched == 7
+            touched |= pair if pair in _FINGER_ON_OBJECT else 0
+        return touched == _TOUCH_OBJECT | _TOUCH_LEFT | _TOUCH_RIGHT
 
     def use_hold_timestep(self) -> None:
         """From now on step with ``config.hold_timestep``, capped at the gripper's
@@ -490,7 +491,8 @@ def _approach(trial: _Trial) -> Failure | None:
 
 
 def _close(trial: _Trial) -> Failure | None:
-    """4. The jaws squeeze; unless both fingers touch the object, ``missed``."""
+    """4. The jaws close and squeeze (``close_time``, or ``squeeze_time`` once both fingers
+    touch); unless both fingers touch the object then, ``missed``."""
     scene, config, runner = trial.scene, trial.config, trial.runner
     scene.gripper.close(scene.data)
     if config.squeeze_time is None:
