@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
@@ -16,25 +16,40 @@ Calls = list[tuple[np.ndarray, int]]
 
 
 @contextlib.contextmanager
-def recorded_steps(model: mujoco.MjModel) -> Iterator[Calls]:
-    """Within the block, record (integration state, nstep) before each ``mj_step`` of
-    ``model`` (other models, e.g. the Robotiq's one-off calibration model, are not recorded)."""
-    size = mujoco.mj_stateSize(model, STATE)
-    calls: Calls = []
+def _wrapped_steps(model: mujoco.MjModel, around: Callable[..., None]) -> Iterator[None]:
+    """Within the block, ``mujoco.mj_step(m, d, nstep)`` of ``model`` runs as
+    ``around(original_mj_step, m, d, nstep)``; other models' steps (e.g. the Robotiq's one-off
+    calibration model) run untouched."""
     original = mujoco.mj_step
 
-    def recording_step(m, d, nstep=1):
+    def step(m, d, nstep=1):
         if m is model:
-            state = np.empty(size)
-            mujoco.mj_getState(m, d, state, STATE)
-            calls.append((state, nstep))
-        original(m, d, nstep)
+            around(original, m, d, nstep)
+        else:
+            original(m, d, nstep)
 
-    mujoco.mj_step = recording_step
+    mujoco.mj_step = step
     try:
-        yield calls
+        yield
     finally:
         mujoco.mj_step = original
+
+
+@contextlib.contextmanager
+def recorded_steps(model: mujoco.MjModel) -> Iterator[Calls]:
+    """Within the block, record (integration state, nstep) before each ``mj_step`` of
+    ``model``."""
+    size = mujoco.mj_stateSize(model, STATE)
+    calls: Calls = []
+
+    def record(step, m, d, nstep):
+        state = np.empty(size)
+        mujoco.mj_getState(m, d, state, STATE)
+        calls.append((state, nstep))
+        step(m, d, nstep)
+
+    with _wrapped_steps(model, record):
+        yield calls
 
 
 def replay_seconds(model: mujoco.MjModel, data: mujoco.MjData, calls: Calls) -> float:
@@ -55,18 +70,11 @@ def timed_steps(model: mujoco.MjModel) -> Iterator[list[float]]:
     list item). Unlike a replay this needs no state restore: MuJoCo's sleep state (which bodies
     sleep) is not part of ``mj_getState`` and could not be replayed."""
     seconds = [0.0]
-    original = mujoco.mj_step
 
-    def timed_step(m, d, nstep=1):
-        if m is not model:
-            original(m, d, nstep)
-            return
+    def time_it(step, m, d, nstep):
         start = time.perf_counter()
-        original(m, d, nstep)
+        step(m, d, nstep)
         seconds[0] += time.perf_counter() - start
 
-    mujoco.mj_step = timed_step
-    try:
+    with _wrapped_steps(model, time_it):
         yield seconds
-    finally:
-        mujoco.mj_step = original

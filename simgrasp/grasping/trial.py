@@ -116,15 +116,10 @@ class _Diverged(Exception):
     """The simulation left its stability limits."""
 
 
-_GRIPPER, _OBJECT = 2, 3
-"""Codes of gripper and object geoms (others 0): a contact joins the object and the gripper
-exactly when the product of its two geoms' codes is 6 (``_Runner.gripper_object``)."""
-
-
-_TOUCH_OBJECT, _TOUCH_LEFT, _TOUCH_RIGHT = 1, 2, 4
-"""Codes of object and finger geoms (others 0) for :meth:`_Runner.fingers_touch`."""
-_FINGER_ON_OBJECT = (_TOUCH_OBJECT | _TOUCH_LEFT, _TOUCH_OBJECT | _TOUCH_RIGHT)
-"""A contact's two codes OR to one of these when it joins a finger and the object."""
+_OBJECT, _LEFT_FINGER, _RIGHT_FINGER, _GRIPPER = 1, 2, 4, 8
+"""Bit codes of geoms (others 0): the object's, each finger's, the rest of the gripper's. The
+two codes of a contact OR-ed say what it joins (geoms of one body never touch each other)."""
+_ANY_GRIPPER = _LEFT_FINGER | _RIGHT_FINGER | _GRIPPER
 
 
 class _Released(Exception):
@@ -156,10 +151,12 @@ class _Runner:
         self.mocap = self.scene.gripper.mocap_id
         self.gripper_geoms = np.asarray(self.scene.gripper.geom_ids)
         self.object_geoms = np.flatnonzero(model.geom_bodyid == self.scene.object_body)
-        part = np.zeros(model.ngeom, dtype=np.int8)
-        part[self.gripper_geoms], part[self.object_geoms] = _GRIPPER, _OBJECT
-        self.gripper_object = np.multiply.outer(part, part) == _GRIPPER * _OBJECT
-        """Geom pairs (either order) of an object and a gripper geom."""
+        codes = np.zeros(model.ngeom, dtype=int)
+        (left, right), codes[self.gripper_geoms] = self.scene.gripper.finger_geoms, _GRIPPER
+        codes[list(left)], codes[list(right)] = _LEFT_FINGER, _RIGHT_FINGER
+        codes[self.object_geoms] = _OBJECT
+        self.geom_codes: list[int] = codes.tolist()
+        """Each geom's bit code (``_OBJECT`` ...), read by the contact tests."""
         colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
         self.gripper_colliders = [int(g) for g in self.gripper_geoms if colliding[g]]
         self.object_colliders = [int(g) for g in self.object_geoms if colliding[g]]
@@ -176,11 +173,6 @@ class _Runner:
         # Live views of the data the checks read after every control step (read as Python
         # floats: for a handful of numbers that is several times faster than numpy calls).
         data = self.data
-        self.pair_rows: list[list[bool]] = self.gripper_object.tolist()
-        touch = np.zeros(model.ngeom, dtype=int)
-        (left, right), touch[self.object_geoms] = self.scene.gripper.finger_geoms, _TOUCH_OBJECT
-        touch[list(left)], touch[list(right)] = _TOUCH_LEFT, _TOUCH_RIGHT
-        self.touch_codes: list[int] = touch.tolist()
         self.warning_counts = data.warning.number
         self.qvel = data.qvel
         self.object_cvel = data.cvel[self.object_body]
@@ -192,14 +184,21 @@ class _Runner:
         self, duration: float, mocap_from: NDArray | None = None, to: NDArray | None = None
     ):
         """Step ``duration`` seconds; with ``mocap_from``/``to``, move the target linearly."""
-        chunks = max(1, int(round(duration / self.control_dt)))
-        data, model, nstep = self.data, self.model, self.nstep
+        chunks = self.chunks(duration)
         for k in range(1, chunks + 1):
             if mocap_from is not None:
-                data.mocap_pos[self.mocap] = mocap_from + (to - mocap_from) * (k / chunks)
-            mujoco.mj_step(model, data, nstep)
-            self.steps += nstep
-            self.check()
+                self.data.mocap_pos[self.mocap] = mocap_from + (to - mocap_from) * (k / chunks)
+            self.step()
+
+    def chunks(self, duration: float) -> int:
+        """Control periods in ``duration`` seconds (at least one)."""
+        return max(1, int(round(duration / self.control_dt)))
+
+    def step(self) -> None:
+        """One control period: ``nstep`` physics steps, then :meth:`check`."""
+        mujoco.mj_step(self.model, self.data, self.nstep)
+        self.steps += self.nstep
+        self.check()
 
     def wait(self, duration: float, min_time: float = 0.0) -> None:
         """Step up to ``duration`` seconds with the target still; with
@@ -209,14 +208,11 @@ class _Runner:
         if config.quiet_speed is None:
             self.advance(duration)
             return
-        chunks = max(1, int(round(duration / self.control_dt)))
-        quiet_needed = max(1, int(round(config.quiet_time / self.control_dt)))
+        quiet_needed = self.chunks(config.quiet_time)
         min_chunks = int(round(min_time / self.control_dt))
         quiet = 0
-        for k in range(1, chunks + 1):
-            mujoco.mj_step(self.model, self.data, self.nstep)
-            self.steps += self.nstep
-            self.check()
+        for k in range(1, self.chunks(duration) + 1):
+            self.step()
             quiet = quiet + 1 if self.relative_speed() < config.quiet_speed else 0
             if quiet >= quiet_needed and k >= min_chunks:
                 return
@@ -224,22 +220,21 @@ class _Runner:
     def wait_for_touch(self, limit: float) -> float:
         """Step until both fingers touch the object, at most ``limit`` seconds; returns the
         time stepped (s)."""
-        chunks = max(1, int(round(limit / self.control_dt)))
+        chunks = self.chunks(limit)
         for k in range(1, chunks + 1):
-            mujoco.mj_step(self.model, self.data, self.nstep)
-            self.steps += self.nstep
-            self.check()
+            self.step()
             if self.fingers_touch():
                 return k * self.control_dt
         return chunks * self.control_dt
 
     def fingers_touch(self) -> bool:
         """Whether both fingers touch the object now."""
-        codes, touched = self.touch_codes, 0
+        codes, touched = self.geom_codes, 0
         for first, second in self.data.contact.geom.tolist():
             pair = codes[first] | codes[second]
-            touched |= pair if pair in _FINGER_ON_OBJECT else 0
-        return touched == _TOUCH_OBJECT | _TOUCH_LEFT | _TOUCH_RIGHT
+            if pair in (_OBJECT | _LEFT_FINGER, _OBJECT | _RIGHT_FINGER):
+                touched |= pair
+        return touched == _OBJECT | _LEFT_FINGER | _RIGHT_FINGER
 
     def use_hold_timestep(self) -> None:
         """From now on step with ``config.hold_timestep``, capped at the gripper's
@@ -302,8 +297,12 @@ class _Runner:
 
     def _touching(self, contact_geoms: NDArray[np.int32]) -> bool:
         """Whether any contact (rows of geom id pairs) joins an object and a gripper geom."""
-        rows = self.pair_rows
-        return any(rows[first][second] for first, second in contact_geoms.tolist())
+        codes = self.geom_codes
+        for first, second in contact_geoms.tolist():
+            pair = codes[first] | codes[second]
+            if pair & _OBJECT and pair & _ANY_GRIPPER:
+                return True
+        return False
 
 
 def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64]:

@@ -121,21 +121,11 @@ class TrialConfig:
             "max_penetration",
             "max_speed",
         )
-        if self.squeeze_time is not None and not self.squeeze_time > 0:
-            raise SimgraspError(
-                f"TrialConfig.squeeze_time must be positive, got {self.squeeze_time}"
-            )
-        if self.hold_timestep is not None and not self.hold_timestep > 0:
-            raise SimgraspError(
-                f"TrialConfig.hold_timestep must be positive, got {self.hold_timestep}"
-            )
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise SimgraspError(
-                    f"TrialConfig.{name} must be positive, got {getattr(self, name)}"
-                )
-        if self.quiet_speed is not None and not self.quiet_speed > 0:
-            raise SimgraspError(f"TrialConfig.quiet_speed must be positive, got {self.quiet_speed}")
+        optional = ("squeeze_time", "hold_timestep", "quiet_speed")  # None: not used
+        for name in (*positive, *optional):
+            value = getattr(self, name)
+            if not (value is None and name in optional) and not value > 0:
+                raise SimgraspError(f"TrialConfig.{name} must be positive, got {value}")
         if not self.quiet_time >= 0 or not self.quiet_min_tug >= 0:
             raise SimgraspError("TrialConfig.quiet_time and quiet_min_tug must be >= 0")
         if self.perturb_rest is not None and not self.perturb_rest >= 0:
