@@ -253,7 +253,7 @@ def test_a_sleeping_object_wakes_when_the_gripper_touches_it(hammer_scene: Scene
 def test_a_coarser_step_from_the_hold_on_keeps_the_verdict(
     hammer_scene: Scene, handle_result
 ) -> None:
-    """``hold_timestep`` steps the hold and the tugs with 3 ms instead of 2 ms where the
+    """``hold_timestep`` steps the hold and the tugs with 4 ms instead of 2 ms where the
     gripper allows it (``max_timestep``: the built-in one, not the Robotiq): the same verdict in
     fewer steps over the same simulated time; the next trial starts with the scene's own step
     again (the full protocol's record is unchanged)."""

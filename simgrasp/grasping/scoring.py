@@ -1,8 +1,9 @@
 """What a grasp trial measures: finger-object contacts, the handle share of them, and slip.
 
-All functions read the current ``mujoco.MjData`` contacts. Contact points are world-frame
-positions (``points_world``, meters) unless named ``points_object`` (the object's mesh frame,
-the frame its :class:`~simgrasp.assets.labels.HandleLabel` lives in).
+The trial collects the finger-object contacts (:class:`FingerContacts`, from its geom codes);
+these functions score them. Contact points are world-frame positions (``points_world``,
+meters) unless named ``points_object`` (the object's mesh frame, the frame its
+:class:`~simgrasp.assets.labels.HandleLabel` lives in).
 """
 
 from __future__ import annotations
@@ -34,25 +35,6 @@ class FingerContacts:
     @property
     def both(self) -> bool:
         return self.left and self.right
-
-
-def finger_contacts(
-    data: mujoco.MjData,
-    left_geoms: NDArray[np.int64],
-    right_geoms: NDArray[np.int64],
-    object_geoms: NDArray[np.int64],
-) -> FingerContacts:
-    """Contacts between the fingers' geoms and the object's geoms (ids as int arrays)."""
-    contacts = data.contact
-    geom1, geom2 = contacts.geom1, contacts.geom2
-    on_object1 = np.isin(geom1, object_geoms)
-    on_object2 = np.isin(geom2, object_geoms)
-    other = np.where(on_object1, geom2, geom1)
-    involves_object = on_object1 | on_object2
-    left = involves_object & np.isin(other, left_geoms)
-    right = involves_object & np.isin(other, right_geoms)
-    points_world = np.asarray(contacts.pos)[left | right].reshape(-1, 3)
-    return FingerContacts(points_world.copy(), bool(left.any()), bool(right.any()))
 
 
 def geoms_touching(data: mujoco.MjData, geoms: NDArray[np.int64]) -> bool:

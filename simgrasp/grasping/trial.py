@@ -51,7 +51,6 @@ from simgrasp._mujoco import mujoco
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.scoring import (
     FingerContacts,
-    finger_contacts,
     geoms_touching,
     handle_fraction,
     points_in_object_frame,
@@ -229,12 +228,26 @@ class _Runner:
 
     def fingers_touch(self) -> bool:
         """Whether both fingers touch the object now."""
-        codes, touched = self.geom_codes, 0
-        for first, second in self.data.contact.geom.tolist():
+        return self._finger_rows()[1] == _OBJECT | _LEFT_FINGER | _RIGHT_FINGER
+
+    def finger_contacts(self) -> FingerContacts:
+        """The finger-object contacts now (points in the world frame, m)."""
+        rows, touched = self._finger_rows()
+        points_world = self.data.contact.pos[rows].reshape(-1, 3)
+        return FingerContacts(
+            points_world, bool(touched & _LEFT_FINGER), bool(touched & _RIGHT_FINGER)
+        )
+
+    def _finger_rows(self) -> tuple[list[int], int]:
+        """Rows of ``data.contact`` that join a finger and the object, and their pair codes
+        OR-ed."""
+        codes, rows, touched = self.geom_codes, [], 0
+        for row, (first, second) in enumerate(self.data.contact.geom.tolist()):
             pair = codes[first] | codes[second]
             if pair in (_OBJECT | _LEFT_FINGER, _OBJECT | _RIGHT_FINGER):
+                rows.append(row)
                 touched |= pair
-        return touched == _OBJECT | _LEFT_FINGER | _RIGHT_FINGER
+        return rows, touched
 
     def use_hold_timestep(self) -> None:
         """From now on step with ``config.hold_timestep``, capped at the gripper's
@@ -408,8 +421,7 @@ class _Trial:
 
     def held(self) -> FingerContacts:
         """Finger-object contacts now."""
-        left, right = (np.asarray(g) for g in self.scene.gripper.finger_geoms)
-        return finger_contacts(self.scene.data, left, right, self.runner.object_geoms)
+        return self.runner.finger_contacts()
 
     def slip(self, world_T_object: NDArray[np.float64]) -> float:
         """The object's motion relative to the TCP since the end of the close (m)."""
