@@ -34,14 +34,26 @@ def tcp_pose(position: ArrayLike, closing: ArrayLike, approach: ArrayLike) -> ND
     return make_transform(np.column_stack([np.cross(y, z), y, z]), np.asarray(position, float))
 
 
+_IDENTITY = np.eye(3)
+_GRAM_TOLERANCE = 1e-6 + 1e-5 * _IDENTITY
+"""How far ``R^T R`` may be from the identity (``np.allclose(R.T @ R, I, atol=1e-6)``)."""
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
+_LAST_ROW_TOLERANCE = 1e-8 + 1e-5 * _LAST_ROW
+"""How far a 4x4 transform's last row may be from ``[0 0 0 1]`` (``np.allclose``'s defaults)."""
+
+
 def _check_rigid(transform: NDArray[np.float64], what: str) -> NDArray[np.float64]:
+    """``transform`` as a float array, or an error naming ``what`` unless it is a finite rigid
+    4x4 transform (checked once per grasp and frame: the tolerances of ``np.allclose``
+    without its overhead)."""
     arr = np.asarray(transform, dtype=float)
-    if arr.shape != (4, 4) or not np.all(np.isfinite(arr)):
+    if arr.shape != (4, 4) or not np.isfinite(arr).all():
         raise SimgraspError(f"{what} must be a finite 4x4 matrix, got shape {arr.shape}")
     rotation = arr[:3, :3]
-    if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-6) or np.linalg.det(rotation) < 0:
+    gram_error = np.abs(rotation.T @ rotation - _IDENTITY)
+    if (gram_error > _GRAM_TOLERANCE).any() or np.linalg.det(rotation) < 0:
         raise SimgraspError(f"{what} has no proper rotation block (not orthonormal, det != +1)")
-    if not np.allclose(arr[3], [0.0, 0.0, 0.0, 1.0]):
+    if (np.abs(arr[3] - _LAST_ROW) > _LAST_ROW_TOLERANCE).any():
         raise SimgraspError(f"{what} must have last row [0 0 0 1], got {arr[3].tolist()}")
     return arr
 

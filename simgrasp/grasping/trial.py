@@ -41,7 +41,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any, Literal
 
 import numpy as np
@@ -59,7 +59,6 @@ from simgrasp.grasping.scoring import (
 )
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.scenes.scene import Scene
-from simgrasp.transforms import matrix_to_pose7
 
 Failure = Literal[
     "approach_collision",
@@ -108,7 +107,8 @@ class TrialResult:
     timings_s: dict[str, float] = field(compare=False)
 
     def to_json(self) -> dict[str, Any]:
-        return asdict(self)
+        """The record as a dict of JSON types (shallow: its lists are this result's own)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 class _Diverged(Exception):
@@ -327,6 +327,15 @@ def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64
     return world_T_object
 
 
+def _initial_pose7(scene: Scene, config: TrialConfig) -> list[float]:
+    """:func:`initial_object_pose` as ``[x, y, z, qw, qx, qy, qz]`` (the rest pose's
+    conversion is the scene's, made once)."""
+    pose7 = scene.rest_pose7.copy()
+    if config.free_floating:
+        pose7[2] += config.float_height
+    return pose7.tolist()
+
+
 def _start(scene: Scene, config: TrialConfig) -> None:
     """Reset the scene for a trial (``mj_resetData``, no rebuild) with the trial's time step and
     sleep setting; a free-floating object is raised and its gravity compensated."""
@@ -370,7 +379,7 @@ def run_trial(
         object=scene.object_name,
         gripper=scene.gripper.gripper.name,
         seed=scene.seed,
-        object_pose=matrix_to_pose7(initial_object_pose(scene, config)).tolist(),
+        object_pose=_initial_pose7(scene, config),
         grasp=grasp.to_pose7().tolist(),
         grasp_width=float(grasp.width),
         grasp_source=grasp.source,

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -26,7 +27,7 @@ from simgrasp.grippers.mount import BoundGripper, attach_gripper
 from simgrasp.scenes.camera import add_camera, default_viewpoints
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.seeding import rng_for
-from simgrasp.transforms import make_transform
+from simgrasp.transforms import make_transform, matrix_to_pose7
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
@@ -66,6 +67,11 @@ class Scene:
     @property
     def object_name(self) -> str:
         return self.object_model.asset.name
+
+    @cached_property
+    def rest_pose7(self) -> NDArray[np.float64]:
+        """``world_T_object`` as ``[x, y, z, qw, qx, qy, qz]`` (qw >= 0), converted once."""
+        return matrix_to_pose7(self.world_T_object)
 
     def object_pose(self) -> NDArray[np.float64]:
         """Current ``world_T_object`` (4x4) from ``data``."""
