@@ -233,7 +233,7 @@ class _Runner:
     def finger_contacts(self) -> FingerContacts:
         """The finger-object contacts now (points in the world frame, m)."""
         rows, touched = self._finger_rows()
-        points_world = self.data.contact.pos[rows].reshape(-1, 3)
+        points_world = self.data.contact.pos[rows]  # (N, 3), a copy
         return FingerContacts(
             points_world, bool(touched & _LEFT_FINGER), bool(touched & _RIGHT_FINGER)
         )
@@ -328,11 +328,10 @@ def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64
 
 
 def _initial_pose7(scene: Scene, config: TrialConfig) -> list[float]:
-    """:func:`initial_object_pose` as ``[x, y, z, qw, qx, qy, qz]`` (the rest pose's
-    conversion is the scene's, made once)."""
+    """:func:`initial_object_pose` as ``[x, y, z, qw, qx, qy, qz]``: its position, and the
+    rest pose's orientation (the start never turns the object), converted once per scene."""
     pose7 = scene.rest_pose7.copy()
-    if config.free_floating:
-        pose7[2] += config.float_height
+    pose7[:3] = initial_object_pose(scene, config)[:3, 3]
     return pose7.tolist()
 
 
