@@ -11,6 +11,7 @@ from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placem
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.scenes.camera_spec import CameraSpec
+from simgrasp.scenes.clutter_sets import DEFAULT_CLUTTER_SET, MAX_CLUTTER, check_clutter
 from simgrasp.scenes.views import MAX_VIEWS, check_views
 
 
@@ -30,6 +31,11 @@ class SceneConfig:
         placement: ``"stable"``, a rest pose drawn among all stable poses by the probability
             of landing in it from a random drop, or ``"upright"``, only among the poses that
             stand the object on its own base (+z up), as a person places a mug.
+        clutter: distractor objects (0..12) drawn by the seed, dropped around the object and
+            settled by the simulator before the cameras look (:mod:`simgrasp.scenes.clutter`).
+        clutter_objects: what distractors are drawn from: ``all`` (every object we have but
+            the target: the generated tools, and the YCB objects when ``$SIMGRASP_YCB_DIR``
+            is set), ``generated``, ``ycb`` or a comma list of object names.
     """
 
     table_top_z: float = 0.0
@@ -40,10 +46,15 @@ class SceneConfig:
     num_views: int = setting(1, flag="--views", choices=tuple(range(1, MAX_VIEWS + 1)))
     random_yaw: bool = True
     placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
+    clutter: int = setting(0, flag="--clutter", choices=tuple(range(MAX_CLUTTER + 1)))
+    clutter_objects: str = setting(
+        DEFAULT_CLUTTER_SET, flag="--clutter-objects", metavar="all|generated|ycb|NAMES"
+    )
 
     def __post_init__(self) -> None:
         check_placement(self.placement)
         check_views(self.num_views)
+        check_clutter(self.clutter, self.clutter_objects)
         if not all(h > 0 for h in self.table_half_size):
             raise SimgraspError(f"table_half_size must be positive, got {self.table_half_size}")
         if not self.park_height > 0.3:

@@ -3,10 +3,11 @@
 A new :class:`SceneRenderer` costs about 0.25 s on software GL (GL context, upload of meshes
 and textures, first draws): more than rendering four views with it. Scenes that
 :func:`simgrasp.scenes.scene.build_scene` makes from the same ``ObjectModel`` instance, the same
-gripper and the same ``SceneConfig`` differ only in state that reaches the renderer through
-``data``: the object's rest pose and the cameras placed around it. The renderer of the first
-such scene draws the others exactly as a fresh one would (tested). A scene built otherwise
-replaces it, so a :class:`RendererKeeper` holds at most one renderer (one GL context).
+gripper and the same ``SceneConfig`` (in clutter, with the same distractor models) differ only
+in state that reaches the renderer through ``data``: the object's rest pose and the cameras
+placed around it. The renderer of the first such scene draws the others exactly as a fresh
+one would (tested). A scene built otherwise replaces it, so a :class:`RendererKeeper` holds at
+most one renderer (one GL context).
 
 The chain uses one keeper per process (:func:`kept_renderer`, closed at exit). A GL context
 hangs a ``fork``-ed child: call :func:`close_kept_renderer` before forking (or use the
@@ -36,10 +37,13 @@ class _Kept:
     config: SceneConfig
     layout: tuple[float, ...]
     renderer: SceneRenderer
+    distractors: tuple[ObjectModel, ...] = ()
 
     def serves(self, scene: Scene) -> bool:
         return (
             self.object_model is scene.object_model
+            and len(self.distractors) == len(scene.distractors)
+            and all(a is d.model for a, d in zip(self.distractors, scene.distractors, strict=True))
             and self.gripper == scene.gripper.gripper.name
             and self.config == scene.config
             and self.layout == _layout(scene.model)
@@ -71,6 +75,7 @@ class RendererKeeper:
             scene.config,
             _layout(scene.model),
             renderer,
+            tuple(d.model for d in scene.distractors),
         )
         return renderer
 

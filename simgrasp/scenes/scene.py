@@ -31,6 +31,7 @@ from simgrasp.transforms import make_transform, matrix_to_pose7
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
+    from simgrasp.scenes.clutter import Distractor
 
 OBJECT_NAME = "object"
 TABLE_NAME = "table"
@@ -63,6 +64,8 @@ class Scene:
     cameras: tuple[str, ...]
     config: SceneConfig
     seed: int
+    distractors: tuple[Distractor, ...] = ()
+    """The settled distractors of a cluttered scene (``config.clutter``), in body order."""
 
     @property
     def object_name(self) -> str:
@@ -103,12 +106,21 @@ def build_scene(
     """Build and compile a scene with ``object_model`` resting on the table.
 
     The rest pose comes from ``sample_rest_pose`` (seeded by ``seed``), then a seeded yaw about
-    world z; the object's footprint is centered on the table origin.
+    world z; the object's footprint is centered on the table origin. With ``config.clutter``,
+    distractors are dropped around it and settled (:mod:`simgrasp.scenes.clutter`).
     """
     config = config or SceneConfig()
     spec = _table_spec(object_model.asset.name, config)
     world_T_object = _rest_pose(object_model, config, seed, sample_rest_pose)
+    distractors: tuple[Distractor, ...] = ()
+    if config.clutter:
+        from simgrasp.scenes.clutter import clutter_layout
+
+        layout = clutter_layout(object_model, world_T_object, config, seed)
+        world_T_object, distractors = layout.world_T_target, layout.distractors
     object_model.add_to(spec, world_T_object, name=OBJECT_NAME)
+    for distractor in distractors:
+        distractor.model.add_to(spec, distractor.world_T_object, name=distractor.body)
 
     cameras = config.cameras or tuple(default_viewpoints(world_T_object[:3, 3], n=config.num_views))
     for camera in cameras:
@@ -144,6 +156,7 @@ def build_scene(
         cameras=tuple(c.name for c in cameras),
         config=config,
         seed=seed,
+        distractors=distractors,
     )
 
 
