@@ -19,14 +19,20 @@ from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import CHAIN_DETECTORS, ChainConfig, ChainDetector
+from simgrasp.grasping.chain_config import (
+    CHAIN_DETECTORS,
+    PERCEPTIONS,
+    ChainConfig,
+    ChainDetector,
+    Perception,
+)
 from simgrasp.grippers.registry import gripper_names
 from simgrasp.perception.sensors.settings import sensor_names
 
 if TYPE_CHECKING:
     from simgrasp.evaluation.sweep import TrialSpec
 
-SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind")
+SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind", "perception")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -41,6 +47,8 @@ class Options(YcbSource):
     """Multiplicative cloud-noise sigmas: START:STOP:STEP or a comma list."""
     sensor: tuple[str, ...] = setting(("ideal",), choices=None)
     """Depth sensors to sweep (ideal, kinect, stereo)."""
+    perception: tuple[Perception, ...] = setting(("auto",), choices=None)
+    """Cuts of the target to sweep (auto, segment, mask; auto: segment in clutter, else mask)."""
     seeds: int = 3
     """Seeds 0..N-1 per setting."""
     workers: int = 2
@@ -69,6 +77,7 @@ def run(options: Options) -> int:
         "gripper": options.gripper,
         "noise": options.noise,
         "sensor.kind": options.sensor,
+        "perception": options.perception,
     }
     specs = plan_trials(expand_objects(options.objects), axes, range(options.seeds), options.chain)
     check_plan(specs, ycb_dir)
@@ -118,6 +127,11 @@ def _check(options: Options) -> None:
     if unknown:
         raise SimgraspError(
             f"unknown --sensor {unknown[0]!r}; choose from {', '.join(sensor_names())}"
+        )
+    unknown = [p for p in options.perception if p not in PERCEPTIONS]
+    if unknown:
+        raise SimgraspError(
+            f"unknown --perception {unknown[0]!r}; choose from {', '.join(PERCEPTIONS)}"
         )
     bad = [sigma for sigma in options.noise if not 0 <= sigma < 1]
     if bad:

@@ -321,9 +321,13 @@ def write_plots(records: Sequence[Record], out_dir: Path) -> list[Path]:
 
 def write_report(records: Sequence[Record], out_dir: Path, title: str = "Grasp sweep") -> str:
     """Write ``summary.csv``, ``report.md`` and the plots into ``out_dir``; return the report.
-    Records of more than one depth sensor are told apart as ``detector+sensor``."""
-    records = sensor_labeled(records)
-    text = report_markdown(records, title)
+    Records of more than one depth sensor are told apart as ``detector+sensor``, of more than
+    one cut of the target as ``detector+perception`` (:mod:`.clutter_report`)."""
+    from simgrasp.evaluation.clutter_report import clutter_section, perception_labeled
+
+    clutter = clutter_section(records)
+    records = perception_labeled(sensor_labeled(records))
+    text = "\n".join([report_markdown(records, title), *(["", *clutter] if clutter else [])])
     write_summary_csv(records, out_dir / "summary.csv")
     (out_dir / "report.md").write_text(text + "\n", encoding="utf-8")
     write_plots(records, out_dir)

@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from simgrasp.assets.model import ObjectModel
 from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.clutter_scoring import NeighborWatch, score_in_clutter
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
 from simgrasp.grasping.trial import Phase, TrialResult, run_trial
@@ -25,6 +26,7 @@ from simgrasp.handles.accuracy import score_detection
 from simgrasp.handles.detection import Detection
 from simgrasp.scenes.kept_renderer import kept_renderer
 from simgrasp.scenes.observe import ObjectCloud, observe, viewpoint_normals
+from simgrasp.scenes.perceive import perceive_target
 from simgrasp.scenes.scene import Scene, build_scene
 
 
@@ -45,6 +47,10 @@ class ChainResult:
     grasp_candidates: int
     trial: TrialResult | None
     timings_s: dict[str, float]
+    scene_fields: dict[str, Any] = field(default_factory=dict)
+    """Fields of a cluttered scene or of a segmented cut (``clutter``, ``perception``,
+    ``target_iou``, ...; a ``failure`` a neighbor explains), merged into the record; empty for
+    one object cut by the mask."""
 
     @property
     def success(self) -> bool | None:
@@ -57,7 +63,8 @@ class ChainResult:
     def to_json(self) -> dict[str, Any]:
         """One flat record: the trial's fields, the chain's fields and merged timings."""
         trial = self.trial.to_json() if self.trial else _NO_GRASP_RECORD
-        record = {**trial, **{k: v for k, v in self.__dict__.items() if k != "trial"}}
+        chain = {k: v for k, v in self.__dict__.items() if k not in ("trial", "scene_fields")}
+        record = {**trial, **chain, **self.scene_fields}
         record["timings_s"] = {**trial.get("timings_s", {}), **self.timings_s}
         record["success"] = self.success
         record["on_handle"] = self.on_handle
@@ -76,9 +83,14 @@ _NO_GRASP_RECORD: dict[str, Any] = {
 
 
 def propose_grasps(
-    scene: Scene, cloud: ObjectCloud, config: ChainConfig, seed: int
+    scene: Scene,
+    cloud: ObjectCloud,
+    config: ChainConfig,
+    seed: int,
+    scene_obstacles_world: np.ndarray | None = None,
 ) -> tuple[list[Grasp], Detection | None]:
-    """Ranked grasps from the configured detector (or baseline) on the observed cloud."""
+    """Ranked grasps from the configured detector (or baseline) on the observed cloud, clear
+    of ``scene_obstacles_world`` (the rest of a cluttered scene)."""
     if len(cloud) < MIN_CLOUD_POINTS:
         return [], None
     return plan_grasps(
@@ -90,6 +102,7 @@ def propose_grasps(
         config.detector,
         config.planner,
         seed,
+        scene_obstacles_world,
     )
 
 
@@ -113,13 +126,22 @@ def run_chain(
     gripper = gripper or make_gripper(config.gripper)
     scene = build_scene(object_model, gripper, config.scene, seed)
     lap("scene")
-    cloud = observe(scene, kept_renderer(scene), config.noise, seed, config.sensor).cloud
+    observation = observe(scene, kept_renderer(scene), config.noise, seed, config.sensor)
     lap("render")
-    grasps, detection = propose_grasps(scene, cloud, config, seed)
+    cloud, perceived, fields = observation.cloud, None, {}
+    if config.scene.clutter or config.perception_mode != "mask":
+        perceived = perceive_target(
+            scene, observation, config.perception_mode, config.noise, seed, config.segment
+        )
+        cloud = perceived.cloud
+        fields = {"perception": config.perception_mode, "target_iou": perceived.target_iou}
+        lap("segment")
+    obstacles = perceived.obstacles_world if perceived else None
+    grasps, detection = propose_grasps(scene, cloud, config, seed, obstacles)
     lap("detect_and_plan")
     object_T_world = np.linalg.inv(scene.world_T_object).astype(np.float64)
     accuracy, recall = score_detection(detection, object_T_world, object_model.asset.handle)
-    trial = run_trial(scene, grasps[0], config.trial, on_phase) if grasps else None
+    trial, fields = _executed(scene, grasps, config, on_phase, fields)
     return ChainResult(
         object=object_model.asset.name,
         detector=config.detector.kind,
@@ -134,4 +156,31 @@ def run_chain(
         grasp_candidates=len(grasps),
         trial=trial,
         timings_s=timings,
+        scene_fields=fields,
     )
+
+
+def _executed(
+    scene: Scene,
+    grasps: list[Grasp],
+    config: ChainConfig,
+    on_phase: Callable[[Phase, Scene], None] | None,
+    fields: dict[str, Any],
+) -> tuple[TrialResult | None, dict[str, Any]]:
+    """The trial of the best grasp (None without one) and the record's scene fields, with
+    the clutter scoring's (:mod:`simgrasp.grasping.clutter_scoring`) in clutter."""
+    if not config.scene.clutter:
+        return (run_trial(scene, grasps[0], config.trial, on_phase) if grasps else None), fields
+    watch = NeighborWatch.of(scene)
+
+    def phase_hook(phase: Phase, at: Scene) -> None:
+        watch(phase, at)
+        if on_phase is not None:
+            on_phase(phase, at)
+
+    trial = run_trial(scene, grasps[0], config.trial, phase_hook) if grasps else None
+    clutter = {
+        "clutter": config.scene.clutter,
+        "distractors": [d.object_name for d in scene.distractors],
+    }
+    return trial, {**clutter, **fields, **score_in_clutter(scene, trial, watch, config.trial)}

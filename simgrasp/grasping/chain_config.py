@@ -17,6 +17,7 @@ from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.perception.segment_config import SegmentConfig
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.views import CHAIN_VIEWS
@@ -24,6 +25,8 @@ from simgrasp.scenes.views import CHAIN_VIEWS
 ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
 CHAIN_DETECTORS: tuple[ChainDetector, ...] = ("quadric", "tenpas", "centroid", "random")
 BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
+Perception = Literal["auto", "segment", "mask"]
+PERCEPTIONS: tuple[Perception, ...] = ("auto", "segment", "mask")
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,13 @@ class ChainConfig:
     """The paper's multiplicative noise sigma on the observed cloud about its centroid
     (Table II's model), so detection and grasp sweeps share one noise axis."""
     sensor: SensorSettings = field(default_factory=SensorSettings)
+    perception: Perception = setting("auto", flag="--perception")
+    """How the target's cloud is cut from the views (:mod:`simgrasp.scenes.perceive`): segment
+    (our scene segmenter, the segment holding most of the target's pixels; the other segments
+    are obstacles), mask (the renderer's segmentation: ground truth); auto: segment in
+    clutter, mask otherwise."""
+    segment: SegmentConfig = field(default_factory=SegmentConfig)
+    """The scene segmenter of ``perception`` segment."""
     scene: SceneConfig = field(default_factory=_chain_scene)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     trial: TrialConfig = field(default_factory=TrialConfig)
@@ -68,6 +78,13 @@ class ChainConfig:
         """The default config with dotted settings changed, keyword-friendly:
         ``ChainConfig.of(detector__kind="tenpas", scene__placement="upright")``."""
         return build(cls, {key.replace("__", "."): value for key, value in settings.items()})
+
+    @property
+    def perception_mode(self) -> Literal["segment", "mask"]:
+        """``perception`` with auto resolved: segment in clutter, mask without."""
+        if self.perception != "auto":
+            return self.perception
+        return "segment" if self.scene.clutter else "mask"
 
     def __post_init__(self) -> None:
         if not 0 <= self.noise < 1:

@@ -94,6 +94,18 @@ def obstacle_points(
     return points_world[counts > config.obstacle_min_neighbors]
 
 
+def planning_obstacles(
+    points_world: NDArray[np.float64],
+    config: PlannerConfig,
+    scene_world: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
+    """:func:`obstacle_points` of the object cloud and, in clutter, of the rest of the scene
+    (``scene_world``, (M, 3) world frame, m)."""
+    if scene_world is None or len(scene_world) == 0:
+        return obstacle_points(points_world, config)
+    return obstacle_points(np.concatenate([points_world, scene_world]), config)
+
+
 def _inside_count(distances: NDArray[np.float64]) -> int:
     return int(np.count_nonzero(distances == 0.0))
 
@@ -186,6 +198,7 @@ def grasps_from_handles(
     rng: np.random.Generator,
     config: PlannerConfig = PlannerConfig(),
     source: str = "quadric",
+    scene_obstacles_world: NDArray[np.float64] | None = None,
 ) -> list[Grasp]:
     """Grasps closing across each handle, best first.
 
@@ -203,7 +216,7 @@ def grasps_from_handles(
     handles = list(handles)[: config.max_handles]
     best_score = max((h.score for h in handles), default=1.0) or 1.0
     centroid = points_world.mean(axis=0) if len(points_world) else None
-    obstacles = obstacle_points(points_world, config)
+    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
     grasps = []
     for handle in handles:
         u, v = _downward_basis(handle.axis)
@@ -292,6 +305,7 @@ def centroid_grasps(
     geometry: GripperGeometry,
     table_z: float,
     config: PlannerConfig = PlannerConfig(),
+    scene_obstacles_world: NDArray[np.float64] | None = None,
 ) -> list[Grasp]:
     """Baseline: top-down grasps at the cloud centroid, jaws across the narrower horizontal
     extent first, then rotated in 30 degree steps."""
@@ -300,7 +314,7 @@ def centroid_grasps(
     _, vectors = np.linalg.eigh(spread)
     narrow = np.append(vectors[:, 0], 0.0)
     down = np.array([0.0, 0.0, -1.0])
-    obstacles = obstacle_points(points_world, config)
+    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
     grasps = []
     for step in range(6):
         angle = np.radians(30 * step)
@@ -326,11 +340,12 @@ def antipodal_grasps(
     table_z: float,
     rng: np.random.Generator,
     config: PlannerConfig = PlannerConfig(),
+    scene_obstacles_world: NDArray[np.float64] | None = None,
 ) -> list[Grasp]:
     """Baseline: random antipodal point pairs (normals opposed along the line joining them,
     closer than the opening), approached from a random direction perpendicular to the jaws."""
     count = len(points_world)
-    obstacles = obstacle_points(points_world, config)
+    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
     first = rng.integers(0, count, config.antipodal_samples)
     second = rng.integers(0, count, config.antipodal_samples)
     grasps = []

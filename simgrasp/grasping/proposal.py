@@ -35,6 +35,7 @@ def plan_grasps(
     detector: ChainDetectorConfig,
     planner: PlannerConfig,
     seed: int,
+    scene_obstacles_world: NDArray[np.float64] | None = None,
 ) -> tuple[list[Grasp], Detection | None]:
     """Ranked grasps (best first) from ``detector`` (a handle detector or a baseline).
 
@@ -50,15 +51,21 @@ def plan_grasps(
         detector: which proposer, with its thresholds.
         planner: grasp sampling and ranking.
         seed: seeds the detector's sampling and the planner's approach jitter.
+        scene_obstacles_world: (M, 3) the rest of a cluttered scene (world frame, m), which
+            the open gripper must keep clear of as of the object cloud itself.
 
     Returns:
         The grasps and, for the handle detectors, their detection (None for the baselines).
     """
     rng = rng_for(seed, "chain", "plan")
+    obstacles = scene_obstacles_world
     if detector.kind == "centroid":
-        return centroid_grasps(points_world, geometry, table_top_z, planner), None
+        grasps = centroid_grasps(points_world, geometry, table_top_z, planner, obstacles)
+        return grasps, None
     if detector.kind == "random":
-        grasps = antipodal_grasps(points_world, normals_world, geometry, table_top_z, rng, planner)
+        grasps = antipodal_grasps(
+            points_world, normals_world, geometry, table_top_z, rng, planner, obstacles
+        )
         return grasps, None
     detection = detect(
         points_world,
@@ -76,5 +83,6 @@ def plan_grasps(
         rng,
         planner,
         detector.kind,
+        obstacles,
     )
     return grasps, detection

@@ -136,7 +136,14 @@ def cloud_from_views(
     """Fuse the object's pixels of ``frames`` into a world-frame cloud (``CLOUD_VOXEL``
     voxels) and apply the multiplicative noise ``noise`` about its centroid (seeded by
     ``seed``)."""
-    cloud = object_cloud(frames, [scene.object_body], voxel_size=CLOUD_VOXEL)
+    return noisy_cloud(
+        object_cloud(frames, [scene.object_body], voxel_size=CLOUD_VOXEL), noise, seed
+    )
+
+
+def noisy_cloud(cloud: ObjectCloud, noise: float, seed: int) -> ObjectCloud:
+    """``cloud`` with the multiplicative noise ``noise`` about its centroid (seeded by
+    ``seed``; ``cloud`` itself when ``noise`` is 0)."""
     if noise == 0 or len(cloud) == 0:
         return cloud
     centroid = cloud.points_world.mean(axis=0)

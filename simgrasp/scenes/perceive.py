@@ -1,0 +1,123 @@
+"""The target's cloud cut from the whole scene, as a robot would: our segmenter, not the mask.
+
+``segment``: each camera's depth frame (as the sensor returns it) becomes an organized scene
+cloud in the world frame (640 x 480, NaN where the sensor returned nothing), which
+:func:`simgrasp.perception.segment.segment_scene` cuts into the table and the objects on it, as
+``simgrasp segment`` cuts a real Kinect frame; in each view the segment (with its side parts)
+holding most of the target's true pixels is taken, as an object recognizer would hand it over,
+and the views' picks are fused into the target cloud. Every other segment is fused into the
+obstacle cloud the planner keeps the open gripper clear of. ``mask``: the renderer's
+segmentation cuts the target (today's ground truth) and the distractors' pixels are the
+obstacles. ``target_iou`` compares the cut with the target's true pixels over all views
+(pixels the sensor returned a depth for): intersection over union, summed over the views.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from simgrasp.perception.camera import depth_to_points_cam, transform_points
+from simgrasp.perception.scene_cloud import SceneCloud
+from simgrasp.perception.segment import segment_scene
+from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.voxel import voxel_downsample
+from simgrasp.scenes.observe import CLOUD_VOXEL, ObjectCloud, SceneObservation, noisy_cloud
+from simgrasp.scenes.render import DepthFrame
+from simgrasp.scenes.scene import Scene
+
+
+@dataclass(frozen=True, eq=False)
+class PerceivedTarget:
+    """The target's cloud, the rest of the scene as obstacle points (M, 3; world frame, m),
+    and the cut's IoU against the true target pixels."""
+
+    cloud: ObjectCloud
+    obstacles_world: NDArray[np.float64]
+    target_iou: float
+
+
+def perceive_target(
+    scene: Scene,
+    observation: SceneObservation,
+    perception: str,
+    noise: float,
+    seed: int,
+    config: SegmentConfig | None = None,
+) -> PerceivedTarget:
+    """Cut the target from ``observation``'s frames with ``perception`` (``segment`` or
+    ``mask``; module docstring), then apply the cloud noise ``noise`` (seeded by ``seed``) as
+    :func:`simgrasp.scenes.observe.cloud_from_views` does."""
+    frames = observation.frames
+    distractors = [scene.model.body(d.body).id for d in scene.distractors]
+    targets, others, inter, union = [], [], 0, 0
+    for frame in frames:
+        truth = (frame.body_ids == scene.object_body) & (frame.depth > 0)
+        if perception == "segment":
+            cut, rest = _segmented_cut(frame, truth, config or SegmentConfig())
+        else:
+            cut, rest = truth, np.isin(frame.body_ids, distractors) & (frame.depth > 0)
+        targets.append(cut)
+        others.append(rest)
+        inter += int((cut & truth).sum())
+        union += int((cut | truth).sum())
+    if perception == "mask":
+        cloud = observation.cloud  # exactly today's ground-truth cut
+    else:
+        cloud = noisy_cloud(_fused(frames, targets), noise, seed)
+    obstacles = _fused(frames, others).points_world
+    return PerceivedTarget(cloud, obstacles, inter / union if union else 0.0)
+
+
+def organized_cloud(frame: DepthFrame) -> SceneCloud:
+    """``frame`` as an organized scene cloud in the world frame (NaN where no depth), seen
+    from the camera's optical center."""
+    points_cam, pixels = depth_to_points_cam(frame.depth, frame.intrinsics)
+    grid = np.full((frame.depth.size, 3), np.nan, dtype=np.float32)
+    grid[pixels] = transform_points(frame.world_T_cam, points_cam)
+    height, width = frame.depth.shape
+    return SceneCloud(grid, width, height, frame.camera_position_world, None, frame.camera_name)
+
+
+def _segmented_cut(
+    frame: DepthFrame, truth: NDArray[np.bool_], config: SegmentConfig
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """(H, W) the segment holding most of ``truth``'s pixels (none when it holds none), and
+    every other object segment."""
+    segmentation = segment_scene(organized_cloud(frame), config)
+    shape = frame.depth.shape
+    objects = segmentation.labels.reshape(shape) >= 2
+    best, best_count = np.zeros(shape, dtype=bool), 0
+    for label in segmentation.whole_objects():
+        members = segmentation.object_mask(label).reshape(shape)
+        count = int((members & truth).sum())
+        if count > best_count:
+            best, best_count = members, count
+    return best, objects & ~best
+
+
+def _fused(frames: list[DepthFrame], masks: list[NDArray[np.bool_]]) -> ObjectCloud:
+    """The masked pixels of every frame fused into one world-frame cloud (``CLOUD_VOXEL``
+    voxels), each point keeping the viewpoint of its nearest input point."""
+    per_view = [
+        transform_points(
+            frame.world_T_cam, depth_to_points_cam(frame.depth, frame.intrinsics, m)[0]
+        )
+        for frame, m in zip(frames, masks, strict=True)
+    ]
+    points_world = np.concatenate(per_view, axis=0)
+    view_index = np.repeat(np.arange(len(frames)), [len(p) for p in per_view])
+    if len(points_world):
+        fused, _ = voxel_downsample(points_world, CLOUD_VOXEL)
+        view_index = view_index[cKDTree(points_world).query(fused)[1]]
+        points_world = fused
+    eyes = np.stack([frame.camera_position_world for frame in frames])
+    return ObjectCloud(
+        points_world=points_world,
+        viewpoints_world=eyes[view_index].reshape(-1, 3),
+        view_counts=tuple(int(c) for c in np.bincount(view_index, minlength=len(frames))),
+        camera_names=tuple(frame.camera_name for frame in frames),
+    )

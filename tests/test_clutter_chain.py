@@ -1,0 +1,90 @@
+"""The chain in clutter: the target cut by our segmenter, neighbors scored, clutter 0 unchanged."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from simgrasp.assets.model import model_for
+from simgrasp.grasping.chain import run_chain
+from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.clutter_scoring import NeighborWatch, score_in_clutter
+from simgrasp.grasping.grasp import Grasp, tcp_pose
+from simgrasp.grasping.trial import run_trial
+from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grippers import make_gripper
+from simgrasp.perception.segment import segment_scene
+from simgrasp.scenes.config import SceneConfig
+from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.observe import observe
+from simgrasp.scenes.perceive import organized_cloud, perceive_target
+from simgrasp.scenes.scene import build_scene
+
+CLUTTER_KEYS = {"clutter", "distractors", "perception", "target_iou", "neighbors_disturbed"}
+
+
+@pytest.fixture(scope="module")
+def hammer():
+    return model_for("gen_hammer")
+
+
+def test_under_segment_the_target_is_cut_by_the_segmenter_not_the_mask(hammer) -> None:
+    config = SceneConfig(num_views=2, clutter=3, clutter_objects="generated")
+    scene = build_scene(hammer, make_gripper("builtin"), config, seed=0)
+    observation = observe(scene, kept_renderer(scene), 0.0, 0)
+    segmented = perceive_target(scene, observation, "segment", 0.0, 0)
+    masked = perceive_target(scene, observation, "mask", 0.0, 0)
+    assert masked.cloud is observation.cloud and masked.target_iou == 1.0
+    assert 0.8 < segmented.target_iou < 1.0  # the segmenter's cut, close to the truth
+    assert len(segmented.obstacles_world) > 500  # the neighbors stay in as obstacles
+    # Every point of the cut lies within a voxel of one segment of the segmenter's labels.
+    frame = observation.frames[0]
+    labels = segment_scene(organized_cloud(frame)).labels.reshape(frame.depth.shape)
+    truth = frame.body_ids == scene.object_body
+    chosen = np.bincount(labels[truth & (labels >= 2)]).argmax()
+    segment_points = organized_cloud(frame).points[(labels == chosen).reshape(-1)]
+    cut = segmented.cloud.points_world
+    seen_first = (segmented.cloud.viewpoints_world == frame.camera_position_world).all(axis=1)
+    distance, _ = cKDTree(segment_points).query(cut[seen_first])
+    assert np.quantile(distance, 0.95) < 0.005
+    assert not np.array_equal(np.sort(cut, axis=0), np.sort(masked.cloud.points_world, axis=0))
+
+
+def test_a_neighbor_lifted_is_wrong_object(hammer) -> None:
+    config = SceneConfig(clutter=1, clutter_objects="gen_fruit")
+    gripper = make_gripper("builtin")
+    scene = build_scene(hammer, gripper, config, seed=0)
+    neighbor = scene.distractors[0]
+    mesh = neighbor.model.asset.mesh.copy().apply_transform(neighbor.world_T_object)
+    center = mesh.bounds.mean(axis=0)
+    on_neighbor = tcp_pose(center, np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, -1.0]))
+    grasp = Grasp(world_T_tcp=on_neighbor, width=gripper.max_opening, score=1.0, source="given")
+    watch = NeighborWatch.of(scene)
+    trial = run_trial(scene, grasp, TrialConfig(), watch)
+    assert trial.success is False and trial.failure == "missed"  # the target was never touched
+    fields = score_in_clutter(scene, trial, watch, TrialConfig())
+    assert fields["failure"] == "wrong_object"
+    assert fields["neighbors_disturbed"] == 1
+    lifted = scene.data.xpos[scene.model.body(neighbor.body).id][2] - neighbor.world_T_object[2, 3]
+    assert lifted > 0.1
+
+
+def test_clutter_zero_records_are_todays(hammer) -> None:
+    today = run_chain(hammer, ChainConfig(), seed=0).to_json()
+    zero = run_chain(hammer, ChainConfig.of(scene__clutter=0, perception="mask"), 0).to_json()
+    assert not CLUTTER_KEYS & set(today) and "segment" not in today["timings_s"]
+    today.pop("timings_s"), zero.pop("timings_s")
+    assert today == zero
+
+
+def test_a_clutter_trial_records_its_scene_and_cut(hammer) -> None:
+    config = ChainConfig.of(
+        scene__clutter=2, scene__clutter_objects="generated", scene__num_views=2
+    )
+    record = run_chain(hammer, config, seed=1).to_json()
+    assert record["perception"] == "segment" and record["clutter"] == 2
+    assert len(record["distractors"]) == 2 and "gen_hammer_s0" not in record["distractors"]
+    assert record["target_iou"] > 0.8
+    assert record["timings_s"]["segment"] > 0
+    assert isinstance(record["neighbors_disturbed"], int)
