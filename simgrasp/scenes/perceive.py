@@ -4,8 +4,9 @@
 cloud in the world frame (640 x 480, NaN where the sensor returned nothing), which
 :func:`simgrasp.perception.segment.segment_scene` cuts into the table and the objects on it, as
 ``simgrasp segment`` cuts a real Kinect frame; in each view the segment (with its side parts)
-holding most of the target's true pixels is taken, as an object recognizer would hand it over,
-and the views' picks are fused into the target cloud. Every other segment is fused into the
+holding most of the target's true pixels is taken, with any other segment mostly on the target
+(``MAJORITY``), as an object recognizer would hand it over, and the views' picks are fused
+into the target cloud. Every other segment is fused into the
 obstacle cloud the planner keeps the open gripper clear of. ``mask``: the renderer's
 segmentation cuts the target (today's ground truth) and the distractors' pixels are the
 obstacles. ``target_iou`` compares the cut with the target's true pixels over all views
@@ -23,11 +24,16 @@ from scipy.spatial import cKDTree
 from simgrasp.perception.camera import depth_to_points_cam, transform_points
 from simgrasp.perception.scene_cloud import SceneCloud
 from simgrasp.perception.segment import segment_scene
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segment_config import FIRST_OBJECT, SegmentConfig
 from simgrasp.perception.voxel import voxel_downsample
 from simgrasp.scenes.observe import CLOUD_VOXEL, ObjectCloud, SceneObservation, noisy_cloud
 from simgrasp.scenes.render import DepthFrame
 from simgrasp.scenes.scene import Scene
+
+MAJORITY = 0.5
+"""A segment more than this share of whose pixels are the target's is one of its pieces (an
+over-segmented mug: its inside and outside); an object recognizer would hand them over
+together."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,18 +91,23 @@ def organized_cloud(frame: DepthFrame) -> SceneCloud:
 def _segmented_cut(
     frame: DepthFrame, truth: NDArray[np.bool_], config: SegmentConfig
 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """(H, W) the segment holding most of ``truth``'s pixels (none when it holds none), and
-    every other object segment."""
+    """(H, W) the target's segments, and every other object segment: the segment (with its
+    side parts) holding most of ``truth``'s pixels, joined by every other segment of which
+    the target holds at least ``MAJORITY`` (none when no segment holds a target pixel)."""
     segmentation = segment_scene(organized_cloud(frame), config)
     shape = frame.depth.shape
-    objects = segmentation.labels.reshape(shape) >= 2
-    best, best_count = np.zeros(shape, dtype=bool), 0
+    objects = segmentation.labels.reshape(shape) >= FIRST_OBJECT
+    cut, best_count = np.zeros(shape, dtype=bool), 0
+    best = cut
     for label in segmentation.whole_objects():
         members = segmentation.object_mask(label).reshape(shape)
         count = int((members & truth).sum())
         if count > best_count:
             best, best_count = members, count
-    return best, objects & ~best
+        if count >= MAJORITY * int(members.sum()):
+            cut = cut | members
+    cut = cut | best if best_count else cut
+    return cut, objects & ~cut
 
 
 def _fused(frames: list[DepthFrame], masks: list[NDArray[np.bool_]]) -> ObjectCloud:
