@@ -1,6 +1,8 @@
 """Regenerate the example scenes in ``scenes/``: MJCF files that
 ``python -m mujoco.viewer --mjcf scenes/<name>.xml`` opens (table, object at its seed-0 rest
-pose, the chain's four depth cameras, the parked gripper).
+pose, the chain's four depth cameras, the parked gripper), and one cluttered scene: the
+generated hammer among five generated distractors (``--clutter 5 --clutter-objects
+generated``, seed 0, settled).
 
 Committed: the scenes built only from our own assets (generated tools, the built-in gripper).
 The Menagerie Robotiq and the YCB scans are third-party data we never ship, so no scene
@@ -24,15 +26,22 @@ SHIPPED = (("gen_hammer", "builtin"), ("gen_mug", "builtin"))
 """(object, gripper) of the committed example scenes."""
 
 
-def export(object_name: str, gripper: str, out_dir: Path) -> Path:
+CLUTTER = ChainConfig.of(scene__clutter=5, scene__clutter_objects="generated")
+"""The committed cluttered scene's settings (only our own generated objects)."""
+
+
+def export(
+    object_name: str, gripper: str, out_dir: Path, config: ChainConfig, suffix: str = ""
+) -> Path:
     """Write the seed-0 chain scene of ``object_name`` with ``gripper``; returns the XML."""
-    scene = build_scene(model_for(object_name), make_gripper(gripper), ChainConfig().scene, 0)
-    return scene.export_xml(out_dir / f"{object_name}_{gripper}.xml")
+    scene = build_scene(model_for(object_name), make_gripper(gripper), config.scene, 0)
+    return scene.export_xml(out_dir / f"{object_name}_{gripper}{suffix}.xml")
 
 
 def main() -> None:
     for object_name, gripper in SHIPPED:
-        print(export(object_name, gripper, SCENES))
+        print(export(object_name, gripper, SCENES, ChainConfig()))
+    print(export("gen_hammer", "builtin", SCENES, CLUTTER, "_clutter5"))
 
 
 if __name__ == "__main__":

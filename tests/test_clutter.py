@@ -69,3 +69,20 @@ def test_bad_clutter_settings_name_the_setting() -> None:
     with pytest.raises(SimgraspError, match="no object other than the target"):
         distractor_pool("gen_hammer", "gen_hammer_s0")
     assert "gen_hammer" not in distractor_pool("generated", "gen_hammer_s0")
+
+
+def test_scenes_export_writes_labeled_organized_pcds_our_reader_reads(tmp_path) -> None:
+    from simgrasp.cli import main
+    from simgrasp.perception.scene_cloud import read_scene
+    from simgrasp.perception.segment import segment_scene
+
+    argv = ["scenes", "export", "--clutter", "2", "--clutter-objects", "generated"]
+    argv += ["--seeds", "1", "--views", "1", "--sensor", "kinect", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    (path,) = tmp_path.glob("*.pcd")
+    scene = read_scene(path)
+    assert (scene.width, scene.height) == (640, 480)
+    assert scene.labels is not None and {1, 20, 30, 40} <= set(np.unique(scene.labels).tolist())
+    invalid = ~scene.valid
+    assert invalid.any() and (scene.labels[invalid] == 0).all()
+    assert len(segment_scene(scene).objects) >= 2

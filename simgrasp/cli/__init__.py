@@ -29,6 +29,7 @@ COMMANDS: dict[str, str] = {
     "demo": "run the main job on the embedded default",
     "detect": "detect handles in a point cloud file (or in each object of a scene)",
     "segment": "find the table and the objects on it in a sensor scene cloud",
+    "scenes": "export cluttered scenes as labeled organized PCD files",
     "detect-eval": "detection accuracy on YCB meshes (paper Tables I and II)",
     "labels": "render objects with their labeled handles",
     "fetch-ycb": "download YCB objects from the official site",

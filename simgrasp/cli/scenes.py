@@ -1,0 +1,96 @@
+"""``simgrasp scenes export``: cluttered scenes as organized, labeled PCD files.
+
+Each seed's scene (the target with ``--clutter`` distractors, :mod:`simgrasp.scenes.clutter`)
+is seen by every camera through ``--sensor``; each view is written as
+``OUT/<object>_s<seed>_<camera>.pcd`` in osd-learn's layout: organized 640 x 480, binary, fields
+``label x y z rgba``, meters in the camera's OpenCV frame (``VIEWPOINT`` at the origin), NaN
+where the sensor returned nothing. Labels are exact: 0 invalid, 1 the table, 20 the target,
+30, 40, ... the distractors in body order (``simgrasp segment`` reads the files).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from simgrasp.cli.options import YcbSource
+from simgrasp.config import setting
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.chain_config import ChainConfig
+
+TARGET_LABEL, FIRST_DISTRACTOR_LABEL, TABLE_LABEL = 20, 30, 1
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options(YcbSource):
+    action: Literal["export"] = setting(positional=True, metavar="ACTION")
+    """export: write the scenes' views as labeled PCD files."""
+    object: str = "gen_hammer"
+    """The target object (YCB id or generated tool)."""
+    seeds: int = 3
+    """Scenes of seeds 0..N-1."""
+    out: Path
+    """Output directory."""
+    chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True)
+
+
+def run(options: Options) -> int:
+    from simgrasp.assets.model import model_for
+    from simgrasp.grippers import make_gripper
+    from simgrasp.scenes.kept_renderer import kept_renderer
+    from simgrasp.scenes.observe import observe
+    from simgrasp.scenes.scene import build_scene
+
+    if options.seeds < 1:
+        raise SimgraspError(f"--seeds must be >= 1, got {options.seeds}")
+    options.out.mkdir(parents=True, exist_ok=True)
+    model, gripper = model_for(options.object, options.ycb_dir), make_gripper("builtin")
+    for seed in range(options.seeds):
+        scene = build_scene(model, gripper, options.chain.scene, seed)
+        renderer = kept_renderer(scene)
+        frames = observe(scene, renderer, 0.0, seed, options.chain.sensor).frames
+        for frame in frames:
+            rgb = renderer.rgb(scene.data, frame.camera_name, *frame.depth.shape[::-1])
+            path = options.out / f"{model.asset.name}_s{seed}_{frame.camera_name}.pcd"
+            _write_pcd(path, frame, _labels(scene, frame), rgb)
+            print(path)
+    return 0
+
+
+def _labels(scene, frame) -> np.ndarray:  # noqa: ANN001 (Scene, DepthFrame: lazy imports)
+    """(H, W) uint32 osd-learn labels of ``frame``'s pixels."""
+    labels = np.zeros(frame.depth.shape, dtype=np.uint32)
+    labels[frame.geom_ids == scene.table_geom] = TABLE_LABEL
+    labels[frame.body_ids == scene.object_body] = TARGET_LABEL
+    for index, distractor in enumerate(scene.distractors):
+        body = scene.model.body(distractor.body).id
+        labels[frame.body_ids == body] = FIRST_DISTRACTOR_LABEL + 10 * index
+    labels[~(frame.depth > 0)] = 0
+    return labels
+
+
+def _write_pcd(path: Path, frame, labels: np.ndarray, rgb: np.ndarray) -> None:  # noqa: ANN001
+    """One organized binary PCD: ``label x y z rgba`` in the camera's OpenCV frame (m)."""
+    from simgrasp.perception.camera import depth_to_points_cam
+
+    height, width = frame.depth.shape
+    points_cam, pixels = depth_to_points_cam(frame.depth, frame.intrinsics)
+    xyz = np.full((height * width, 3), np.nan, dtype=np.float32)
+    xyz[pixels] = points_cam
+    color = rgb.reshape(-1, 3).astype(np.uint32)
+    rows = np.zeros(
+        height * width,
+        dtype=[("label", "<u4"), ("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("rgba", "<u4")],
+    )
+    rows["label"], rows["x"], rows["y"], rows["z"] = labels.reshape(-1), *xyz.T
+    rows["rgba"] = (255 << 24) | (color[:, 0] << 16) | (color[:, 1] << 8) | color[:, 2]
+    header = (
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n"
+        "FIELDS label x y z rgba\nSIZE 4 4 4 4 4\nTYPE U F F F U\nCOUNT 1 1 1 1 1\n"
+        f"WIDTH {width}\nHEIGHT {height}\nVIEWPOINT 0 0 0 1 0 0 0\n"
+        f"POINTS {height * width}\nDATA binary\n"
+    )
+    path.write_bytes(header.encode("ascii") + rows.tobytes())
