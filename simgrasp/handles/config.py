@@ -240,7 +240,7 @@ class QuadricDetectorConfig:
     def two_scales(cls, **overrides: object) -> QuadricDetectorConfig:
         """The defaults plus a fine pass (``fine_half_size`` 12 mm: Taubin fits of 12 mm
         neighborhoods, one center per 3 voxels, a 6 mm shell), the full chain's default
-        (:class:`~simgrasp.grasping.chain_config.ChainDetectorConfig`) for fused clouds of
+        (:class:`~simgrasp.grasping.trials.chain_config.ChainDetectorConfig`) for fused clouds of
         rendered depth, ideal or Kinect-class.
 
         The defaults' 16 mm normals-based fits keep wide, gently curved handles (a can's side,
