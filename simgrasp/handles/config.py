@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Literal
 
 from simgrasp.errors import SimgraspError
@@ -311,7 +311,3 @@ class QuadricDetectorConfig:
         )
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]
-
-    @classmethod
-    def field_names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls))

@@ -23,7 +23,6 @@ from simgrasp.scenes.views import CHAIN_VIEWS
 
 ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
 CHAIN_DETECTORS: tuple[ChainDetector, ...] = ("quadric", "tenpas", "centroid", "random")
-BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
 
 
 @dataclass(frozen=True)
