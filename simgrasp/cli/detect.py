@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
@@ -22,7 +23,7 @@ from simgrasp.perception.units import Units
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     cloud: Path = setting(positional=True, metavar="CLOUD")
     """Point cloud file: .ply, .pcd, .xyz or .npy (in --units)."""
     units: Units = "m"

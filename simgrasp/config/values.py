@@ -38,7 +38,7 @@ def _convert(value: Any, annotation: Any, key: str) -> Any:
     if origin is typing.Literal:
         matches = [a for a in args if a == value or (isinstance(value, str) and str(a) == value)]
         if not matches:
-            raise SimgraspError(f"{key}: must be one of {', '.join(map(str, args))}, got {value!r}")
+            raise SimgraspError(f"{key}: {value!r} is not one of {', '.join(map(str, args))}")
         return matches[0]
     if origin in (typing.Union, types.UnionType):
         is_none = value is None or (isinstance(value, str) and value.lower() in ("none", "null"))

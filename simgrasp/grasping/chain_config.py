@@ -8,10 +8,10 @@ default one (:mod:`simgrasp.evaluation.trial_log`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from simgrasp.config import build, setting
-from simgrasp.errors import SimgraspError
+from simgrasp.config.checks import Checked, Range
 from simgrasp.grasping.planner_config import PlannerConfig
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
@@ -24,6 +24,9 @@ from simgrasp.scenes.views import CHAIN_VIEWS
 ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
 CHAIN_DETECTORS: tuple[ChainDetector, ...] = ("quadric", "tenpas", "centroid", "random")
 BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
+
+NoiseSigma = Annotated[float, Range(ge=0, lt=1)]
+"""The paper's multiplicative noise sigma on a cloud, in [0, 1)."""
 
 
 @dataclass(frozen=True)
@@ -45,7 +48,7 @@ def _chain_scene() -> SceneConfig:
 
 
 @dataclass(frozen=True)
-class ChainConfig:
+class ChainConfig(Checked):
     """What one full-chain trial uses (render -> detect -> plan -> execute -> score)."""
 
     detector: ChainDetectorConfig = setting(
@@ -55,7 +58,7 @@ class ChainConfig:
     """The detectors' gripper opening is the chain gripper's."""
     gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
     """The parallel-jaw gripper that executes the grasp."""
-    noise: float = 0.0
+    noise: NoiseSigma = 0.0
     """The paper's multiplicative noise sigma on the observed cloud about its centroid
     (Table II's model), so detection and grasp sweeps share one noise axis."""
     sensor: SensorSettings = field(default_factory=SensorSettings)
@@ -68,7 +71,3 @@ class ChainConfig:
         """The default config with dotted settings changed, keyword-friendly:
         ``ChainConfig.of(detector__kind="tenpas", scene__placement="upright")``."""
         return build(cls, {key.replace("__", "."): value for key, value in settings.items()})
-
-    def __post_init__(self) -> None:
-        if not 0 <= self.noise < 1:
-            raise SimgraspError(f"noise sigma must be in [0, 1), got {self.noise}")

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 
@@ -14,7 +15,7 @@ DETECTORS: tuple[DetectorName, ...] = ("quadric", "tenpas")
 
 
 @dataclass(frozen=True)
-class DetectorConfig:
+class DetectorConfig(Checked):
     """The handle detector and the settings of each (only the chosen one's are used)."""
 
     kind: DetectorName = setting("quadric", flag="--detector")
