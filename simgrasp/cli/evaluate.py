@@ -19,7 +19,8 @@ from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.config.checks import PositiveInt
-from simgrasp.grasping.chain_config import CHAIN_DETECTORS, ChainConfig, ChainDetector, NoiseSigma
+from simgrasp.grasping.chain_config import ChainConfig, NoiseSigma
+from simgrasp.grasping.proposers import BUILTIN_PROPOSERS, proposer_names
 from simgrasp.grippers.registry import gripper_names
 from simgrasp.perception.sensors.registry import sensor_names
 
@@ -33,8 +34,8 @@ SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind")
 class Options(YcbSource):
     objects: tuple[str, ...] = ("generated",)
     """Object names and/or the sets generated, paper, ycb, all."""
-    detector: tuple[ChainDetector, ...] = CHAIN_DETECTORS
-    """Grasp proposers to sweep (quadric, tenpas, centroid, random)."""
+    detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names)
+    """Grasp proposers to sweep (:mod:`simgrasp.grasping.proposers`)."""
     gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names)
     """Grippers to sweep."""
     noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")

@@ -8,11 +8,12 @@ default one (:mod:`simgrasp.evaluation.trial_log`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 from simgrasp.config import build, setting
 from simgrasp.config.checks import Checked, Range
 from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grasping.proposers import DEFAULT_PROPOSER, proposer_names
 from simgrasp.grasping.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 from simgrasp.handles.config import QuadricDetectorConfig
@@ -20,10 +21,6 @@ from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.views import CHAIN_VIEWS
-
-ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
-CHAIN_DETECTORS: tuple[ChainDetector, ...] = ("quadric", "tenpas", "centroid", "random")
-BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
 
 NoiseSigma = Annotated[float, Range(ge=0, lt=1)]
 """The paper's multiplicative noise sigma on a cloud, in [0, 1)."""
@@ -37,9 +34,12 @@ class ChainDetectorConfig(DetectorConfig):
     defaults plus a fine Taubin pass for thin handles seen in fused depth views: a lying
     mug's strap); ``detect`` and ``detect-eval`` on mesh clouds keep the plain defaults."""
 
-    kind: ChainDetector = setting("quadric", flag="--detector")  # type: ignore[assignment]
-    """quadric: quadric fits with the paper's criteria; tenpas: ten Pas & Platt 2013's shells;
-    centroid: top-down grasps at the cloud centroid; random: random antipodal point pairs."""
+    kind: str = setting(  # type: ignore[assignment]
+        DEFAULT_PROPOSER, flag="--detector", choices=proposer_names
+    )
+    """The grasp proposer (:mod:`simgrasp.grasping.proposers`): quadric: quadric fits with the
+    paper's criteria; tenpas: ten Pas & Platt 2013's shells; centroid: top-down grasps at the
+    cloud centroid; random: random antipodal point pairs."""
     quadric: QuadricDetectorConfig = field(default_factory=QuadricDetectorConfig.two_scales)
 
 

@@ -7,6 +7,7 @@ from typing import Literal
 
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
+from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 
@@ -27,6 +28,14 @@ class DetectorConfig(Checked):
     def chosen(self) -> QuadricDetectorConfig | TenPasConfig:
         """The settings of the chosen detector."""
         return self.quadric if self.kind == "quadric" else self.tenpas
+
+    def handle_detector(self) -> DetectorName:
+        """The chosen handle detector's name (an error for a proposer that detects none)."""
+        if self.kind not in DETECTORS:
+            raise SimgraspError(
+                f"{self.kind!r} is no handle detector; choose one of {', '.join(DETECTORS)}"
+            )
+        return self.kind
 
     def for_gripper(self, max_opening: float) -> QuadricDetectorConfig | TenPasConfig:
         """The chosen detector's settings for a gripper opening ``max_opening`` (m)."""
