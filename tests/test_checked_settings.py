@@ -196,3 +196,19 @@ def test_an_unknown_proposer_or_sensor_is_no_silent_fallback() -> None:
     with pytest.raises(SimgraspError, match="unknown sensor 'lidar'"):
         sensor_config("lidar")
     assert type(SensorSettings(kind="stereo").model()).__name__ == "StereoConfig"
+
+
+def test_detect_and_trial_detector_defaults_differ_by_the_stated_fine_pass_only() -> None:
+    """``detect`` keeps the plain defaults and ``trial`` adds a fine pass; both say so."""
+    from dataclasses import replace
+
+    from simgrasp.handles.detector_config import DetectorConfig
+
+    chain, plain = ChainConfig().detector.quadric, DetectorConfig().quadric
+    assert chain != plain and replace(chain, fine_half_size=0.0) == plain
+    for command in ("detect", "trial"):
+        parser = build_parser(command)
+        sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+        text = re.sub(r"\s+", " ", sub.format_help())
+        assert "--detector.quadric.fine-half-size" in text and "0.012" in text
+        assert "Detector defaults" in text or "chain default" in text

@@ -2,6 +2,14 @@
 
 Every threshold of both detectors is a flag (``--detector.quadric.shell-test false``), or set
 it from a file (``--config detect.toml``); ``--print-config`` lists them all.
+
+Detector defaults: the quadric detector's plain defaults (one pass), the same as
+``detect-eval``'s, whose committed tables (docs/results/detect-eval) they produced. ``trial``
+and ``evaluate`` add a fine pass for the fused clouds of rendered depth views
+(``--detector.quadric.fine-half-size 0.012``, ``QuadricDetectorConfig.two_scales``), on which
+thin handles (a lying mug's strap) are seen from two sides; give that flag here to detect on a
+cloud file as ``trial`` does. The defaults stay apart so that both commands' committed
+results stay as they are.
 """
 
 from __future__ import annotations

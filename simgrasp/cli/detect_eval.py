@@ -1,5 +1,10 @@
 """``simgrasp detect-eval``: detection accuracy on object meshes over noise and seeds (the
-paper's Tables I and II, Fig. 8)."""
+paper's Tables I and II, Fig. 8).
+
+The detectors run with their plain defaults, as ``simgrasp detect`` does; ``trial`` and
+``evaluate`` add a fine pass to the quadric detector for fused depth-camera clouds (see
+``simgrasp detect --help``).
+"""
 
 from __future__ import annotations
 

@@ -32,7 +32,10 @@ class ChainDetectorConfig(DetectorConfig):
 
     The quadric detector's chain default is :meth:`QuadricDetectorConfig.two_scales` (the
     defaults plus a fine Taubin pass for thin handles seen in fused depth views: a lying
-    mug's strap); ``detect`` and ``detect-eval`` on mesh clouds keep the plain defaults."""
+    mug's strap); ``detect`` and ``detect-eval`` keep the plain defaults (one pass). They
+    differ on purpose and say so in their ``--help``: each default produced its command's
+    committed results (docs/results/chain, docs/results/detect-eval), which one shared
+    default would change."""
 
     kind: str = setting(  # type: ignore[assignment]
         DEFAULT_PROPOSER, flag="--detector", choices=proposer_names

@@ -178,7 +178,9 @@ class QuadricDetectorConfig(Checked):
 
     @classmethod
     def paper(cls, **overrides: object) -> QuadricDetectorConfig:
-        """The paper's criteria only: no eccentricity, width, shell or inside test."""
+        """The paper's criteria (a)-(c) only, no eccentricity, width, shell or inside test: for
+        the method as published. ``detect-eval``'s committed tables (docs/results/detect-eval) use the defaults, which
+        add the extra tests."""
         base: dict[str, object] = dict(
             eccentricity_test=False, width_test=False, shell_test=False, inside_test=False
         )
@@ -187,40 +189,24 @@ class QuadricDetectorConfig(Checked):
 
     @classmethod
     def two_scales(cls, **overrides: object) -> QuadricDetectorConfig:
-        """The defaults plus a fine pass (``fine_half_size`` 12 mm: Taubin fits of 12 mm
-        neighborhoods, one center per 3 voxels, a 6 mm shell), the full chain's default
-        (:class:`~simgrasp.grasping.chain_config.ChainDetectorConfig`) for fused clouds of
-        rendered depth, ideal or Kinect-class.
-
-        The defaults' 16 mm normals-based fits keep wide, gently curved handles (a can's side,
-        a drill's grip) but come out twice the size of a thin strap's 8 x 14 mm section seen
-        from two sides, so the shell test rejects them: the YCB mug lying on its side was held
-        by its strap in 3 of 10 seeds. Taubin fits use the points only and keep the strap's
-        size with noisy depth too; alone, 12 mm patches of wide surfaces do not constrain
-        their curvature (on the paper's objects with Kinect depth on-handle 0.58). With both
-        passes (docs/results/README.md, ``lying-mug/`` and ``evaluate-sensor/``; 10 seeds, 4
-        views, built-in gripper): the lying mug held by its strap in 7 of 10 seeds with ideal
-        and with kinect depth (6 and 6 in seeds 10-19; in the others the strap lies under the
-        mug), upright 10 / 10 with both (20 / 20 in seeds 0-19); the paper's objects with
-        kinect depth at detection accuracy 0.94 and on-handle success 0.95 (one pass: 0.90
-        and 0.90), with ideal depth 0.98 and 0.96 (0.90 and 0.91); in seeds 10-19 0.94 and
-        0.93 with kinect depth (0.86 and 0.88). A fine handle counts only
-        away from the first pass's handles: where both find one (a fork's, a spatula's
-        handle) the first pass's grasp held better (fork and spatula dropped in the tugs in 5
-        of their 40 trials when both handles were planned on). Detection takes about 3 times
-        as long as one pass (129 against 44 ms a Kinect chain cloud on one core,
-        ``benchmarks/bench_chain_detect.py``), a whole trial about 1.3 times."""
+        """For fused clouds of rendered depth views, ideal or Kinect-class: the defaults plus a
+        fine pass (``fine_half_size`` 12 mm: Taubin fits of 12 mm neighborhoods, one center
+        per 3 voxels, a 6 mm shell) that keeps thin handles seen from two sides (a lying mug's
+        strap), whose one-pass fits come out twice their size. The full chain's default
+        (:class:`~simgrasp.grasping.chain_config.ChainDetectorConfig`); ``detect`` and
+        ``detect-eval`` keep the single pass. Measured in docs/results/README.md,
+        ``lying-mug/`` and ``evaluate-sensor/`` (its cost: ``benchmarks/bench_chain_detect.py``)."""
         base: dict[str, object] = dict(fine_half_size=0.012)
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]
 
     @classmethod
     def camera_cloud(cls, **overrides: object) -> QuadricDetectorConfig:
-        """Settings for the chain's fused cloud of rendered depth views (3 mm voxels): normals
-        of its own over 6 mm (``own_normals``), 12 mm neighborhoods sampled ten times as
-        densely. A strap seen from two sides (the YCB mug lying, strap up or sideways) then
-        gets fits of its own size that pass the shell test: the lying mug held by its handle
-        in 7 of 10 seeds instead of 3 (docs/results/README.md)."""
+        """For the chain's fused cloud of rendered depth views (3 mm voxels), an alternative to
+        :meth:`two_scales`: normals of its own over 6 mm (``own_normals``) and 12 mm
+        neighborhoods sampled ten times as densely, so a strap seen from two sides gets fits
+        of its own size. Measured in docs/results/README.md, ``lying-mug/`` (its
+        ``camera_cloud.toml``)."""
         base: dict[str, object] = dict(
             own_normals=True,
             normal_radius=0.006,
@@ -233,24 +219,22 @@ class QuadricDetectorConfig(Checked):
     @classmethod
     def noisy_camera_cloud(cls, **overrides: object) -> QuadricDetectorConfig:
         """:meth:`camera_cloud` for fused clouds of a noisy depth sensor (``--sensor kinect``):
-        Taubin fits, which use no normals, and a 6 mm shell instead of 10 mm. On Kinect-noisy
-        points (normals over 6 mm) the normals-based fits of a lying mug's strap (8 x 14 mm
-        section) come out at semi-axes of 7-10 x 10-13 mm, whose shell reaches the body;
-        Taubin fits come out at 4-6 x 8-10 mm and, with the thinner shell, pass the
-        shell test. The lying mug is held by its strap in 7 of 10 seeds with ideal and with
-        kinect depth (camera_cloud: 7 and 4; docs/results/README.md, lying-mug)."""
+        Taubin fits, which use no normals, and a 6 mm shell instead of 10 mm, so a thin strap's
+        fits keep its size with noisy normals and their shell stays clear of the body. Measured in
+        docs/results/README.md, ``lying-mug/`` (its ``noisy_camera_cloud.toml``)."""
         base: dict[str, object] = dict(fit_method="taubin", shell_thickness=0.006)
         base.update(overrides)
         return cls.camera_cloud(**base)
 
     @classmethod
     def real_depth(cls, **overrides: object) -> QuadricDetectorConfig:
-        """Settings for one object cut from a single real depth view (a Kinect-class sensor
-        at 0.6-1.6 m): smaller neighborhoods sampled five times as densely, so a small handle
-        (a pot's side tab) gathers support, handle centers on the seen surface (``handle_anchor``)
-        and no centrality weighting (a pot's two side handles are equally far from its center),
-        and the flat-plate test (``plate_test``: a pot's flat side tab seen face-on, which no
-        quadric fits). Measured on the osd-learn pots (docs/results/real-pots)."""
+        """For one object cut from a single real depth view (a Kinect-class sensor at 0.6-1.6 m):
+        smaller neighborhoods sampled five times as densely, so a small handle (a pot's side
+        tab) gathers support, handle centers on the seen surface (``handle_anchor``), no
+        centrality weighting (a pot's two side handles are equally far from its center), and
+        the flat-plate test (``plate_test``: a pot's flat side tab seen face-on, which no
+        quadric fits). Measured on the osd-learn pots in docs/results/real-pots (its
+        ``real_depth.toml``)."""
         base: dict[str, object] = dict(
             neighborhood_half_size=0.012,
             voxels_per_neighborhood=2.0,
