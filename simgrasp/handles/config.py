@@ -179,8 +179,8 @@ class QuadricDetectorConfig(Checked):
     @classmethod
     def paper(cls, **overrides: object) -> QuadricDetectorConfig:
         """The paper's criteria (a)-(c) only, no eccentricity, width, shell or inside test: for
-        the method as published. ``detect-eval``'s committed tables (docs/results/detect-eval) use the defaults, which
-        add the extra tests."""
+        the method as published. ``detect-eval``'s committed tables (docs/results/detect-eval)
+        use the defaults, which add the extra tests."""
         base: dict[str, object] = dict(
             eccentricity_test=False, width_test=False, shell_test=False, inside_test=False
         )
@@ -220,8 +220,8 @@ class QuadricDetectorConfig(Checked):
     def noisy_camera_cloud(cls, **overrides: object) -> QuadricDetectorConfig:
         """:meth:`camera_cloud` for fused clouds of a noisy depth sensor (``--sensor kinect``):
         Taubin fits, which use no normals, and a 6 mm shell instead of 10 mm, so a thin strap's
-        fits keep its size with noisy normals and their shell stays clear of the body. Measured in
-        docs/results/README.md, ``lying-mug/`` (its ``noisy_camera_cloud.toml``)."""
+        fits keep its size with noisy normals and their shell stays clear of the body.
+        Measured in docs/results/README.md, ``lying-mug/`` (its ``noisy_camera_cloud.toml``)."""
         base: dict[str, object] = dict(fit_method="taubin", shell_thickness=0.006)
         base.update(overrides)
         return cls.camera_cloud(**base)
