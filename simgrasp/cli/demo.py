@@ -17,6 +17,7 @@ from pathlib import Path
 
 from simgrasp.cli import invocation
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
 
@@ -25,7 +26,7 @@ NOISE = (0.0, 0.02)
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     seeds: int | None = None
     """Seeds per setting (default 2, 1 with YCB)."""
     workers: int = 2

@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.config import setting
-from simgrasp.errors import SimgraspError
-from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, PROTOCOLS, Protocol
+from simgrasp.config.checks import Checked, NonNegativeInt
+from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, Protocol
 from simgrasp.grasping.trials.trial_config import TrialConfig, protocol_config
-from simgrasp.grippers.registry import DEFAULT_GRIPPER, check_gripper_name, gripper_names
+from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
@@ -37,7 +37,7 @@ GRASP_SOURCE = "grasp_set"
 
 
 @dataclass(frozen=True)
-class LabelConfig:
+class LabelConfig(Checked):
     """What a grasp set is labeled with (importable without MuJoCo).
 
     Attributes:
@@ -54,17 +54,9 @@ class LabelConfig:
     object: str = setting(positional=True, metavar="OBJECT")
     gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
     protocol: Protocol = DEFAULT_PROTOCOL
-    seed: int = 0
+    seed: NonNegativeInt = 0
     placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
     free_floating: bool = False
-
-    def __post_init__(self) -> None:
-        if self.protocol not in PROTOCOLS:
-            raise SimgraspError(f"unknown protocol {self.protocol!r}; use one of {PROTOCOLS}")
-        check_gripper_name(self.gripper)
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise SimgraspError(f"seed must be a non-negative integer, got {self.seed!r}")
-        check_placement(self.placement)
 
     @property
     def trial(self) -> TrialConfig:
