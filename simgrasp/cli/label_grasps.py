@@ -43,9 +43,9 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.grasping.grasp_sets import read_grasp_set
     from simgrasp.grasping.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
 
     if options.workers < 1:
         raise SimgraspError(f"--workers must be >= 1, got {options.workers}")
