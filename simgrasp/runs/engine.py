@@ -154,7 +154,8 @@ def run_resumable(
             bar.update()
             if on_record:
                 on_record(record)
-    finally:  # stop the workers (a generator's pool or Ray session) before returning
+    finally:  # stop the workers (a generator's pool or Ray session), sync the log
         getattr(records, "close", lambda: None)()
         bar.close()
+        log.close()
     return finished

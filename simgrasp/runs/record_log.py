@@ -1,8 +1,11 @@
 """The append-only record log of a run: one JSON record per line (``trials.jsonl``,
 ``labels.jsonl``, ``detections.jsonl``).
 
-Every finished record is appended as one line and flushed to disk (``flush`` + ``fsync``)
-before the next, so a killed run loses at most the record that was being written. When the log
+Every finished record is appended as one line and flushed to the operating system before the
+next, so a killed run (``kill -9`` included) loses at most the record that was being written;
+a background thread then forces it to disk (``fsync``), so the run does not wait the
+milliseconds a disk sync takes per record, and :meth:`RecordLog.close` waits for the last
+sync (a machine crash may lose only the records of the sync in flight). When the log
 is opened again, a last line without its newline is kept (the newline added) if it is a whole
 record, and otherwise cut off as torn (the process died mid-write) with a message on stderr
 saying what was cut; any other line that is not a record (as the log's ``key`` function judges
@@ -14,6 +17,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -29,6 +33,7 @@ class RecordLog:
     def __init__(self, path: Path, key: Callable[[Any], Any]) -> None:
         self.path = Path(path)
         self.key = key
+        self._syncer: _Syncer | None = None
 
     def load(self) -> list[dict[str, Any]]:
         """All complete records, in file order. A torn last line is then cut off the file; a
@@ -80,13 +85,21 @@ class RecordLog:
         )
 
     def append(self, record: dict[str, Any]) -> None:
-        """Append one record as a single line and force it to disk."""
+        """Append one record as a single line, hand it to the operating system and have the
+        background thread force it to disk."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
         line = json.dumps(record, separators=(",", ":"), allow_nan=False) + "\n"
         with self.path.open("a", encoding="utf-8") as handle:
             handle.write(line)
-            handle.flush()
-            os.fsync(handle.fileno())
+        if self._syncer is None:
+            self._syncer = _Syncer(self.path)
+        self._syncer.request()
+
+    def close(self) -> None:
+        """Wait until every appended record is on disk (the log can be appended to again)."""
+        if self._syncer is not None:
+            self._syncer.close()
+            self._syncer = None
 
     def _truncate(self, size: int) -> None:
         """Cut the file to ``size`` bytes (a line torn by a kill) and force that to disk."""
@@ -94,3 +107,40 @@ class RecordLog:
             handle.truncate(size)
             handle.flush()
             os.fsync(handle.fileno())
+
+
+class _Syncer:
+    """Forces one file to disk in a background thread whenever asked, without making the
+    asker wait; :meth:`close` returns once every request made before it is synced."""
+
+    def __init__(self, path: Path) -> None:
+        self._fd = os.open(path, os.O_RDONLY)  # fsync of any descriptor syncs the file
+        self._changed = threading.Condition()
+        self._requested = self._synced = 0
+        self._closing = False
+        self._thread = threading.Thread(target=self._run, name="record-log-sync", daemon=True)
+        self._thread.start()
+
+    def request(self) -> None:
+        with self._changed:
+            self._requested += 1
+            self._changed.notify_all()
+
+    def _run(self) -> None:
+        while True:
+            with self._changed:
+                self._changed.wait_for(lambda: self._requested > self._synced or self._closing)
+                if self._requested == self._synced:
+                    return
+                target = self._requested
+            os.fsync(self._fd)
+            with self._changed:
+                self._synced = target
+                self._changed.notify_all()
+
+    def close(self) -> None:
+        with self._changed:
+            self._closing = True
+            self._changed.notify_all()
+        self._thread.join()
+        os.close(self._fd)
