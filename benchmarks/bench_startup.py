@@ -7,7 +7,7 @@ with the default ``labels.png`` and with ``--no-picture``. Per run: ``end to end
 time from starting the process to its exit; ``steady``, the sum of the grasps' trial wall
 times (``summary.json``'s ``trial_wall_s``: the rate once running); ``overhead``, the rest
 (interpreter start, imports, object model and scene build, outputs, the picture, exit). A
-last row times ``python -c 'import simgrasp.grasping.label_run'`` alone. Medians over the
+last row times ``python -c 'import simgrasp.grasping.labeling.label_run'`` alone. Medians over the
 runs; the ratio ``end to end / steady`` compares rates measured in the same run (this shared
 virtual machine's speed swings). The code measured is the ``simgrasp`` on ``PYTHONPATH``.
 
@@ -26,7 +26,7 @@ import tempfile
 import time
 from pathlib import Path
 
-IMPORT_ONLY = "import simgrasp.grasping.label_run"
+IMPORT_ONLY = "import simgrasp.grasping.labeling.label_run"
 
 
 def timed(command: list[str]) -> float:

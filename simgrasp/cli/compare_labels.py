@@ -22,7 +22,7 @@ class Options:
 
 
 def run(options: Options) -> int:
-    from simgrasp.grasping.label_compare import compare_labels, confusion_text
+    from simgrasp.grasping.labeling.label_compare import compare_labels, confusion_text
 
     comparison = compare_labels(options.reference, options.other)
     if options.json:

@@ -17,7 +17,7 @@ from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.labeling import LabelConfig
+from simgrasp.grasping.labeling.labeling import LabelConfig
 
 SHOWN_PROBLEMS = 10
 """Invalid rows listed one by one before the rest are counted."""
@@ -43,8 +43,8 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.grasp_sets import read_grasp_set
-    from simgrasp.grasping.label_run import label_grasp_set
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
+    from simgrasp.grasping.labeling.label_run import label_grasp_set
     from simgrasp.runs.out_dir import claim_out_dir
 
     if options.workers < 1:
@@ -84,8 +84,8 @@ def _report_problems(problems: dict[int, str], count: int) -> None:
 def _picture(model: Any, grasps: Any, records: list, config: LabelConfig, path: Path) -> None:
     import numpy as np
 
-    from simgrasp.grasping.label_plot import plot_labels
     from simgrasp.grippers import make_gripper
+    from simgrasp.plots.grasp_labels import plot_labels
 
     widths = np.where(
         np.isfinite(grasps.width), grasps.width, make_gripper(config.gripper).max_opening

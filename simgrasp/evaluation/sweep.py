@@ -1,5 +1,5 @@
 """Grasp-evaluation sweeps: every object x swept settings x seed as one full-chain
-trial (:func:`simgrasp.grasping.chain.run_chain`), run by the resumable-run engine
+trial (:func:`simgrasp.grasping.trials.chain.run_chain`), run by the resumable-run engine
 (:mod:`simgrasp.runs`) in worker processes or as Ray tasks and recorded in ``trials.jsonl``.
 
 Workers are started with the ``spawn`` method (a GL context must not cross a ``fork``); each
@@ -24,7 +24,7 @@ from simgrasp.evaluation.trial_log import (
     trial_log,
     trial_settings,
 )
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.runs.engine import Backend, RunConfig, Work, run_resumable, run_tasks
 
 TRIALS_FILE = "trials.jsonl"
@@ -105,7 +105,7 @@ def prepare_object(name: str, ycb_dir: str | None) -> str:
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's summary fields."""
-    from simgrasp.grasping.chain import run_chain
+    from simgrasp.grasping.trials.chain import run_chain
 
     record = run_chain(_object_model(spec.object, ycb_dir), spec.config, spec.seed).to_json()
     record["object_asset"] = record["object"]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.protocol import PROTOCOLS
+from simgrasp.grasping.trials.protocol import PROTOCOLS
 
 ON_HANDLE_THRESHOLD = 0.5
 """A grasp is ``on_handle`` when at least this share of its finger-object contact points (at

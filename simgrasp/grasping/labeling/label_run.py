@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.grasp_sets import GraspSet
-from simgrasp.grasping.labeling import INVALID, LabelConfig, LabelResult, label_records
+from simgrasp.grasping.labeling.grasp_sets import GraspSet
+from simgrasp.grasping.labeling.labeling import INVALID, LabelConfig, LabelResult, label_records
 from simgrasp.grippers import make_gripper
 from simgrasp.runs.engine import Backend, RunConfig, run_resumable
 from simgrasp.runs.identity import claim_identity

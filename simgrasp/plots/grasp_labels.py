@@ -93,7 +93,7 @@ def plot_labels(
 def _draw_grasps(axes: Any, object_T_tcp: NDArray, widths: NDArray, kind: str) -> None:
     """The wireframes of grasps of one class as one line collection (one artist: a picture
     of hundreds of grasps draws in a fraction of a second), stars at on-handle TCPs."""
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection  # type: ignore[import-untyped]
 
     if not len(object_T_tcp):
         return
