@@ -40,10 +40,10 @@ class Options(Checked):
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import GENERATED_OBJECTS, PAPER_OBJECTS
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.report import write_report
     from simgrasp.evaluation.sweep import TRIALS_FILE, plan_trials, run_sweep
     from simgrasp.evaluation.trial_log import DEFAULTS_FILE
+    from simgrasp.runs.out_dir import claim_out_dir
 
     ycb_dir = os.environ.get("SIMGRASP_YCB_DIR")
     objects = GENERATED_OBJECTS + (PAPER_OBJECTS if ycb_dir else ())

@@ -64,8 +64,8 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import expand_objects
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.sweep import check_plan, plan_trials
+    from simgrasp.runs.out_dir import claim_out_dir
 
     ycb_dir = options.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
     axes = {

@@ -44,9 +44,9 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
 
     config = options.label
     grasps = read_grasp_set(options.grasps)

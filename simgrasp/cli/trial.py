@@ -55,7 +55,7 @@ def run(options: Options) -> int:
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
     if options.render is not None:
-        from simgrasp.evaluation.out_dir import check_output_file
+        from simgrasp.runs.out_dir import check_output_file
 
         check_frames_target(options.render)
         check_output_file(options.render, "--render")

@@ -44,7 +44,6 @@ from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import DEFAULT_GRIPPER, gripper_names, make_gripper
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gl_fork import check_gl_allowed
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import Scene, build_scene
@@ -181,7 +180,6 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         """Start an episode; info: ``object`` (the model's name), ``episode_seed`` and
         ``cloud_points`` (the cloud's size before subsampling). A reset that fails (an unknown
         object, say) has ended the previous episode: ``step`` then raises, naming it."""
-        check_gl_allowed()  # fail at once in a worker forked after its parent rendered
         super().reset(seed=seed)
         self._end_episode()
         try:
