@@ -11,7 +11,8 @@ import simgrasp
 count = int(sys.argv[1]) if len(sys.argv) > 1 else 40
 
 grasps = simgrasp.sample_grasps("gen_hammer", count, seed=0)
-labels = simgrasp.label_grasps("gen_hammer", grasps, seed=0, protocol="fast")
+config = simgrasp.LabelConfig(object="gen_hammer", protocol="fast", seed=0)
+labels = simgrasp.label_grasps("gen_hammer", grasps, config=config)
 held = labels.success.sum()
 print(f"{held} of {len(labels.success)} grasps lift the hammer, {labels.on_handle.sum()} by its handle")
 print("failures:", dict(Counter(f for f in labels.failure if f)))

@@ -28,8 +28,8 @@ _EXPORTS = {
     "detect_handles": "simgrasp.api",
     "run_trial": "simgrasp.api",
     "sample_grasps": "simgrasp.api",
-    "label_grasps": "simgrasp.grasping.labeling.memory",
-    "GraspLabels": "simgrasp.grasping.labeling.memory",
+    "label_grasps": "simgrasp.grasping.labeling.labeling",
+    "LabelResult": "simgrasp.grasping.labeling.labeling",
     "GraspSet": "simgrasp.grasping.labeling.grasp_sets",
     "ChainConfig": "simgrasp.grasping.trials.chain_config",
     "DetectorConfig": "simgrasp.handles.detector_config",
@@ -50,8 +50,7 @@ if TYPE_CHECKING:
     from simgrasp.api import detect_handles, load_object, run_trial, sample_grasps
     from simgrasp.errors import SimgraspError
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
-    from simgrasp.grasping.labeling.labeling import LabelConfig
-    from simgrasp.grasping.labeling.memory import GraspLabels, label_grasps
+    from simgrasp.grasping.labeling.labeling import LabelConfig, LabelResult, label_grasps
     from simgrasp.grasping.planning.planner_config import PlannerConfig
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.trial_config import TrialConfig

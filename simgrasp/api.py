@@ -167,4 +167,4 @@ def sample_grasps(
     poses, widths = sample_antipodal(
         model.asset.mesh, hand.planning_geometry(), count, seed, table=clear_of
     )
-    return GraspSet(object_T_tcp=poses, width=widths, problems={}, fmt="sampled")
+    return GraspSet.from_arrays(poses, widths)

@@ -9,10 +9,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     reference: Path = setting(positional=True, metavar="REFERENCE")
     """label-grasps output directory (e.g. of the full protocol)."""
     other: Path = setting(positional=True, metavar="OTHER")

@@ -70,7 +70,8 @@ class GraspSet:
         object_T_tcp: (N, 4, 4) TCP poses in the object's mesh frame; identity for invalid rows.
         width: (N,) jaw opening before closing (m); NaN where the file gives none.
         problems: index -> why that row is not a grasp (it is never scored).
-        fmt: the file format (``"npz"``, ``"json"``, ``"acronym"``, ``"graspnet"``).
+        fmt: the file format (``"npz"``, ``"json"``, ``"acronym"``, ``"graspnet"``), or
+            ``"arrays"`` (:meth:`from_arrays`).
     """
 
     object_T_tcp: NDArray[np.float64]
@@ -80,6 +81,16 @@ class GraspSet:
 
     def __len__(self) -> int:
         return len(self.object_T_tcp)
+
+    @classmethod
+    def from_arrays(cls, object_T_grasp: ArrayLike, width: ArrayLike | None = None) -> GraspSet:
+        """A grasp set from arrays, checked as the file readers check our ``.npz``:
+        ``object_T_grasp`` (N, 4, 4) TCP poses in the object's mesh frame (m), ``width`` (N,)
+        jaw openings (m; None: fully open). A row that is not a grasp is kept, marked in
+        :attr:`problems` by its index with the reason; a wrong shape raises."""
+        matrices, problems = _from_matrices(object_T_grasp, "object_T_grasp")
+        widths = _widths(width, len(matrices), problems)
+        return cls(matrices, widths, dict(sorted(problems.items())), "arrays")
 
     @property
     def valid(self) -> NDArray[np.bool_]:
