@@ -23,4 +23,5 @@ else:
 detection = simgrasp.detect_handles(np.load(path), seed=0)
 print(f"{len(detection.candidates)} handle-like neighborhoods, {len(detection.handles)} handles")
 for handle in detection.handles:
-    print(f"  center {np.round(handle.center, 3)} m, width {handle.width:.3f} m, score {handle.score:.2f}")
+    center = np.round(handle.center, 3)
+    print(f"  center {center} m, width {handle.width:.3f} m, score {handle.score:.2f}")

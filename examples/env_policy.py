@@ -1,6 +1,6 @@
 """The gymnasium env with the quadric detector as a scripted policy, a few episodes.
 
-    python examples/env_policy.py [EPISODES]
+python examples/env_policy.py [EPISODES]
 """
 
 import sys

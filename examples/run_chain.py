@@ -1,6 +1,6 @@
 """Run the whole chain on a generated hammer: render depth, detect, plan, grasp, lift, tug.
 
-    python examples/run_chain.py [OBJECT] [SEED]
+python examples/run_chain.py [OBJECT] [SEED]
 """
 
 import sys
@@ -14,4 +14,5 @@ config = simgrasp.ChainConfig.of(sensor__kind="kinect")  # any dotted setting, c
 result = simgrasp.run_trial(name, seed=seed, config=config)
 record = result.to_json()
 print(f"{name} seed {seed}: {result.handles} handle(s) on {result.cloud_points} points")
-print(f"  lifted: {result.success}, held by the handle: {result.on_handle}, failure: {record['failure']}")
+print(f"  lifted: {result.success}, held by the handle: {result.on_handle}")
+print(f"  failure: {record['failure']}")

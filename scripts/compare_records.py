@@ -84,7 +84,7 @@ def compare(first: Path, second: Path, name: str) -> str | None:
     if a == b:
         return None
     only_a, only_b = len(set(a) - set(b)), len(set(b) - set(a))
-    return f"{len(a)} against {len(b)} records; {only_a} only in the first, {only_b} only in the second"
+    return f"{len(a)} against {len(b)} records; {only_a} only in the first, {only_b} in the second"
 
 
 def main(argv: list[str]) -> int:

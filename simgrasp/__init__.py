@@ -44,7 +44,25 @@ _EXPORTS = {
 }
 """Public name -> the module that defines it (imported on first use)."""
 
-__all__ = sorted(_EXPORTS)
+__all__ = [
+    "ChainConfig",
+    "DetectorConfig",
+    "GraspSet",
+    "LabelConfig",
+    "LabelResult",
+    "PlannerConfig",
+    "QuadricDetectorConfig",
+    "SceneConfig",
+    "SensorSettings",
+    "SimgraspError",
+    "TenPasConfig",
+    "TrialConfig",
+    "detect_handles",
+    "label_grasps",
+    "load_object",
+    "run_trial",
+    "sample_grasps",
+]
 
 if TYPE_CHECKING:
     from simgrasp.api import detect_handles, load_object, run_trial, sample_grasps

@@ -16,9 +16,9 @@ from numpy.typing import ArrayLike
 from simgrasp.errors import SimgraspError
 
 if TYPE_CHECKING:
-    from simgrasp.assets.placement import Placement
     from simgrasp.assets.model import ObjectModel
     from simgrasp.assets.object import ObjectAsset
+    from simgrasp.assets.placement import Placement
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
     from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
