@@ -17,15 +17,16 @@ from pathlib import Path
 
 from simgrasp.cli import invocation
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 DETECTORS = ("quadric", "centroid")
 NOISE = (0.0, 0.02)
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     seeds: int | None = None
     """Seeds per setting (default 2, 1 with YCB)."""
     workers: int = 2

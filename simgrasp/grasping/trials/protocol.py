@@ -1,7 +1,7 @@
 """Names of the trial protocols (kept free of MuJoCo so command-line parsers can list them).
 
 ``full`` is the protocol of ``trial``, ``evaluate`` and the env; ``fast`` shortens every phase
-for labeling large grasp sets (:data:`simgrasp.grasping.trial.FAST_TRIAL`).
+for labeling large grasp sets (:data:`simgrasp.grasping.trials.trial.FAST_TRIAL`).
 """
 
 from __future__ import annotations
