@@ -60,7 +60,7 @@ def run(options: Options) -> int:
     regions = len(result.label.regions)
     print(f"{name}: {len(result.parts)} handle part(s), {regions} box(es) -> {options.out}")
     if options.plot:
-        from simgrasp.handles.auto_label_plot import draw_auto_label
+        from simgrasp.plots.auto_label import draw_auto_label
 
         options.plot.parent.mkdir(parents=True, exist_ok=True)
         print(f"  plot written to {draw_auto_label(result, options.plot)}")

@@ -6,7 +6,7 @@ of a dense sample of the mesh surface, the points in the pads' sweep (``|y| <= p
 width``, ``pad_z_low <= z <= pad_z_high``, ``|x| <= open half width``, gripper frame) that
 each closing pad reaches first, i.e. within ``contact_depth`` of the outermost such point on
 its side. A grasp is on the handle when at least half of those points lie in the label grown
-by the trial's margin (:func:`simgrasp.grasping.scoring.handle_fraction`), as a trial scores
+by the trial's margin (:func:`simgrasp.grasping.trials.scoring.handle_fraction`), as a trial scores
 ``on_handle``. Shares are reported per ``affordance/*`` subset of the file.
 """
 
@@ -22,8 +22,8 @@ from numpy.typing import NDArray
 
 from simgrasp.assets.labels import HandleLabel
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.scoring import handle_fraction
-from simgrasp.grasping.trial_config import HANDLE_MARGIN, ON_HANDLE_THRESHOLD
+from simgrasp.grasping.trials.scoring import handle_fraction
+from simgrasp.grasping.trials.trial_config import HANDLE_MARGIN, ON_HANDLE_THRESHOLD
 from simgrasp.perception import sample_surface
 from simgrasp.seeding import rng_for
 
