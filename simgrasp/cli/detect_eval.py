@@ -1,5 +1,5 @@
 """``simgrasp detect-eval``: detection accuracy on object meshes over noise and seeds (the
-paper's Tables I and II, Fig. 8)."""
+paper's Tables I and II, Fig. 8); ``--real MANIFEST``: on the real clouds of a manifest."""
 
 from __future__ import annotations
 
@@ -29,6 +29,15 @@ class Options(YcbSource):
     """Parallel worker processes."""
     out: Path = Path("out/detect-eval")
     """Output directory."""
+    real: Path | None = setting(None, metavar="MANIFEST")
+    """Score the real clouds of this manifest instead (TOML, see
+    simgrasp/evaluation/real_manifest.py; the shipped one: models/handles/real_detect.toml)."""
+    real_configs: tuple[str, ...] = ("default",)
+    """With --real: the named detector settings to compare (default, paper, two_scales,
+    camera_cloud, noisy_camera_cloud, real_depth, tenpas, ...)."""
+    real_dir: Path | None = None
+    """With --real: folder the manifest's cloud paths are relative to (default:
+    $SIMGRASP_REAL_DIR, else ../shared/real)."""
 
 
 def run(options: Options) -> int:
@@ -42,6 +51,8 @@ def run(options: Options) -> int:
 
     if options.seeds < 1:
         raise SimgraspError(f"--seeds must be >= 1, got {options.seeds}")
+    if options.real is not None:
+        return _run_real(options)
     start = time.perf_counter()
     records = run_evaluation(
         tuple(expand_objects(options.objects)),
@@ -59,4 +70,22 @@ def run(options: Options) -> int:
     (options.out / "detect_eval.md").write_text(tables + "\n")
     print(f"wrote {csv_path}, {plot_path} and {options.out / 'detect_eval.md'}")
     print(f"{len(records)} detections in {time.perf_counter() - start:.0f} s")
+    return 0
+
+
+def _run_real(options: Options) -> int:
+    """``--real``: every manifest cloud x named setting x seed (rows already in the output's
+    CSV are kept, not redone)."""
+    from simgrasp.evaluation.real_detect import run_real_detect, tables
+    from simgrasp.evaluation.real_manifest import read_manifest
+
+    start = time.perf_counter()
+    clouds = read_manifest(options.real, options.real_dir)
+    csv_path = options.out / "real_detect.csv"
+    rows = run_real_detect(clouds, options.real_configs, range(options.seeds), csv_path)
+    text = tables(rows)
+    print(text)
+    (options.out / "real_detect.md").write_text(text + "\n")
+    print(f"wrote {csv_path} and {options.out / 'real_detect.md'}")
+    print(f"{len(rows)} detections in {time.perf_counter() - start:.0f} s")
     return 0
