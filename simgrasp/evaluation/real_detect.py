@@ -22,10 +22,13 @@ from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorName
+from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
 from simgrasp.handles.tenpas_config import TenPasConfig
 
-NAMED_CONFIGS: dict[str, Callable[[], QuadricDetectorConfig | TenPasConfig]] = {
+Setting = QuadricDetectorConfig | TenPasConfig | SingleViewConfig
+NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "default": QuadricDetectorConfig,
     "paper": QuadricDetectorConfig.paper,
     "two_scales": QuadricDetectorConfig.two_scales,
@@ -33,6 +36,7 @@ NAMED_CONFIGS: dict[str, Callable[[], QuadricDetectorConfig | TenPasConfig]] = {
     "noisy_camera_cloud": QuadricDetectorConfig.noisy_camera_cloud,
     "real_depth": QuadricDetectorConfig.real_depth,
     "tenpas": TenPasConfig,
+    "standoff": SingleViewConfig,
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name."""
 
@@ -59,7 +63,7 @@ class RealDetectRow:
         return self.on_handle / self.candidates if self.candidates else float("nan")
 
 
-def config_by_name(name: str) -> QuadricDetectorConfig | TenPasConfig:
+def config_by_name(name: str) -> Setting:
     """The named detector setting; one line listing the names when unknown."""
     if name not in NAMED_CONFIGS:
         raise SimgraspError(
@@ -68,12 +72,19 @@ def config_by_name(name: str) -> QuadricDetectorConfig | TenPasConfig:
     return NAMED_CONFIGS[name]()
 
 
+def detect_named(points: np.ndarray, name: str, seed: int, viewpoint: np.ndarray) -> Detection:
+    """Detect on a single view seen from ``viewpoint`` with the named setting."""
+    config = config_by_name(name)
+    if isinstance(config, SingleViewConfig):
+        return detect_single_view(points, config, seed, viewpoint)
+    kind: DetectorName = "tenpas" if isinstance(config, TenPasConfig) else "quadric"
+    return detect(points, None, config, seed, detector=kind, viewpoint=viewpoint)
+
+
 def score_cloud(cloud: RealCloud, points: np.ndarray, name: str, seed: int) -> RealDetectRow:
     """Detect with setting ``name`` and seed ``seed`` on ``points`` (the cloud as loaded)."""
-    config = config_by_name(name)
-    kind: DetectorName = "tenpas" if isinstance(config, TenPasConfig) else "quadric"
     start = time.perf_counter()
-    detection = detect(points, None, config, seed, detector=kind, viewpoint=cloud.viewpoint)
+    detection = detect_named(points, name, seed, cloud.viewpoint)
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
     top = detection.handles[0].center[None] if detection.handles else np.zeros((0, 3))
