@@ -17,7 +17,15 @@ from pathlib import Path
 from simgrasp.evaluation.real_detect import RealDetectRow, read_done
 from simgrasp.evaluation.sim_views import SimView, score_view
 
-CONFIGS = ("default", "two_scales", "camera_cloud", "noisy_camera_cloud", "real_depth", "standoff")
+CONFIGS = (
+    "default",
+    "two_scales",
+    "camera_cloud",
+    "noisy_camera_cloud",
+    "real_depth",
+    "standoff",
+    "standoff_axis",
+)
 VIEWS = {
     "gpd_table_mug": (
         SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),

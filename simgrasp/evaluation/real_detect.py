@@ -37,6 +37,7 @@ NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "real_depth": QuadricDetectorConfig.real_depth,
     "tenpas": TenPasConfig,
     "standoff": SingleViewConfig,
+    "standoff_axis": lambda: SingleViewConfig(surface_anchor=False),
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name."""
 

@@ -29,6 +29,10 @@ class SingleViewConfig:
 
     quadric: QuadricDetectorConfig = field(default_factory=_single_view_quadric)
     standoff: StandoffConfig = field(default_factory=StandoffConfig)
+    surface_anchor: bool = True
+    """Take handle centers from the candidates' seen surface points, not their fitted axes:
+    a one-sided view leaves a thin part's fitted axis up to centimeters off the part (a
+    knife's handle seen from above)."""
 
 
 def detect_single_view(
@@ -59,6 +63,7 @@ def detect_single_view(
         centrality_length=max(quadric.centrality_min_length, quadric.centrality_scale * rms),
         max_opening=quadric.gripper_max_opening if quadric.prefer_clearance else None,
         min_relative_score=quadric.min_relative_score,
+        anchors=np.stack([c.center for c in kept]) if config.surface_anchor else None,
     )
     supporting = sorted({int(i) for m in members for i in m})
     return replace(raw, candidates=tuple(kept[i] for i in supporting), handles=handles)

@@ -39,6 +39,8 @@ class StandoffConfig:
     """How far past the part's far side (along the ray) a finger reaches."""
     max_blocked: float = 0.1
     """Largest share of the strip's points allowed in either finger slot."""
+    min_width: float = 0.0
+    """Candidates fitted narrower than this are rejected (0: no limit)."""
     max_axis_cosine: float = 0.9
     """Candidates whose axis is this close to the ray (|cos|) are seen end-on: not tested."""
 
@@ -89,7 +91,7 @@ def standoff_mask(
     tree = cKDTree(points)
     keep = np.zeros(len(candidates), dtype=bool)
     for i, candidate in enumerate(candidates):
-        if candidate.width + 2 * config.gap > max_opening:
+        if not config.min_width <= candidate.width <= max_opening - 2 * config.gap:
             continue
         reach = candidate.width / 2 + config.gap + config.finger + config.half_length
         near = points[tree.query_ball_point(candidate.handle_point, reach)]
