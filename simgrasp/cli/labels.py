@@ -36,9 +36,9 @@ def run(options: Options) -> int:
         return _run_real(options)
     import numpy as np
 
-    from simgrasp.assets.label_plot import draw_label
     from simgrasp.assets.object_sets import expand_objects
     from simgrasp.assets.registry import load_object
+    from simgrasp.plots.object_labels import draw_label
 
     options.out.mkdir(parents=True, exist_ok=True)
     for name in expand_objects(options.objects):
@@ -53,7 +53,7 @@ def _run_osd(options: Options) -> int:
     """Draw the labeled handles of the chosen osd-learn scenes."""
     from simgrasp.assets.real import osd_scene_file, read_labeled_scene
     from simgrasp.assets.scene_labels import load_scene_labels
-    from simgrasp.handles.scene_label_plot import draw_scene_label
+    from simgrasp.plots.scene_labels import draw_scene_label
 
     labels = load_scene_labels()
     names = tuple(labels) if options.osd == ("all",) else options.osd
@@ -71,7 +71,7 @@ def _run_osd(options: Options) -> int:
 def _run_real(options: Options) -> int:
     """Draw the labeled handles of the chosen manifest clouds, each cut as detection gets it."""
     from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
-    from simgrasp.handles.real_label_plot import draw_real_label
+    from simgrasp.plots.real_labels import draw_real_label
 
     real_dir = Path(options.real_dir) if options.real_dir else None
     clouds = {c.name: c for c in read_manifest(options.manifest, real_dir)}

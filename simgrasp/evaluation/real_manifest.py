@@ -14,9 +14,9 @@ A TOML file of ``[[cloud]]`` tables, each::
     crop = [[x0, y0, z0], [x1, y1, z1]] # optional: keep points inside this box first
 
 ``cut = "table"`` keeps the points above the scene's dominant plane (the table of
-:func:`simgrasp.perception.segment.fit_table_plane`) in its largest connected cluster: the
-object a user's segmenter would hand over. Labels are regions (:mod:`simgrasp.assets.labels`)
-in the cloud's frame, in meters. The shipped manifest is ``models/handles/real_detect.toml``.
+:func:`simgrasp.perception.segmentation.segment.fit_table_plane`) in its largest connected
+cluster: the object a user's segmenter would hand over. Labels are regions
+(:mod:`simgrasp.assets.labels`) in the cloud's frame, in meters. The shipped manifest is ``models/handles/real_detect.toml``.
 """
 
 from __future__ import annotations
@@ -173,8 +173,8 @@ def object_above_table(
     """The largest connected cluster (1 cm) of the points above the dominant plane (m)."""
     from simgrasp.perception._arrays import to_open3d
     from simgrasp.perception.scene_cloud import scene_from_array
-    from simgrasp.perception.segment import fit_table_plane
-    from simgrasp.perception.segment_config import SegmentConfig
+    from simgrasp.perception.segmentation.segment import fit_table_plane
+    from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
     config = SegmentConfig()
     scene = scene_from_array(points.astype(np.float32), viewpoint, source=f"cloud {name}")
