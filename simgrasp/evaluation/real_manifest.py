@@ -16,7 +16,8 @@ A TOML file of ``[[cloud]]`` tables, each::
 ``cut = "table"`` keeps the points above the scene's dominant plane (the table of
 :func:`simgrasp.perception.segmentation.segment.fit_table_plane`) in its largest connected
 cluster: the object a user's segmenter would hand over. Labels are regions
-(:mod:`simgrasp.assets.labels`) in the cloud's frame, in meters. The shipped manifest is ``models/handles/real_detect.toml``.
+(:mod:`simgrasp.assets.labels`) in the cloud's frame, in meters. The shipped manifest is
+``models/handles/real_detect.toml``.
 """
 
 from __future__ import annotations
