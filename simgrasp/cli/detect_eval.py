@@ -1,6 +1,7 @@
 """``simgrasp detect-eval``: detection accuracy on object meshes over noise and seeds (the
 paper's Tables I and II, Fig. 8), resumable: rerunning with the same ``--out`` runs only the
-detections not yet in ``OUT/detections.jsonl``.
+detections not yet in ``OUT/detections.jsonl``; ``--real MANIFEST``: on the real clouds of a
+manifest (:mod:`simgrasp.evaluation.real_detect`).
 
 The detectors run with their plain defaults, as ``simgrasp detect`` does; ``trial`` and
 ``evaluate`` add a fine pass to the quadric detector for fused depth-camera clouds (see
@@ -49,6 +50,15 @@ class Options(YcbSource):
     out: Path = Path("out/detect-eval")
     """Output directory (detections.jsonl, resumed by the same command; run.json, the CSV,
     tables and plot)."""
+    real: Path | None = setting(None, metavar="MANIFEST")
+    """Score the real clouds of this manifest instead (TOML, see
+    simgrasp/evaluation/real_manifest.py; the shipped one: models/handles/real_detect.toml)."""
+    real_configs: tuple[str, ...] = ("default",)
+    """With --real: the named detector settings to compare (default, paper, two_scales,
+    camera_cloud, noisy_camera_cloud, real_depth, tenpas, ...)."""
+    real_dir: Path | None = None
+    """With --real: folder the manifest's cloud paths are relative to (default:
+    $SIMGRASP_REAL_DIR, else ../shared/real)."""
 
 
 def run(options: Options) -> int:
@@ -57,6 +67,8 @@ def run(options: Options) -> int:
     from simgrasp.runs.engine import RunConfig
     from simgrasp.runs.out_dir import claim_out_dir
 
+    if options.real is not None:
+        return _run_real(options)
     run = RunConfig(options.workers, options.backend, options.address, not options.no_progress)
     objects = tuple(expand_objects(options.objects))
     items = plan_detections(
@@ -89,4 +101,22 @@ def _run(options: Options, items: list[DetectionItem], run: RunConfig) -> int:
     (options.out / "detect_eval.md").write_text(tables + "\n")
     print(f"wrote {csv_path}, {plot_path} and {options.out / 'detect_eval.md'}")
     print(f"{len(records)} detections in {time.perf_counter() - start:.0f} s")
+    return 0
+
+
+def _run_real(options: Options) -> int:
+    """``--real``: every manifest cloud x named setting x seed (rows already in the output's
+    CSV are kept, not redone)."""
+    from simgrasp.evaluation.real_detect import run_real_detect, tables
+    from simgrasp.evaluation.real_manifest import read_manifest
+
+    start = time.perf_counter()
+    clouds = read_manifest(options.real, options.real_dir)
+    csv_path = options.out / "real_detect.csv"
+    rows = run_real_detect(clouds, options.real_configs, range(options.seeds), csv_path)
+    text = tables(rows)
+    print(text)
+    (options.out / "real_detect.md").write_text(text + "\n")
+    print(f"wrote {csv_path} and {options.out / 'real_detect.md'}")
+    print(f"{len(rows)} detections in {time.perf_counter() - start:.0f} s")
     return 0
