@@ -24,7 +24,7 @@ its mass comes from its convex hull's volume and its collisions from CoACD's par
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from urllib.parse import parse_qsl, urlencode
 
@@ -131,10 +131,10 @@ def with_options(name: str, **options: float | str | Path | None) -> str:
                 f"--{'/--'.join(sorted(set(given) - {'handles'}))} only apply to a mesh file "
                 f"object, not {name!r}"
             )
-        return name
+        return f"{name.partition('?')[0]}?{urlencode({'handles': str(given['handles'])})}"
     spec = parse_mesh_spec(name)
-    fields = {k: getattr(spec, k) for k in _KEYS}
-    fields.update({k: Path(v) if k == "handles" else v for k, v in given.items()})
+    fields: dict[str, object] = {k: getattr(spec, k) for k in _KEYS}
+    fields.update({k: Path(str(v)) if k == "handles" else v for k, v in given.items()})
     if "scale" in given:
         fields["units"] = None
     if "units" in given:
@@ -192,19 +192,34 @@ def _size_hint(message: str, mesh: trimesh.Trimesh, spec: MeshObjectSpec) -> str
     return message
 
 
+def relabeled(asset: ObjectAsset, name: str) -> ObjectAsset:
+    """A named object (YCB, generated, catalog) ``name = BASE?handles=FILE`` with the handle
+    label of FILE (its entry named BASE or the object's name, or its only entry)."""
+    query = dict(parse_qsl(name.partition("?")[2]))
+    if set(query) != {"handles"}:
+        raise SimgraspError(f"object {name!r}: only a mesh file takes options other than handles")
+    label = _label_of(Path(query["handles"]), (name.partition("?")[0], asset.name), name)
+    return replace(asset, name=name, handle=label)
+
+
 def _handle(spec: MeshObjectSpec, name: str) -> HandleLabel:
     """The handle label of the spec's ``handles`` file (entry by mesh stem, or the only one)."""
     if spec.handles is None:
         return HandleLabel(name)
-    labels = load_label_file(spec.handles)
-    stem = spec.path.stem
-    if stem in labels:
+    return _label_of(spec.handles, (spec.path.stem,), name)
+
+
+def _label_of(path: Path, keys: tuple[str, ...], name: str) -> HandleLabel:
+    """The entry of label file ``path`` named by one of ``keys``, or its only entry."""
+    labels = load_label_file(path)
+    stem = next((key for key in keys if key in labels), None)
+    if stem is not None:
         label = labels[stem]
     elif len(labels) == 1:
         label = next(iter(labels.values()))
     else:
         raise SimgraspError(
-            f"handle file {spec.handles} has {len(labels)} objects and none named {stem!r}"
+            f"handle file {path} has {len(labels)} objects and none named {keys[0]!r}"
         )
     return HandleLabel(name, label.regions, label.whole_object)
 

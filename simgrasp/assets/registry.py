@@ -8,7 +8,7 @@ import re
 
 from simgrasp.assets.catalog import catalog_entry
 from simgrasp.assets.generated import GENERATED_KINDS, generate_tool
-from simgrasp.assets.mesh_object import is_mesh_spec, load_mesh_object
+from simgrasp.assets.mesh_object import is_mesh_spec, load_mesh_object, relabeled
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.errors import SimgraspError
@@ -22,10 +22,13 @@ def load_object(
     name: str, ycb_dir: str | os.PathLike[str] | None = None, *, seed: int = 0
 ) -> ObjectAsset:
     """Load a mesh file spec (:mod:`simgrasp.assets.mesh_object`), a catalog name
-    (:mod:`simgrasp.assets.catalog`), ``gen_<kind>`` (sizes drawn from ``seed``), ``gen_<kind>_s<N>`` (seed N), or a
-    YCB object (``"025_mug"`` or ``"mug"``) from ``ycb_dir`` / ``$SIMGRASP_YCB_DIR``."""
+    (:mod:`simgrasp.assets.catalog`), ``gen_<kind>`` (sizes drawn from ``seed``),
+    ``gen_<kind>_s<N>`` (seed N), ``NAME?handles=FILE`` (another handle label), or a YCB
+    object (``"025_mug"`` or ``"mug"``) from ``ycb_dir`` / ``$SIMGRASP_YCB_DIR``."""
     if is_mesh_spec(name):
         return load_mesh_object(name)
+    if "?" in name:  # a named object with a handle label file
+        return relabeled(load_object(name.partition("?")[0], ycb_dir, seed=seed), name)
     if (entry := catalog_entry(name)) is not None:
         return load_mesh_object(entry)
     match = _GENERATED.match(name)

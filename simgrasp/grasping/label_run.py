@@ -128,6 +128,9 @@ def label_grasp_set(
     run = {**asdict(config), "grasps": str(grasp_file), "grasps_sha256": file_digest(grasp_file)}
     run["count"] = len(grasps)
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
+    for key in ("shake", "start_tolerance"):  # None: run.json as before these settings
+        if run["trial"][key] is None:
+            del run["trial"][key]
     if config.trial.hold_timestep is not None:  # the step actually used is capped by the gripper
         run["gripper_max_timestep"] = make_gripper(config.gripper).max_timestep
     check_run(out_dir, {k: v for k, v in run.items() if k != "grasps"})
@@ -165,14 +168,21 @@ def label_grasp_set(
 
 def write_label_arrays(path: Path, records: list[dict[str, Any]]) -> None:
     """``labels.npz`` of records in input order (``sim_unstable`` counts as not a success)."""
-    np.savez(
-        path,
-        success=np.array([r["success"] is True for r in records], dtype=bool),
-        on_handle=np.array([bool(r["on_handle"]) for r in records], dtype=bool),
-        failure=np.array([r["failure"] or "" for r in records], dtype=str),
-        handle_fraction=np.array([r["handle_fraction"] for r in records], dtype=float),
-        lift_height=np.array([r["lift_height"] for r in records], dtype=float),
-    )
+    arrays = {
+        "success": np.array([r["success"] is True for r in records], dtype=bool),
+        "on_handle": np.array([bool(r["on_handle"]) for r in records], dtype=bool),
+        "failure": np.array([r["failure"] or "" for r in records], dtype=str),
+        "handle_fraction": np.array([r["handle_fraction"] for r in records], dtype=float),
+        "lift_height": np.array([r["lift_height"] for r in records], dtype=float),
+    }
+    if _scored(records):
+        arrays["score"] = np.array([r.get("score", 0.0) for r in records], dtype=float)
+    np.savez(path, **arrays)  # type: ignore[arg-type]
+
+
+def _scored(records: list[dict[str, Any]]) -> bool:
+    """Whether the protocol gave the records a ``score`` (an ``invalid`` row has none)."""
+    return any("score" in r for r in records)
 
 
 def summarize(
