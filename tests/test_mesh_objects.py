@@ -93,8 +93,15 @@ def test_too_many_loose_parts(tmp_path: Path) -> None:
 
 def test_catalog_and_handle_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     _box_file(tmp_path / "crate.stl", 100.0)  # in cm
-    handles = {"objects": {"crate": {"regions": [{"type": "box", "center": [0, 0, 0.04],
-                                                   "half_extents": [0.03, 0.04, 0.02]}]}}}
+    handles = {
+        "objects": {
+            "crate": {
+                "regions": [
+                    {"type": "box", "center": [0, 0, 0.04], "half_extents": [0.03, 0.04, 0.02]}
+                ]
+            }
+        }
+    }
     (tmp_path / "handles.json").write_text(json.dumps(handles))
     (tmp_path / "objects.toml").write_text(
         '[my_crate]\nmesh = "crate.stl"\nunits = "cm"\nmass = 0.5\nfriction = 0.6\n'

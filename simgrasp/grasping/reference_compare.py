@@ -33,7 +33,8 @@ def compare_with_reference(ours: Path, references: list[Path]) -> dict[str, Any]
     from simgrasp.grasping.dataset_run import _our_labels
     from simgrasp.grasping.grasp_files import reference_labels
 
-    rows, pooled = [], {}
+    rows: list[dict[str, Any]] = []
+    pooled: dict[str, tuple[list, list, list]] = {}
     for reference in references:
         labels = reference_labels(reference)
         if labels is None:
@@ -109,4 +110,3 @@ def _roc_curve(axes: Any, comparison: dict[str, Any], ours: Path) -> None:
     auroc = overall["auroc"]
     axes.set_title(f"overall, AUROC of score {auroc:.3f}" if auroc is not None else "overall")
     axes.legend(loc="lower right")
-
