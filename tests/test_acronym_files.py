@@ -18,9 +18,9 @@ import trimesh
 from data_needs import require_data
 
 from simgrasp.assets.model import model_for
-from simgrasp.grasping.grasp_files import carried_object
-from simgrasp.grasping.grasp_sets import FRANKA_T_TCP, read_grasp_set
-from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
+from simgrasp.grasping.labeling.grasp_files import carried_object
+from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP, read_grasp_set
+from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
 
 EXAMPLE = "examples/grasps/Mug_10f6e09036350e92b3f21f1137c3c347_0.0002682457830986903.h5"
 ROOT = Path(__file__).parents[1]

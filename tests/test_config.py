@@ -14,7 +14,7 @@ from simgrasp.config.arguments import flag_name
 from simgrasp.config.schema import leaves
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 

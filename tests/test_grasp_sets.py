@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from simgrasp.grasping.grasp_sets import (
+from simgrasp.grasping.labeling.grasp_sets import (
     ACRONYM_TCP_OFFSET,
     read_grasp_set,
     write_grasp_set,
@@ -118,9 +118,9 @@ def test_sampler_table_margins_match_the_planner() -> None:
     """The sampler's vectorized table check is the planner's table_margin, grasp by grasp."""
     from dataclasses import replace
 
-    from simgrasp.grasping.antipodal import Table
-    from simgrasp.grasping.planner import table_margin
-    from simgrasp.grasping.planner_config import PlannerConfig
+    from simgrasp.grasping.planning.antipodal import Table
+    from simgrasp.grasping.planning.planner import table_margin
+    from simgrasp.grasping.planning.planner_config import PlannerConfig
     from simgrasp.grippers.geometry import GripperGeometry
 
     rng = np.random.default_rng(0)
@@ -141,8 +141,8 @@ def test_sampler_table_margins_match_the_planner() -> None:
 
 
 def test_compare_labels_confusion_leaves_out_unscored(tmp_path: Path) -> None:
-    from simgrasp.grasping.label_compare import compare_labels
-    from simgrasp.grasping.label_run import write_label_arrays
+    from simgrasp.grasping.labeling.label_compare import compare_labels
+    from simgrasp.grasping.labeling.label_run import write_label_arrays
 
     def records(outcomes: list[tuple[bool, str | None]]) -> list[dict]:
         return [

@@ -18,9 +18,9 @@ from test_trial import handle_grasp, head_point, top_down_grasp
 from simgrasp.assets.model import model_for
 from simgrasp.cli import main
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.grasp_sets import read_grasp_set, write_grasp_set
-from simgrasp.grasping.label_run import LABELS_FILE, label_grasp_set
-from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
+from simgrasp.grasping.labeling.grasp_sets import read_grasp_set, write_grasp_set
+from simgrasp.grasping.labeling.label_run import LABELS_FILE, label_grasp_set
+from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
 from simgrasp.transforms import matrix_to_pose7
 
 OBJECT, SEED = "gen_hammer_s1", 3

@@ -11,7 +11,7 @@ import pytest
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.scoring import geoms_touching
+from simgrasp.grasping.trials.scoring import geoms_touching
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.scene import build_scene

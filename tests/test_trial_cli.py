@@ -16,8 +16,8 @@ from simgrasp.assets.registry import load_object
 from simgrasp.cli import main
 from simgrasp.cli.trial import _print_summary
 from simgrasp.evaluation.sweep import TrialSpec, run_spec
-from simgrasp.grasping.chain import ChainResult
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain import ChainResult
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.key_frames import write_frames
 from simgrasp.scenes.scene import build_scene

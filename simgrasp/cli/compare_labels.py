@@ -1,7 +1,7 @@
 """``simgrasp compare-labels REFERENCE OTHER``: the confusion matrix of two label-grasps runs
 of one grasp set (e.g. the full and the fast protocol); ``compare-labels OURS --reference
 FILE.h5|GLOB|DIR``: our labels against a grasp file's own (FleX's), per object and overall
-(:mod:`simgrasp.grasping.reference_compare`)."""
+(:mod:`simgrasp.grasping.labeling.reference_compare`)."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ class Options:
 
 
 def run(options: Options) -> int:
-    from simgrasp.grasping.label_compare import compare_labels, confusion_text
+    from simgrasp.grasping.labeling.label_compare import compare_labels, confusion_text
 
     if options.reference_file is not None:
         return _against_file(options)
@@ -46,8 +46,8 @@ def run(options: Options) -> int:
 
 
 def _against_file(options: Options) -> int:
-    from simgrasp.grasping.grasp_files import expand_grasp_files
-    from simgrasp.grasping.reference_compare import (
+    from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
+    from simgrasp.grasping.labeling.reference_compare import (
         compare_with_reference,
         comparison_text,
         plot_comparison,

@@ -18,7 +18,7 @@ from pathlib import Path
 from simgrasp.cli import invocation
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 DETECTORS = ("quadric", "centroid")
 NOISE = (0.0, 0.02)

@@ -17,7 +17,7 @@ from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
 
 
@@ -136,7 +136,7 @@ def _detect(options: Options) -> Detection:
     kind = options.detector.kind
     detection = detect(points, normals, config, options.seed, detector=kind, viewpoint=viewpoint)
     if options.plot:
-        from simgrasp.handles.plot import plot_detection
+        from simgrasp.plots.detection import plot_detection
 
         plot_detection(detection, options.plot, title=f"{options.cloud} ({kind})")
     return detection

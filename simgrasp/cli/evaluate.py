@@ -19,7 +19,7 @@ from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import CHAIN_DETECTORS, ChainConfig, ChainDetector
+from simgrasp.grasping.trials.chain_config import CHAIN_DETECTORS, ChainConfig, ChainDetector
 from simgrasp.grippers.registry import gripper_names
 from simgrasp.perception.sensors.settings import sensor_names
 

@@ -4,9 +4,10 @@ an object, resumably, and say which hold it by its handle.
 Writes ``OUT/labels.jsonl`` (one record per grasp, appended as each finishes; rerun the same
 command to finish an interrupted run), ``labels.npz`` (``success``, ``on_handle``,
 ``failure`` in input order; ``score`` for protocols with one), ``summary.json`` and
-``labels.png``. OBJECT may be left out for ACRONYM ``.h5`` and GraspGen ``.json`` files, which
-name their object (:mod:`simgrasp.grasping.grasp_files`). A glob or a folder labels every file
-into ``OUT/<file stem>/`` with one ``OUT/summary.json`` (:mod:`simgrasp.grasping.dataset_run`).
+``labels.png``. OBJECT may be left out for ACRONYM ``.h5`` and GraspGen ``.json`` files,
+which name their object (:mod:`simgrasp.grasping.labeling.grasp_files`). A glob or a folder
+labels every file into ``OUT/<file stem>/`` with one ``OUT/summary.json``
+(:mod:`simgrasp.grasping.labeling.dataset_run`).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.labeling import LabelConfig
+from simgrasp.grasping.labeling.labeling import LabelConfig
 
 SHOWN_PROBLEMS = 10
 """Invalid rows listed one by one before the rest are counted."""
@@ -56,10 +57,10 @@ class Options(YcbSource, MeshObjectOptions):
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
     from simgrasp.evaluation.out_dir import claim_out_dir
-    from simgrasp.grasping.dataset_run import label_files, object_for
-    from simgrasp.grasping.grasp_files import expand_grasp_files
-    from simgrasp.grasping.grasp_sets import read_grasp_set
-    from simgrasp.grasping.label_run import label_grasp_set
+    from simgrasp.grasping.labeling.dataset_run import label_files, object_for
+    from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
+    from simgrasp.grasping.labeling.label_run import label_grasp_set
 
     if options.workers < 1:
         raise SimgraspError(f"--workers must be >= 1, got {options.workers}")
@@ -67,7 +68,7 @@ def run(options: Options) -> int:
         raise SimgraspError(f"--max-grasps must be >= 1, got {options.max_grasps}")
     files = expand_grasp_files(options.grasps)
     if len(files) > 1 or options.grasps.is_dir():
-        return label_files(files, options)
+        return label_files(files, options, invocation())
     config = object_for(options, files[0])
     grasps = read_grasp_set(options.grasps).first(options.max_grasps)
     report_problems(grasps.problems, len(grasps))
@@ -87,7 +88,7 @@ def run(options: Options) -> int:
         if not options.no_picture:
             _picture(model, grasps, records, config, out / "labels.png")
         if options.export:
-            from simgrasp.grasping.dataset_run import export_run
+            from simgrasp.grasping.labeling.dataset_run import export_run
 
             export_run(files[0], out, options.export, out)
     print_summary(summary, out)
@@ -107,8 +108,8 @@ def report_problems(problems: dict[int, str], count: int) -> None:
 def _picture(model: Any, grasps: Any, records: list, config: LabelConfig, path: Path) -> None:
     import numpy as np
 
-    from simgrasp.grasping.label_plot import plot_labels
     from simgrasp.grippers import make_gripper
+    from simgrasp.plots.grasp_labels import plot_labels
 
     widths = np.where(
         np.isfinite(grasps.width), grasps.width, make_gripper(config.gripper).max_opening

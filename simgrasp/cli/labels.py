@@ -29,9 +29,9 @@ def run(options: Options) -> int:
         return _run_osd(options)
     import numpy as np
 
-    from simgrasp.assets.label_plot import draw_label
     from simgrasp.assets.object_sets import expand_objects
     from simgrasp.assets.registry import load_object
+    from simgrasp.plots.object_labels import draw_label
 
     options.out.mkdir(parents=True, exist_ok=True)
     for name in expand_objects(options.objects):
@@ -46,7 +46,7 @@ def _run_osd(options: Options) -> int:
     """Draw the labeled handles of the chosen osd-learn scenes."""
     from simgrasp.assets.real import osd_scene_file, read_labeled_scene
     from simgrasp.assets.scene_labels import load_scene_labels
-    from simgrasp.handles.scene_label_plot import draw_scene_label
+    from simgrasp.plots.scene_labels import draw_scene_label
 
     labels = load_scene_labels()
     names = tuple(labels) if options.osd == ("all",) else options.osd

@@ -41,8 +41,8 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.antipodal import Table, sample_antipodal
-    from simgrasp.grasping.grasp_sets import write_grasp_set
+    from simgrasp.grasping.labeling.grasp_sets import write_grasp_set
+    from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
     from simgrasp.grippers import make_gripper
     from simgrasp.scenes.config import SceneConfig
     from simgrasp.scenes.scene import build_scene

@@ -16,7 +16,7 @@ from typing import Any, Literal
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -67,7 +67,7 @@ def run(options: Options) -> int:
 def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.given_grasp import trial_of_grasp
+    from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
@@ -86,9 +86,9 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
 
 
 def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
-    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.chain`)."""
+    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`)."""
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.chain import run_chain
+    from simgrasp.grasping.trials.chain import run_chain
 
     object_model = model_for(options.object, options.ycb_dir)
     return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()

@@ -3,9 +3,9 @@
 Episode: :meth:`HandleGraspEnv.reset` picks an object and an episode seed, builds the chain's
 scene (the object in a seeded stable pose and yaw, :func:`simgrasp.scenes.scene.build_scene`)
 and observes it as the chain does (:func:`simgrasp.scenes.observe.observe`), so the cloud is
-exactly the one :func:`simgrasp.grasping.chain.run_chain` would plan on with that seed.
+exactly the one :func:`simgrasp.grasping.trials.chain.run_chain` would plan on with that seed.
 :meth:`HandleGraspEnv.step` executes the action as a grasp trial
-(:func:`simgrasp.grasping.trial.run_trial`) and ends the episode.
+(:func:`simgrasp.grasping.trials.trial.run_trial`) and ends the episode.
 
 Observation: see :mod:`simgrasp.envs.observation`. Action: see :mod:`simgrasp.envs.action`
 (``[x, y, z, qw, qx, qy, qz, width]``, world frame, meters).
@@ -35,8 +35,9 @@ from simgrasp.envs.observation import (
     observation_space,
 )
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.trial import TrialResult, run_trial
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trials.result import TrialResult
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import DEFAULT_GRIPPER, check_gripper_name, make_gripper
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig

@@ -2,8 +2,8 @@
 action.
 
 :class:`DetectorPolicy` plans with the very function the chain plans with
-(:func:`simgrasp.grasping.proposal.plan_grasps`), on the observation's cloud, normals and the
-centers of the cameras that saw the cloud, and returns the best-ranked grasp as an action.
+(:func:`simgrasp.grasping.planning.proposal.plan_grasps`), on the observation's cloud, normals and
+the centers of the cameras that saw the cloud, and returns the best-ranked grasp as an action.
 Given the episode seed, it proposes exactly the grasp ``run_chain`` executes for that object
 and seed when the env and the chain share gripper, noise and scene (and the cloud was not
 subsampled, see :mod:`simgrasp.envs.observation`).
@@ -26,11 +26,11 @@ from simgrasp.config import build as build_settings
 from simgrasp.envs.action import action_from_grasp
 from simgrasp.envs.handle_grasp import HandleGraspEnv
 from simgrasp.envs.observation import Observation
-from simgrasp.grasping.chain_config import ChainDetector, ChainDetectorConfig
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import top_down_above_table
-from simgrasp.grasping.planner_config import PlannerConfig
-from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
+from simgrasp.grasping.planning.planner import top_down_above_table
+from simgrasp.grasping.planning.planner_config import PlannerConfig
+from simgrasp.grasping.planning.proposal import MIN_CLOUD_POINTS, plan_grasps
+from simgrasp.grasping.trials.chain_config import ChainDetector, ChainDetectorConfig
 from simgrasp.grippers import DEFAULT_GRIPPER, make_gripper
 from simgrasp.grippers.geometry import GripperGeometry
 

@@ -1,6 +1,6 @@
 """Grasp-evaluation sweeps: every object x swept settings x seed as one full-chain
-trial (:func:`simgrasp.grasping.chain.run_chain`), run in worker processes or as Ray tasks and
-recorded in a resumable :class:`~simgrasp.evaluation.trial_log.TrialLog`.
+trial (:func:`simgrasp.grasping.trials.chain.run_chain`), run in worker processes or as Ray tasks
+and recorded in a resumable :class:`~simgrasp.evaluation.trial_log.TrialLog`.
 
 Workers are started with the ``spawn`` method (a GL context must not cross a ``fork``); each
 worker builds every object model once (CoACD decompositions come from the on-disk cache).
@@ -27,7 +27,7 @@ from simgrasp.evaluation.trial_log import (
     trial_key,
     trial_settings,
 )
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.process_pool import spawn_pool
 from simgrasp.ray_session import ray_session
 
@@ -110,7 +110,7 @@ def prepare_object(name: str, ycb_dir: str | None) -> str:
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's summary fields."""
-    from simgrasp.grasping.chain import run_chain
+    from simgrasp.grasping.trials.chain import run_chain
 
     record = run_chain(_object_model(spec.object, ycb_dir), spec.config, spec.seed).to_json()
     record["object_asset"] = record["object"]

@@ -20,7 +20,7 @@ from typing import Any
 
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
 TrialKey = tuple[str, int, str]

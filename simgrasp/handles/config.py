@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Literal
 
 from simgrasp.errors import SimgraspError
@@ -240,7 +240,7 @@ class QuadricDetectorConfig:
     def two_scales(cls, **overrides: object) -> QuadricDetectorConfig:
         """The defaults plus a fine pass (``fine_half_size`` 12 mm: Taubin fits of 12 mm
         neighborhoods, one center per 3 voxels, a 6 mm shell), the full chain's default
-        (:class:`~simgrasp.grasping.chain_config.ChainDetectorConfig`) for fused clouds of
+        (:class:`~simgrasp.grasping.trials.chain_config.ChainDetectorConfig`) for fused clouds of
         rendered depth, ideal or Kinect-class.
 
         The defaults' 16 mm normals-based fits keep wide, gently curved handles (a can's side,
@@ -311,7 +311,3 @@ class QuadricDetectorConfig:
         )
         base.update(overrides)
         return cls(**base)  # type: ignore[arg-type]
-
-    @classmethod
-    def field_names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls))

@@ -9,7 +9,7 @@ a clear gap around them, and chains aligned shells into handles.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 from simgrasp.errors import SimgraspError
 
@@ -120,7 +120,3 @@ class TenPasConfig:
             )
         if self.min_shells < 1:
             raise SimgraspError(f"tenpas config: min_shells must be >= 1, got {self.min_shells}")
-
-    @classmethod
-    def field_names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls))

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.perception.segment_config import FIRST_OBJECT, SegmentConfig
+from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, SegmentConfig
 
 
 def rim_parents(

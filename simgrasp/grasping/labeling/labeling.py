@@ -1,7 +1,7 @@
 """The grasp-labeling engine: one object's scene compiled once, every grasp a trial on it.
 
 A :class:`GraspLabeler` builds the scene of one object, gripper and seed once; each grasp is
-then a :func:`~simgrasp.grasping.trial.run_trial` on that scene, which resets the compiled
+then a :func:`~simgrasp.grasping.trials.trial.run_trial` on that scene, which resets the compiled
 model's state (``mj_resetData`` and forward kinematics, no rebuild, no rendering) before
 executing it. It is the same trial code path as ``simgrasp trial``, ``evaluate`` and the env,
 so a grasp labeled with the full protocol has the record ``trial --grasp`` gives it.
@@ -23,8 +23,8 @@ from numpy.typing import NDArray
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.protocol import DEFAULT_PROTOCOL, PROTOCOLS, Protocol
-from simgrasp.grasping.trial_config import TrialConfig, protocol_config
+from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, PROTOCOLS, Protocol
+from simgrasp.grasping.trials.trial_config import TrialConfig, protocol_config
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, check_gripper_name, gripper_names
 
 if TYPE_CHECKING:
@@ -79,7 +79,7 @@ class GraspLabeler:
     """Labels grasps of one object with one gripper and protocol on one compiled scene."""
 
     def __init__(self, object_model: ObjectModel, config: LabelConfig) -> None:
-        from simgrasp.grasping.trial import initial_object_pose
+        from simgrasp.grasping.trials.trial import initial_object_pose
         from simgrasp.grippers import make_gripper
         from simgrasp.scenes.config import SceneConfig
         from simgrasp.scenes.scene import build_scene
@@ -96,7 +96,7 @@ class GraspLabeler:
         """The trial record of one grasp (object frame; ``width`` NaN: fully open), with its
         ``index`` and the ``protocol``."""
         from simgrasp.grasping.grasp import Grasp
-        from simgrasp.grasping.trial import run_trial
+        from simgrasp.grasping.trials.trial import run_trial
 
         opening = self.gripper.max_opening if not np.isfinite(width) else float(width)
         grasp = Grasp.from_object_frame(

@@ -8,11 +8,11 @@ angle ``atan(friction)``). The TCP goes to the contacts' midpoint, shifted along
 a random depth; +y (the closing direction) is ``q - p``; the approach is a random direction
 perpendicular to it. The jaws open by the contact width plus twice ``width_margin``. A grasp
 whose open gripper (the planner's finger and palm boxes,
-:class:`~simgrasp.grasping.planner.GripperGeometry`) holds any of the mesh's surface samples
-is dropped. With a table (``world_T_object``, the object's rest pose in a scene), so is a grasp
-whose gripper would reach below the table top at the grasp or the pre-grasp (the planner's
-:func:`~simgrasp.grasping.planner.table_margin`, vectorized): the set then suits that scene.
-Everything is in the object's mesh frame (meters); every draw comes from the seed. Contacts
+:class:`~simgrasp.grasping.planning.planner.GripperGeometry`) holds any of the mesh's surface
+samples is dropped. With a table (``world_T_object``, the object's rest pose in a scene), so is a
+grasp whose gripper would reach below the table top at the grasp or the pre-grasp (the planner's
+:func:`~simgrasp.grasping.planning.planner.table_margin`, vectorized): the set then suits that
+scene. Everything is in the object's mesh frame (meters); every draw comes from the seed. Contacts
 are found with Open3D's ray casting (trimesh's took ~2.5 s per 512 rays on a YCB scan).
 """
 
@@ -25,8 +25,8 @@ import trimesh
 from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.planner import gripper_distances
-from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grasping.planning.planner import gripper_distances
+from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.seeding import rng_for
 
@@ -137,7 +137,7 @@ class Table:
     def margins(
         self, object_T_tcp: NDArray[np.float64], openings: NDArray, geometry: GripperGeometry
     ) -> NDArray[np.float64]:
-        """(K,) the planner's :func:`~simgrasp.grasping.planner.table_margin` of K grasps
+        """(K,) the planner's :func:`~simgrasp.grasping.planning.planner.table_margin` of K grasps
         opened ``openings`` (m), vectorized: the least height of the gripper's boxes above the
         top beyond the clearance, at the grasp (closed fingertip reach) and at the pre-grasp;
         negative when one would be too low."""

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.protocol import PROTOCOLS
-from simgrasp.grasping.shake import ShakeConfig
+from simgrasp.grasping.trials.protocol import PROTOCOLS
+from simgrasp.grasping.trials.shake import ShakeConfig
 
 ON_HANDLE_THRESHOLD = 0.5
 """A grasp is ``on_handle`` when at least this share of its finger-object contact points (at
@@ -110,8 +110,9 @@ class TrialConfig:
     ``invalid_start`` (the object's convex hulls bulge a few millimeters beyond the mesh a
     grasp file was checked against); None: any contact is."""
     shake: ShakeConfig | None = None
-    """With it, the closed grasp is tested by ACRONYM's shake (:mod:`simgrasp.grasping.shake`)
-    instead of the lift, the hold and the tugs; None: not used."""
+    """With it, the closed grasp is tested by ACRONYM's shake
+    (:mod:`simgrasp.grasping.trials.shake`) instead of the lift, the hold and the tugs; None:
+    not used."""
     max_speed: float = 100.0
     """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
     spinning in the jaws during the tugs reaches ~20 rad/s; blow-ups go far beyond)."""
@@ -209,7 +210,7 @@ ACRONYM_TRIAL = TrialConfig(
     start_tolerance=0.005,
     shake=ShakeConfig(),
 )
-"""The ``acronym`` protocol (Eppner et al. 2021, :mod:`simgrasp.grasping.shake`): the object
+"""The ``acronym`` protocol (Eppner et al. 2021, :mod:`simgrasp.grasping.trials.shake`): the object
 floats without gravity, the hand appears at the grasp and closes, squeezes 0.1 s once both
 fingers touch, then shakes; success when the object is still between the fingers. Contacts
 at the start up to 5 mm deep are allowed (the hulls' bulge: 24 of 80 example-mug grasps started

@@ -2,9 +2,9 @@
 
 The table is the dominant plane (RANSAC on a seeded subsample, refined by least squares on
 all its inliers). Above it, an organized cloud is cut into objects on its image grid
-(:mod:`simgrasp.perception.organized_segments`: depth steps and concave creases separate
-stacked and touching objects); an unorganized one, or ``method="dbscan"``, is clustered with
-Open3D's DBSCAN on a voxel grid (the plain baseline).
+(:mod:`simgrasp.perception.segmentation.organized_segments`: depth steps and concave creases
+separate stacked and touching objects); an unorganized one, or ``method="dbscan"``, is clustered
+with Open3D's DBSCAN on a voxel grid (the plain baseline).
 
 Labels, one int32 per input point in the input's order: 0 invalid or unassigned (NaN,
 beyond range, below the table, too small a segment), 1 table, 2.. objects by increasing
@@ -23,11 +23,16 @@ from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d
-from simgrasp.perception.organized_segments import grid_components, inner_floors
 from simgrasp.perception.scene_cloud import SceneCloud
-from simgrasp.perception.segment_config import FIRST_OBJECT, INVALID, TABLE, SegmentConfig
-from simgrasp.perception.segment_parts import claim_table_edges, part_parents
-from simgrasp.perception.segment_rims import rim_parents
+from simgrasp.perception.segmentation.organized_segments import grid_components, inner_floors
+from simgrasp.perception.segmentation.segment_config import (
+    FIRST_OBJECT,
+    INVALID,
+    TABLE,
+    SegmentConfig,
+)
+from simgrasp.perception.segmentation.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segmentation.segment_rims import rim_parents
 from simgrasp.seeding import rng_for
 
 Method = Literal["auto", "grid", "dbscan"]
@@ -43,7 +48,7 @@ class SegmentedObject:
         center: (3,) centroid (m, cloud frame).
         extent: (3,) edge lengths of its axis-aligned bounding box (m, cloud frame).
         part_of: the label of the object this one is a thin side part of (a pot's tab:
-            :mod:`simgrasp.perception.segment_parts`), its own label otherwise.
+            :mod:`simgrasp.perception.segmentation.segment_parts`), its own label otherwise.
     """
 
     label: int
@@ -238,8 +243,8 @@ def _parts(
     config: SegmentConfig,
 ) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
     """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
-    set (:mod:`simgrasp.perception.segment_parts`, on the image grid; with ``rim_band``,
-    a round container's inside joined to its outside, :mod:`.segment_rims`)."""
+    set (:mod:`simgrasp.perception.segmentation.segment_parts`, on the image grid; with
+    ``rim_band``, a round container's inside joined to its outside, :mod:`.segment_rims`)."""
     shape = (scene.height, scene.width)
     grid, height_grid = scene.grid(), height.reshape(shape)
     parents = part_parents(labels.reshape(shape), grid, height_grid, config)

@@ -11,8 +11,9 @@ from numpy.typing import ArrayLike
 from simgrasp.assets.model import ObjectModel
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.trial import Phase, TrialResult, run_trial
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trials.result import Phase, TrialResult
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.base import Gripper
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.scene import Scene, build_scene

@@ -1,6 +1,6 @@
 """Grasp proposals on plain arrays: a handle detector (or a baseline) and the planner.
 
-The chain (:func:`simgrasp.grasping.chain.run_chain`) and the gymnasium policy
+The chain (:func:`simgrasp.grasping.trials.chain.run_chain`) and the gymnasium policy
 (:class:`simgrasp.envs.policy.DetectorPolicy`) both plan through :func:`plan_grasps`.
 """
 
@@ -9,15 +9,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.grasping.chain_config import ChainDetectorConfig
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import (
+from simgrasp.grasping.planning.planner import (
     GripperGeometry,
     antipodal_grasps,
     centroid_grasps,
     grasps_from_handles,
 )
-from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grasping.planning.planner_config import PlannerConfig
+from simgrasp.grasping.trials.chain_config import ChainDetectorConfig
 from simgrasp.handles import detect
 from simgrasp.handles.detection import Detection
 from simgrasp.seeding import rng_for

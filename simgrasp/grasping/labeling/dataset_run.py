@@ -5,7 +5,7 @@ Each file is a :func:`~simgrasp.grasping.label_run.label_grasp_set` run of its o
 so a killed run resumes file by file and grasp by grasp (rerun the same command); a file whose
 labels are complete costs only reading them. Files that name their object (ACRONYM, GraspGen)
 are labeled on it; others on OBJECT. Where a file carries reference labels (FleX's), the
-summary adds their agreement (:mod:`simgrasp.grasping.agreement`).
+summary adds their agreement (:mod:`simgrasp.grasping.labeling.agreement`).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.labeling import LabelConfig
+from simgrasp.grasping.labeling.labeling import LabelConfig
 
 SUMMARY_FILE = "summary.json"
 
@@ -27,7 +27,7 @@ SUMMARY_FILE = "summary.json"
 def object_for(options: Any, grasp_file: Path) -> LabelConfig:
     """The label settings of one grasp file: its own object (ACRONYM, GraspGen) unless OBJECT
     was given, with the mesh options folded in."""
-    from simgrasp.grasping.grasp_files import carried_object
+    from simgrasp.grasping.labeling.grasp_files import carried_object
 
     config: LabelConfig = options.label
     name = config.object or carried_object(grasp_file, options.mesh_root)
@@ -36,17 +36,17 @@ def object_for(options: Any, grasp_file: Path) -> LabelConfig:
     return replace(config, object=options.object_name(name))
 
 
-def label_files(files: list[Path], options: Any) -> int:
-    """Label every file of a data set (module docstring); prints one line per file."""
-    from simgrasp.cli import invocation
+def label_files(files: list[Path], options: Any, command: list[str]) -> int:
+    """Label every file of a data set (module docstring; ``command``: the invocation recorded
+    with the output directory); prints one line per file."""
     from simgrasp.evaluation.out_dir import claim_out_dir
-    from simgrasp.grasping.grasp_sets import read_grasp_set
-    from simgrasp.grasping.label_run import label_grasp_set
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
+    from simgrasp.grasping.labeling.label_run import label_grasp_set
 
     if options.out is None:
         raise SimgraspError("--grasps with several files needs --out DIR")
     rows = []
-    with claim_out_dir(options.out, invocation()):
+    with claim_out_dir(options.out, command):
         for grasp_file in files:
             config = object_for(options, grasp_file)
             grasps = read_grasp_set(grasp_file).first(options.max_grasps)
@@ -74,8 +74,8 @@ def label_files(files: list[Path], options: Any) -> int:
 
 def _row(grasp_file: Path, out: Path, summary: dict[str, Any]) -> dict[str, Any]:
     """One file's summary line: counts, speed and, with reference labels, agreement."""
-    from simgrasp.grasping.agreement import agreement
-    from simgrasp.grasping.grasp_files import reference_labels
+    from simgrasp.grasping.labeling.agreement import agreement
+    from simgrasp.grasping.labeling.grasp_files import reference_labels
 
     keys = ("grasps", "invalid", "sim_unstable", "scored", "success", "trial_wall_s")
     row: dict[str, Any] = {"file": grasp_file.name, "dir": out.name}
@@ -116,7 +116,7 @@ def _line(row: dict[str, Any]) -> str:
 
 def export_run(grasp_file: Path, out: Path, fmt: str, top: Path) -> Path:
     """Write ``grasp_file`` with the labels of directory ``out`` added (``top/export/``)."""
-    from simgrasp.grasping.grasp_files import EXPORT_DIR, export_labels, is_graspgen
+    from simgrasp.grasping.labeling.grasp_files import EXPORT_DIR, export_labels, is_graspgen
 
     wanted = "acronym" if grasp_file.suffix.lower() in (".h5", ".hdf5") else None
     wanted = "graspgen" if is_graspgen(grasp_file) else wanted

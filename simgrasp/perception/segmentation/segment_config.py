@@ -10,7 +10,7 @@ INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
 
 @dataclass(frozen=True)
 class SegmentConfig:
-    """Parameters of :func:`simgrasp.perception.segment.segment_scene`.
+    """Parameters of :func:`simgrasp.perception.segmentation.segment.segment_scene`.
 
     Defaults suit a Kinect-class sensor 0.4 - 2 m from a tabletop. Lengths are meters,
     ``*_px`` settings are image pixels of an organized cloud.
@@ -92,9 +92,9 @@ class SegmentConfig:
     of it: the sensor's depth ramp from a tab 1 cm above the table down to the table."""
     rim_band: float = 0.0
     """Organized clouds: join the inside of a round container seen over its rim (its back
-    wall's inside and its floor) to its outside (:mod:`simgrasp.perception.segment_rims`),
-    taking each object's points within this distance (m) below its top as its top edge
-    (0: no joins)."""
+    wall's inside and its floor) to its outside
+    (:mod:`simgrasp.perception.segmentation.segment_rims`), taking each object's points within this
+    distance (m) below its top as its top edge (0: no joins)."""
     rim_height_tolerance: float = 0.01
     """The two objects' top heights (98th percentile above the table) agree within this (m)."""
     rim_tolerance: float = 0.005

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
-from simgrasp.grasping.trial_config import HANDLE_MARGIN
+from simgrasp.grasping.trials.trial_config import HANDLE_MARGIN
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.planner_config import PlannerConfig
+from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
 

@@ -31,8 +31,14 @@ import numpy as np
 
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.trial_log import TrialLog
-from simgrasp.grasping.grasp_sets import GraspSet
-from simgrasp.grasping.labeling import INVALID, LabelConfig, invalid_record, label_one, prepare
+from simgrasp.grasping.labeling.grasp_sets import GraspSet
+from simgrasp.grasping.labeling.labeling import (
+    INVALID,
+    LabelConfig,
+    invalid_record,
+    label_one,
+    prepare,
+)
 from simgrasp.grippers import make_gripper
 from simgrasp.ray_session import ray_session
 

@@ -27,7 +27,8 @@ from simgrasp.errors import SimgraspError
 from simgrasp.transforms import make_transform
 
 if TYPE_CHECKING:
-    from simgrasp.grasping.trial import Failure, _Trial
+    from simgrasp.grasping.trials.result import Failure
+    from simgrasp.grasping.trials.trial import _Trial
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,8 @@ def shake_phase(trial: _Trial) -> Failure | None:
     """5'. Shake the closed hand (the object still without gravity); unless both fingers still
     touch the object afterwards, ``dropped_in_shaking``. Sets ``score`` and the contacts'
     ``on_handle`` as the hold does."""
-    from simgrasp.grasping.trial import _Released, score_contacts
+    from simgrasp.grasping.trials.runner import Released
+    from simgrasp.grasping.trials.trial import score_contacts
 
     scene, config, runner = trial.scene, trial.config, trial.runner
     shake = config.shake
@@ -110,7 +112,7 @@ def shake_phase(trial: _Trial) -> Failure | None:
             scene.gripper.command_tcp(data, world_T_tcp0 @ tcp_offset(shake, k * runner.control_dt))
             runner.step()
             largest = max(largest, _motion(trial, tcp_T_com0, runner.object_radius))
-    except _Released:
+    except Released:
         trial.record["score"] = 0.0
         trial.lap("shake")
         return "dropped_in_shaking"

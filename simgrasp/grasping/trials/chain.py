@@ -2,7 +2,7 @@
 
 One seed fixes everything random: the object's rest pose and yaw (scene), cloud noise, the
 detector's neighborhood sampling, the planner's approach jitter. The settings are one
-:class:`~simgrasp.grasping.chain_config.ChainConfig`.
+:class:`~simgrasp.grasping.trials.chain_config.ChainConfig`.
 """
 
 from __future__ import annotations
@@ -15,10 +15,11 @@ from typing import Any
 import numpy as np
 
 from simgrasp.assets.model import ObjectModel
-from simgrasp.grasping.chain_config import ChainConfig
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
-from simgrasp.grasping.trial import Phase, TrialResult, run_trial
+from simgrasp.grasping.planning.proposal import MIN_CLOUD_POINTS, plan_grasps
+from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.grasping.trials.result import Phase, TrialResult
+from simgrasp.grasping.trials.trial import run_trial
 from simgrasp.grippers import make_gripper
 from simgrasp.grippers.base import Gripper
 from simgrasp.handles.accuracy import score_detection

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.perception.scene_cloud import SceneCloud
-from simgrasp.perception.segment import FIRST_OBJECT, TABLE, Segmentation
+from simgrasp.perception.segmentation.segment import FIRST_OBJECT, TABLE, Segmentation
 
 
 def label_colors(labels: NDArray[np.integer]) -> NDArray[np.float64]:

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
-from simgrasp.grasping.agreement import agreement
+from simgrasp.grasping.labeling.agreement import agreement
 
 
 def _labels_dir(ours: Path, reference: Path) -> Path:
@@ -30,8 +30,8 @@ def _labels_dir(ours: Path, reference: Path) -> Path:
 def compare_with_reference(ours: Path, references: list[Path]) -> dict[str, Any]:
     """Per-file and overall agreement (also per category: the file name's part before the
     first ``_``, as ACRONYM names files ``Category_id_scale.h5``)."""
-    from simgrasp.grasping.dataset_run import _our_labels
-    from simgrasp.grasping.grasp_files import reference_labels
+    from simgrasp.grasping.labeling.dataset_run import _our_labels
+    from simgrasp.grasping.labeling.grasp_files import reference_labels
 
     rows: list[dict[str, Any]] = []
     pooled: dict[str, tuple[list, list, list]] = {}

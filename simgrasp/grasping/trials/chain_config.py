@@ -12,8 +12,8 @@ from typing import Any, Literal
 
 from simgrasp.config import build, setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.planner_config import PlannerConfig
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.planning.planner_config import PlannerConfig
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
@@ -23,7 +23,6 @@ from simgrasp.scenes.views import CHAIN_VIEWS
 
 ChainDetector = Literal["quadric", "tenpas", "centroid", "random"]
 CHAIN_DETECTORS: tuple[ChainDetector, ...] = ("quadric", "tenpas", "centroid", "random")
-BASELINES: tuple[ChainDetector, ...] = ("centroid", "random")
 
 
 @dataclass(frozen=True)

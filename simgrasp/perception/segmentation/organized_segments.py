@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 Grid = NDArray[np.float32]
 
