@@ -49,9 +49,9 @@ def _graspgen_file(folder: Path, name: str, count: int) -> Path:
     return path
 
 
-def test_franka_hand_holds_a_box_on_the_table() -> None:
-    trimesh.creation.box((0.04, 0.06, 0.10)).export("/tmp/simgrasp_test_box.stl")
-    name = "/tmp/simgrasp_test_box.stl?mass=0.2"
+def test_franka_hand_holds_a_box_on_the_table(tmp_path: Path) -> None:
+    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
+    name = f"{tmp_path / 'box.stl'}?mass=0.2"
     labeler = GraspLabeler(model_for(name), LabelConfig(object=name, gripper="franka_panda"))
     world_T_object = labeler.world_T_object
     axis = world_T_object[:3, 0]  # the box's 4 cm side, horizontal in its rest pose
