@@ -72,13 +72,6 @@ def test_no_import_cycles() -> None:
 
 MAX_MODULE_LINES = 400
 
-ALLOWED_PACKAGE_CYCLES: list[list[str]] = [
-    # TEMPORARY: the sweep (evaluation.sweep) runs chains from grasping, and the grasp labeling
-    # run (grasping.labeling.label_run) uses evaluation's run machinery. The one run engine of
-    # issue 22 (the "engine" work) removes this cycle; the lead removes this exception then.
-    ["simgrasp.evaluation", "simgrasp.grasping"],
-]
-
 
 def top_level_unit(module: str) -> str | None:
     """The top-level sub-package or module of ``simgrasp.a.b...`` (``simgrasp.a``); None for
@@ -121,7 +114,7 @@ def package_graph() -> dict[str, set[str]]:
 def test_no_import_cycle_between_sub_packages() -> None:
     """Function-level imports count: a lazy import still ties two sub-packages together."""
     found = cycles(package_graph())
-    assert [c for c in found if c not in ALLOWED_PACKAGE_CYCLES] == [], found
+    assert found == [], found
 
 
 def test_the_package_graph_sees_function_level_imports(tmp_path: Path) -> None:

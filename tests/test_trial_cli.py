@@ -85,7 +85,7 @@ def test_unknown_object_and_bad_width_are_clear_errors(capsys: pytest.CaptureFix
 
 def test_trial_rejects_a_fifth_camera(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["trial", "gen_mug", "--views", "5"]) == 2
-    assert "--views: invalid choice: 5" in capsys.readouterr().err
+    assert "scene.num_views: 5 is not one of 1, 2, 3, 4" in capsys.readouterr().err
 
 
 def test_trial_rejects_bad_render_suffix(capsys: pytest.CaptureFixture[str]) -> None:

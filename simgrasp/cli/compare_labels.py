@@ -11,11 +11,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     reference: Path = setting(positional=True, metavar="REFERENCE")
     """label-grasps output directory (e.g. of the full protocol; with --reference FILE: ours)."""
     other: Path | None = setting(None, positional=True, metavar="OTHER")

@@ -21,6 +21,7 @@ from simgrasp.cli import invocation
 from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
+from simgrasp.config.checks import PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.labeling.labeling import LabelConfig
 
@@ -44,7 +45,7 @@ class Options(YcbSource, MeshObjectOptions):
     """Also write each input file with our labels under grasps/qualities/simgrasp (OUT/export/)."""
     out: Path | None = None
     """Output directory (default out/labels/OBJECT)."""
-    workers: int = 1
+    workers: PositiveInt = 1
     """Worker processes (or Ray CPUs)."""
     backend: Literal["local", "ray"] = "local"
     """Label in local worker processes or as Ray tasks."""
@@ -56,14 +57,12 @@ class Options(YcbSource, MeshObjectOptions):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.grasping.labeling.dataset_run import label_files, object_for
     from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
     from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
 
-    if options.workers < 1:
-        raise SimgraspError(f"--workers must be >= 1, got {options.workers}")
     if options.max_grasps is not None and options.max_grasps < 1:
         raise SimgraspError(f"--max-grasps must be >= 1, got {options.max_grasps}")
     files = expand_grasp_files(options.grasps)

@@ -16,6 +16,7 @@ from pathlib import Path
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
+from simgrasp.config.checks import PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 
@@ -24,7 +25,7 @@ from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 class Options(YcbSource):
     object: str = setting(positional=True, metavar="OBJECT")
     """YCB id (048_hammer or hammer) or generated tool."""
-    n: int
+    n: PositiveInt
     """Number of grasps."""
     out: Path
     """Output .npz file."""
@@ -49,8 +50,6 @@ def run(options: Options) -> int:
 
     if options.out.suffix.lower() != ".npz":
         raise SimgraspError(f"--out must end in .npz, got {options.out}")
-    if options.n < 1:
-        raise SimgraspError(f"--n must be >= 1, got {options.n}")
     gripper = make_gripper(options.gripper)
     model = model_for(options.object, options.ycb_dir)
     table = None

@@ -12,12 +12,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     scene: Path = setting(positional=True, metavar="SCENE")
     """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters)."""
     json: bool = False

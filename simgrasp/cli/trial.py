@@ -3,6 +3,12 @@
 Without ``--grasp`` the full chain runs: render the scene, detect handles, plan and execute
 the best grasp. Every chain setting is a flag (``--detector.quadric.shell-test false``,
 ``--trial.hold-time 2``) or comes from ``--config FILE``; ``--print-config`` shows them.
+
+The quadric detector's chain default adds a fine pass (``--detector.quadric.fine-half-size``
+0.012, ``QuadricDetectorConfig.two_scales``) to the plain defaults that ``detect`` and
+``detect-eval`` use: the chain's clouds are fused rendered depth views, where a thin handle (a
+lying mug's strap) is seen from two sides and the one-pass fits come out too wide. Give
+``--detector.quadric.fine-half-size 0`` to detect as ``detect`` does.
 """
 
 from __future__ import annotations
@@ -49,7 +55,7 @@ def run(options: Options) -> int:
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
     if options.render is not None:
-        from simgrasp.evaluation.out_dir import check_output_file
+        from simgrasp.runs.out_dir import check_output_file
 
         check_frames_target(options.render)
         check_output_file(options.render, "--render")

@@ -39,9 +39,9 @@ def object_for(options: Any, grasp_file: Path) -> LabelConfig:
 def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     """Label every file of a data set (module docstring; ``command``: the invocation recorded
     with the output directory); prints one line per file."""
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
 
     if options.out is None:
         raise SimgraspError("--grasps with several files needs --out DIR")

@@ -73,7 +73,7 @@ class GraspSet:
         width: (N,) jaw opening before closing (m); NaN where the file gives none.
         problems: index -> why that row is not a grasp (it is never scored).
         fmt: the file format (``"npz"``, ``"json"``, ``"acronym"``, ``"graspgen"``,
-            ``"graspnet"``).
+            ``"graspnet"``), or ``"arrays"`` (:meth:`from_arrays`).
     """
 
     object_T_tcp: NDArray[np.float64]
@@ -90,6 +90,16 @@ class GraspSet:
             return self
         problems = {i: p for i, p in self.problems.items() if i < count}
         return GraspSet(self.object_T_tcp[:count], self.width[:count], problems, self.fmt)
+
+    @classmethod
+    def from_arrays(cls, object_T_grasp: ArrayLike, width: ArrayLike | None = None) -> GraspSet:
+        """A grasp set from arrays, checked as the file readers check our ``.npz``:
+        ``object_T_grasp`` (N, 4, 4) TCP poses in the object's mesh frame (m), ``width`` (N,)
+        jaw openings (m; None: fully open). A row that is not a grasp is kept, marked in
+        :attr:`problems` by its index with the reason; a wrong shape raises."""
+        matrices, problems = _from_matrices(object_T_grasp, "object_T_grasp")
+        widths = _widths(width, len(matrices), problems)
+        return cls(matrices, widths, dict(sorted(problems.items())), "arrays")
 
     @property
     def valid(self) -> NDArray[np.bool_]:

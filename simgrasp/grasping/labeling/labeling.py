@@ -1,4 +1,5 @@
-"""The grasp-labeling engine: one object's scene compiled once, every grasp a trial on it.
+"""Label grasps: one object's scene compiled once, every grasp a trial on it; in memory with
+:func:`label_grasps` (arrays in, a :class:`LabelResult` out).
 
 A :class:`GraspLabeler` builds the scene of one object, gripper and seed once; each grasp is
 then a :func:`~simgrasp.grasping.trials.trial.run_trial` on that scene, which resets the compiled
@@ -14,18 +15,22 @@ at the object's starting pose (the scene's seeded rest pose, raised into free sp
 from __future__ import annotations
 
 import functools
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked, NonNegativeInt
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, PROTOCOLS, Protocol
+from simgrasp.grasping.labeling.grasp_sets import GraspSet
+from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, Protocol
 from simgrasp.grasping.trials.trial_config import TrialConfig, protocol_config
-from simgrasp.grippers.registry import DEFAULT_GRIPPER, check_gripper_name, gripper_names
+from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
+from simgrasp.runs.engine import RunConfig, Work, run_tasks
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
@@ -34,10 +39,12 @@ if TYPE_CHECKING:
 INVALID = "invalid"
 """The failure of a row that is not a grasp (it is never executed)."""
 GRASP_SOURCE = "grasp_set"
+Job = tuple[int, NDArray[np.float64], float]
+"""(index, object_T_tcp, width) of one grasp to label."""
 
 
 @dataclass(frozen=True)
-class LabelConfig:
+class LabelConfig(Checked):
     """What a grasp set is labeled with (importable without MuJoCo).
 
     Attributes:
@@ -56,17 +63,9 @@ class LabelConfig:
     object: str = setting("", positional=True, metavar="OBJECT")
     gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
     protocol: Protocol = DEFAULT_PROTOCOL
-    seed: int = 0
+    seed: NonNegativeInt = 0
     placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
     free_floating: bool = False
-
-    def __post_init__(self) -> None:
-        if self.protocol not in PROTOCOLS:
-            raise SimgraspError(f"unknown protocol {self.protocol!r}; use one of {PROTOCOLS}")
-        check_gripper_name(self.gripper)
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise SimgraspError(f"seed must be a non-negative integer, got {self.seed!r}")
-        check_placement(self.placement)
 
     @property
     def trial(self) -> TrialConfig:
@@ -134,13 +133,91 @@ def cached_labeler(config: LabelConfig, ycb_dir: str | None) -> GraspLabeler:
     return GraspLabeler(model_for(config.object, ycb_dir), config)
 
 
-def label_one(
-    config: LabelConfig, ycb_dir: str | None, index: int, object_T_tcp: NDArray, width: float
-) -> dict[str, Any]:
-    """Label one grasp in this process (worker entry point)."""
-    return cached_labeler(config, ycb_dir).label(index, object_T_tcp, width)
+def label_one(job: Job, config: LabelConfig, ycb_dir: str | None) -> dict[str, Any]:
+    """Label one grasp in this process (the run engine's task)."""
+    return cached_labeler(config, ycb_dir).label(*job)
 
 
 def prepare(config: LabelConfig, ycb_dir: str | None) -> None:
     """Build this process's labeler (worker warm-up)."""
     cached_labeler(config, ycb_dir)
+
+
+def label_records(
+    grasps: GraspSet,
+    indices: Sequence[int],
+    config: LabelConfig,
+    ycb_dir: str | None,
+    run: RunConfig,
+) -> Iterator[dict[str, Any]]:
+    """The records of the rows ``indices`` of ``grasps``: those of invalid rows first (never
+    executed), then each executed grasp's as it finishes (:func:`~simgrasp.runs.engine.run_tasks`:
+    every worker builds its labeler before the first grasp)."""
+    jobs: list[Job] = []
+    for index in indices:
+        if index in grasps.problems:
+            yield invalid_record(index, grasps.problems[index], config)
+        else:
+            jobs.append((index, grasps.object_T_tcp[index], float(grasps.width[index])))
+    warm_calls = ((),) * run.workers
+    work = Work(label_one, (config, ycb_dir), warm_up=prepare, warm_calls=warm_calls)
+    yield from run_tasks(work, jobs, run)
+
+
+@dataclass(frozen=True)
+class LabelResult:
+    """The labels of a grasp set, in input order.
+
+    Attributes:
+        success: (N,) bool, the object was held (``sim_unstable`` and invalid rows: False).
+        on_handle: (N,) bool, the fingers touched the handle (share above the trial's bound).
+        failure: (N,) str, why a grasp failed (``""`` for a success, ``"invalid"`` for a row
+            that is not a grasp).
+        handle_fraction: (N,) share of the finger contacts on the handle.
+        lift_height: (N,) how high the object was lifted (m).
+        records: the full trial record of every row (``index``, ``protocol`` and the trial's
+            fields; an invalid row's says its ``problem``).
+    """
+
+    success: NDArray[np.bool_]
+    on_handle: NDArray[np.bool_]
+    failure: NDArray[np.str_]
+    handle_fraction: NDArray[np.float64]
+    lift_height: NDArray[np.float64]
+    records: list[dict[str, Any]]
+
+    @classmethod
+    def from_records(cls, records: list[dict[str, Any]]) -> LabelResult:
+        """The arrays of ``records`` (in input order)."""
+        return cls(
+            success=np.array([r["success"] is True for r in records], dtype=bool),
+            on_handle=np.array([bool(r["on_handle"]) for r in records], dtype=bool),
+            failure=np.array([r["failure"] or "" for r in records], dtype=str),
+            handle_fraction=np.array([r["handle_fraction"] for r in records], dtype=float),
+            lift_height=np.array([r["lift_height"] for r in records], dtype=float),
+            records=records,
+        )
+
+
+def label_grasps(
+    obj: str,
+    grasps: GraspSet | ArrayLike,
+    *,
+    config: LabelConfig | None = None,
+    workers: int = 1,
+    ycb_dir: str | None = None,
+) -> LabelResult:
+    """Label grasps of object ``obj`` (YCB id or generated tool name) in memory: no file, no
+    output directory. ``grasps`` is a :class:`GraspSet` or an (N, 4, 4) ``object_T_grasp``
+    array (TCP poses in the object's mesh frame, m; checked by :meth:`GraspSet.from_arrays`,
+    invalid rows labeled ``invalid``); ``config`` defaults to ``LabelConfig(obj)`` and must
+    name ``obj``; ``workers > 1`` labels in spawned worker processes. The on-disk, resumable
+    ``label-grasps`` run gives the same records."""
+    config = config or LabelConfig(obj)
+    if config.object != obj:
+        raise SimgraspError(f"label_grasps: config labels {config.object!r}, not {obj!r}")
+    grasp_set = grasps if isinstance(grasps, GraspSet) else GraspSet.from_arrays(grasps)
+    run = RunConfig(workers=workers, progress=False)
+    rows = range(len(grasp_set))
+    by_index = {r["index"]: r for r in label_records(grasp_set, rows, config, ycb_dir, run)}
+    return LabelResult.from_records([by_index[i] for i in rows])

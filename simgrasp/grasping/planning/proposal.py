@@ -1,4 +1,6 @@
-"""Grasp proposals on plain arrays: a handle detector (or a baseline) and the planner.
+"""Grasp proposals on one object's :class:`~simgrasp.grasping.cloud_view.CloudView`: the
+registered proposer (:mod:`simgrasp.grasping.proposers`) and the built-in ones, a handle
+detector with the planner or a baseline.
 
 The chain (:func:`simgrasp.grasping.trials.chain.run_chain`) and the gymnasium policy
 (:class:`simgrasp.envs.policy.DetectorPolicy`) both plan through :func:`plan_grasps`.
@@ -6,9 +8,7 @@ The chain (:func:`simgrasp.grasping.trials.chain.run_chain`) and the gymnasium p
 
 from __future__ import annotations
 
-import numpy as np
-from numpy.typing import NDArray
-
+from simgrasp.grasping.cloud_view import CloudView
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.planning.planner import (
     GripperGeometry,
@@ -17,6 +17,7 @@ from simgrasp.grasping.planning.planner import (
     grasps_from_handles,
 )
 from simgrasp.grasping.planning.planner_config import PlannerConfig
+from simgrasp.grasping.proposers import proposer_entry
 from simgrasp.grasping.trials.chain_config import ChainDetectorConfig
 from simgrasp.handles import detect
 from simgrasp.handles.detection import Detection
@@ -25,28 +26,21 @@ from simgrasp.seeding import rng_for
 MIN_CLOUD_POINTS = 10
 """Clouds with fewer points than this get no grasp proposals."""
 
+Proposal = tuple[list[Grasp], Detection | None]
+
 
 def plan_grasps(
-    points_world: NDArray[np.float64],
-    normals_world: NDArray[np.float64],
-    cameras_world: NDArray[np.float64],
+    view: CloudView,
     geometry: GripperGeometry,
-    table_top_z: float,
     detector: ChainDetectorConfig,
     planner: PlannerConfig,
     seed: int,
-) -> tuple[list[Grasp], Detection | None]:
-    """Ranked grasps (best first) from ``detector`` (a handle detector or a baseline).
+) -> Proposal:
+    """Ranked grasps (best first) from the proposer ``detector.kind`` names.
 
     Args:
-        points_world: (N, 3) object cloud, world frame, meters.
-        normals_world: (N, 3) unit normals turned toward the camera that saw each point (as
-            :func:`simgrasp.scenes.observe.viewpoint_normals` makes them); the centroid
-            baseline ignores them.
-        cameras_world: (K, 3) optical centers of the cameras that saw the cloud (world frame,
-            meters), for the planner's view bonus.
+        view: the object's cloud, its normals, cameras and table.
         geometry: the gripper's collision boxes; its opening is the detector's too.
-        table_top_z: world z of the table top (m).
         detector: which proposer, with its thresholds.
         planner: grasp sampling and ranking.
         seed: seeds the detector's sampling and the planner's approach jitter.
@@ -54,27 +48,62 @@ def plan_grasps(
     Returns:
         The grasps and, for the handle detectors, their detection (None for the baselines).
     """
+    proposer = proposer_entry(detector.kind).load()
+    proposal: Proposal = proposer(view, geometry, detector, planner, seed)
+    return proposal
+
+
+def propose_on_handles(
+    view: CloudView,
+    geometry: GripperGeometry,
+    detector: ChainDetectorConfig,
+    planner: PlannerConfig,
+    seed: int,
+) -> Proposal:
+    """The handle detector ``detector.kind`` (quadric, tenpas), then grasps across each
+    handle (:func:`~simgrasp.grasping.planning.planner.grasps_from_handles`)."""
     rng = rng_for(seed, "chain", "plan")
-    if detector.kind == "centroid":
-        return centroid_grasps(points_world, geometry, table_top_z, planner), None
-    if detector.kind == "random":
-        grasps = antipodal_grasps(points_world, normals_world, geometry, table_top_z, rng, planner)
-        return grasps, None
     detection = detect(
-        points_world,
-        normals_world,
+        view.points_world,
+        view.normals_world,
         detector.for_gripper(geometry.max_opening),
         seed,
-        detector=detector.kind,
+        detector=detector.handle_detector(),
     )
     grasps = grasps_from_handles(
         detection.handles,
-        points_world,
-        cameras_world,
+        view.points_world,
+        view.cameras_world,
         geometry,
-        table_top_z,
+        view.table_top_z,
         rng,
         planner,
         detector.kind,
     )
     return grasps, detection
+
+
+def propose_at_centroid(
+    view: CloudView,
+    geometry: GripperGeometry,
+    detector: ChainDetectorConfig,
+    planner: PlannerConfig,
+    seed: int,
+) -> Proposal:
+    """Baseline: top-down grasps at the cloud's centroid (normals not used)."""
+    return centroid_grasps(view.points_world, geometry, view.table_top_z, planner), None
+
+
+def propose_antipodal(
+    view: CloudView,
+    geometry: GripperGeometry,
+    detector: ChainDetectorConfig,
+    planner: PlannerConfig,
+    seed: int,
+) -> Proposal:
+    """Baseline: random antipodal point pairs of the cloud."""
+    rng = rng_for(seed, "chain", "plan")
+    grasps = antipodal_grasps(
+        view.points_world, view.normals_world, geometry, view.table_top_z, rng, planner
+    )
+    return grasps, None

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from simgrasp.assets.model import ObjectModel
+from simgrasp.grasping.cloud_view import CloudView
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.planning.proposal import MIN_CLOUD_POINTS, plan_grasps
 from simgrasp.grasping.trials.chain_config import ChainConfig
@@ -82,16 +83,14 @@ def propose_grasps(
     """Ranked grasps from the configured detector (or baseline) on the observed cloud."""
     if len(cloud) < MIN_CLOUD_POINTS:
         return [], None
-    return plan_grasps(
+    view = CloudView.from_views(
         cloud.points_world,
         viewpoint_normals(cloud),
-        np.unique(cloud.viewpoints_world, axis=0),
-        scene.gripper.gripper.planning_geometry(),
+        cloud.viewpoints_world,
         scene.config.table_top_z,
-        config.detector,
-        config.planner,
-        seed,
     )
+    geometry = scene.gripper.gripper.planning_geometry()
+    return plan_grasps(view, geometry, config.detector, config.planner, seed)
 
 
 def run_chain(

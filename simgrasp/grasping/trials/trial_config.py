@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 
+from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt, Range
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.protocol import PROTOCOLS
 from simgrasp.grasping.trials.shake import ShakeConfig
@@ -24,60 +26,60 @@ _DIRECTIONS = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -
 
 
 @dataclass(frozen=True)
-class TrialConfig:
+class TrialConfig(Checked):
     """Every parameter of a grasp trial (SI units: m, s, m/s, N)."""
 
-    timestep: float = 0.002
+    timestep: Positive = 0.002
     """Physics time step (s)."""
-    control_steps: int = 10
+    control_steps: PositiveInt = 10
     """Physics steps between control updates (``mj_step`` with ``nstep``)."""
-    hold_timestep: float | None = None
+    hold_timestep: Positive | None = None
     """Physics time step (s) from the hold on (the hold, the tugs and their rests), at most the
     gripper's ``max_timestep``, in whole steps per control period of about the same length;
     None: ``timestep`` throughout. The jaws' impact in the close and the lift's start need the
     fine step; a grip under slowly changing loads may not."""
-    settle_time: float = 0.5
+    settle_time: NonNegative = 0.5
     """Time the object rests on the table before the grasp (s)."""
-    pregrasp_distance: float = 0.10
+    pregrasp_distance: Positive = 0.10
     """How far back along the approach the open gripper starts (m)."""
-    approach_speed: float = 0.10
+    approach_speed: Positive = 0.10
     """Speed of the approach from the pre-grasp to the grasp pose (m/s)."""
-    close_time: float = 0.8
+    close_time: Positive = 0.8
     """Time the jaws close and squeeze before the lift (s)."""
-    squeeze_time: float | None = None
+    squeeze_time: Positive | None = None
     """With it, the close ends this long (s) after both fingers first touch the object (at the
     latest after ``close_time``), however far the jaws had to travel; None: the close lasts
     ``close_time``."""
-    lift_height: float = 0.20
+    lift_height: Positive = 0.20
     """How high the gripper lifts (m)."""
-    lift_speed: float = 0.20
+    lift_speed: Positive = 0.20
     """Lift speed (m/s)."""
-    hold_time: float = 1.0
+    hold_time: NonNegative = 1.0
     """Time the lifted object is held still before the tugs (s)."""
     perturb_directions: tuple[tuple[float, float, float], ...] = _DIRECTIONS
     """World-frame directions of the tugs (normalized)."""
-    perturb_force_scale: float = 1.0
+    perturb_force_scale: NonNegative = 1.0
     """Tug force as a multiple of the object's weight."""
-    perturb_time: float = 0.3
+    perturb_time: Positive = 0.3
     """Duration of each tug (s)."""
-    perturb_rest: float | None = None
+    perturb_rest: NonNegative | None = None
     """Rest after each tug (s); None: as long as the tug (``perturb_time``)."""
-    on_handle_threshold: float = ON_HANDLE_THRESHOLD
+    on_handle_threshold: Fraction = ON_HANDLE_THRESHOLD
     """Share of finger contacts inside the handle label that makes a grasp ``on_handle``."""
-    handle_margin: float = HANDLE_MARGIN
+    handle_margin: NonNegative = HANDLE_MARGIN
     """Contacts this close (m) to the handle label count as on it (see scoring)."""
-    lifted_fraction: float = 0.5
+    lifted_fraction: Annotated[float, Range(gt=0, le=1)] = 0.5
     """The object counts as lifted when it rose at least this share of ``lift_height``."""
-    approach_lag_limit: float = 0.02
+    approach_lag_limit: Positive = 0.02
     """TCP more than this far from its target after the approach: ``approach_collision``."""
-    approach_push_limit: float = 0.03
+    approach_push_limit: Positive = 0.03
     """Object moved more than this during the approach: ``approach_collision``."""
-    release_gap: float = 0.01
+    release_gap: Positive = 0.01
     """After the close, an object at least this far (m) from every gripper geom has been let
     go, and the trial ends with the phase's failure (``slipped_in_lift``,
     ``dropped_in_perturbation``). A gap, not a lost contact, decides it: a tool rattling in
     the jaws under a tug has no contact at some control steps."""
-    max_penetration: float = 0.02
+    max_penetration: Positive = 0.02
     """Any contact deeper than this (m) counts as divergence."""
     free_floating: bool = False
     """ACRONYM-style trial in free space: the object starts ``float_height`` above its rest
@@ -86,18 +88,18 @@ class TrialConfig:
     the object's gravity is switched on and, with the gripper still (no lift), it must stay in
     the jaws through the hold and the tugs. ``lift_height`` then only sets how far the object
     may sag (``lifted_fraction`` of it) before it counts as dropped."""
-    float_height: float = 0.5
+    float_height: NonNegative = 0.5
     """How far (m) above its rest pose a free-floating object starts (the table stays below,
     out of reach)."""
-    quiet_speed: float | None = None
+    quiet_speed: Positive | None = None
     """Early end of the waiting phases: the settle, the close, the hold, each tug after
     ``quiet_min_tug`` and each rest end once no point of the object has moved faster than
     this relative to the gripper, and no finger joint either (m/s; rad/s for a hinge), for
     ``quiet_time``: the grip is at rest, and more waiting changes nothing. None: every phase
     runs its full time (the full protocol)."""
-    quiet_time: float = 0.06
+    quiet_time: NonNegative = 0.06
     """How long (s) the scene must stay below ``quiet_speed`` to end a waiting phase."""
-    quiet_min_tug: float = 0.1
+    quiet_min_tug: NonNegative = 0.1
     """A tug lasts at least this long (s) before it may end at rest: the force first has to
     move whatever it can move."""
     sleep: bool = False
@@ -105,7 +107,7 @@ class TrialConfig:
     the object lying still on the table during the settle and the approach is not simulated
     until the gripper touches it, which wakes it with the same contacts. Only the cost of those
     phases changes (an object at rest stays where it is)."""
-    start_tolerance: float | None = None
+    start_tolerance: Positive | None = None
     """Free-floating starts: gripper contacts at the grasp pose up to this deep (m) are no
     ``invalid_start`` (the object's convex hulls bulge a few millimeters beyond the mesh a
     grasp file was checked against); None: any contact is."""
@@ -113,39 +115,14 @@ class TrialConfig:
     """With it, the closed grasp is tested by ACRONYM's shake
     (:mod:`simgrasp.grasping.trials.shake`) instead of the lift, the hold and the tugs; None:
     not used."""
-    max_speed: float = 100.0
+    max_speed: Positive = 100.0
     """Any generalized velocity above this (m/s or rad/s) counts as divergence (a light tool
     spinning in the jaws during the tugs reaches ~20 rad/s; blow-ups go far beyond)."""
 
-    def __post_init__(self) -> None:
-        positive = (
-            "timestep",
-            "pregrasp_distance",
-            "approach_speed",
-            "close_time",
-            "lift_height",
-            "lift_speed",
-            "perturb_time",
-            "release_gap",
-            "max_penetration",
-            "max_speed",
-        )
-        optional = ("squeeze_time", "hold_timestep", "quiet_speed")  # None: not used
-        for name in (*positive, *optional):
-            value = getattr(self, name)
-            if not (value is None and name in optional) and not value > 0:
-                raise SimgraspError(f"TrialConfig.{name} must be positive, got {value}")
-        if not self.quiet_time >= 0 or not self.quiet_min_tug >= 0:
-            raise SimgraspError("TrialConfig.quiet_time and quiet_min_tug must be >= 0")
-        if self.perturb_rest is not None and not self.perturb_rest >= 0:
-            raise SimgraspError(f"TrialConfig.perturb_rest must be >= 0, got {self.perturb_rest}")
-        if self.control_steps < 1:
-            raise SimgraspError(f"TrialConfig.control_steps must be >= 1, got {self.control_steps}")
-        if not 0 <= self.on_handle_threshold <= 1 or not 0 < self.lifted_fraction <= 1:
-            raise SimgraspError("TrialConfig on_handle_threshold/lifted_fraction must be in [0, 1]")
+    def _check(self) -> None:
         directions = np.asarray(self.perturb_directions, dtype=float).reshape(-1, 3)
         if np.any(np.linalg.norm(directions, axis=1) < 1e-9):
-            raise SimgraspError("TrialConfig.perturb_directions must be non-zero vectors")
+            self.refuse("perturb_directions", "holds a zero vector (directions must be non-zero)")
 
     @property
     def control_dt(self) -> float:
