@@ -20,6 +20,8 @@ Formats (chosen by the file's suffix):
   frame by -90 degrees about z so that its +y is the Franka x axis (the closing direction):
   ``object_T_tcp = object_T_franka @ FRANKA_T_TCP``. ACRONYM stores no width (the Franka hand
   opens 0.08 m): the gripper's full opening is used.
+- GraspGen ``.json`` (``{"object": {...}, "grasps": {"transforms": ...}}``): Franka hand
+  poses as ACRONYM's, mapped the same way.
 - ``.npy``: graspnetAPI ``GraspGroup`` rows of 17 values ``[score, width, height, depth,
   R (3 x 3, row-major), t (3), object_id]``: the approach is R's x axis, the jaws close along
   its y axis, ``t`` is the grasp center (the fingertips reach ``depth`` beyond it along the
@@ -70,8 +72,8 @@ class GraspSet:
         object_T_tcp: (N, 4, 4) TCP poses in the object's mesh frame; identity for invalid rows.
         width: (N,) jaw opening before closing (m); NaN where the file gives none.
         problems: index -> why that row is not a grasp (it is never scored).
-        fmt: the file format (``"npz"``, ``"json"``, ``"acronym"``, ``"graspnet"``), or
-            ``"arrays"`` (:meth:`from_arrays`).
+        fmt: the file format (``"npz"``, ``"json"``, ``"acronym"``, ``"graspgen"``,
+            ``"graspnet"``), or ``"arrays"`` (:meth:`from_arrays`).
     """
 
     object_T_tcp: NDArray[np.float64]
@@ -81,6 +83,13 @@ class GraspSet:
 
     def __len__(self) -> int:
         return len(self.object_T_tcp)
+
+    def first(self, count: int | None) -> GraspSet:
+        """The set's first ``count`` rows (all of them for None)."""
+        if count is None or count >= len(self):
+            return self
+        problems = {i: p for i, p in self.problems.items() if i < count}
+        return GraspSet(self.object_T_tcp[:count], self.width[:count], problems, self.fmt)
 
     @classmethod
     def from_arrays(cls, object_T_grasp: ArrayLike, width: ArrayLike | None = None) -> GraspSet:
@@ -181,10 +190,15 @@ def read_acronym(path: Path) -> GraspSet:
         if "grasps/transforms" not in handle:
             raise SimgraspError(f"{path} is no ACRONYM grasp file: it has no 'grasps/transforms'")
         franka = np.asarray(handle["grasps/transforms"][()], dtype=float)
+    return _franka_poses(franka, path, "acronym")
+
+
+def _franka_poses(franka: ArrayLike, path: Path, fmt: str) -> GraspSet:
+    """Franka hand poses (ACRONYM's, GraspGen's ``grasps/transforms``) mapped to our TCP."""
     matrices, problems = _from_matrices(franka, f"{path}: grasps/transforms")
     tcp = matrices @ FRANKA_T_TCP
     tcp[list(problems)] = np.eye(4)
-    return GraspSet(tcp, np.full(len(tcp), np.nan), problems, "acronym")
+    return GraspSet(tcp, np.full(len(tcp), np.nan), problems, fmt)
 
 
 def graspnet_to_tcp(rows: ArrayLike) -> tuple[NDArray, NDArray, dict[int, str]]:
@@ -225,6 +239,8 @@ def read_grasp_set(path: Path | str) -> GraspSet:
             raise SimgraspError(f"{path} is not JSON: {exc}") from None
         if not isinstance(entries, dict):
             raise SimgraspError(f"{path} must hold a JSON object with 'object_T_grasp' or 'poses'")
+        if isinstance(entries.get("grasps"), dict) and "transforms" in entries["grasps"]:
+            return _franka_poses(entries["grasps"]["transforms"], path, "graspgen")
         return _own_format(entries, path, "json")
     if suffix in (".h5", ".hdf5"):
         return read_acronym(path)

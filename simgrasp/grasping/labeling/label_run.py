@@ -58,6 +58,9 @@ def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dic
     coarsens the step."""
     run = {**asdict(config), "grasps_sha256": file_digest(grasp_file), "count": len(grasps)}
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
+    for key in ("shake", "start_tolerance"):  # None: run.json as before these settings
+        if run["trial"][key] is None:
+            del run["trial"][key]
     if config.trial.hold_timestep is not None:  # the step actually used is capped by the gripper
         run["gripper_max_timestep"] = make_gripper(config.gripper).max_timestep
     return run
@@ -106,14 +109,21 @@ def label_grasp_set(
 def write_label_arrays(path: Path, records: list[dict[str, Any]]) -> None:
     """``labels.npz`` of records in input order (``sim_unstable`` counts as not a success)."""
     labels = LabelResult.from_records(records)
-    np.savez(
-        path,
-        success=labels.success,
-        on_handle=labels.on_handle,
-        failure=labels.failure,
-        handle_fraction=labels.handle_fraction,
-        lift_height=labels.lift_height,
-    )
+    arrays = {
+        "success": labels.success,
+        "on_handle": labels.on_handle,
+        "failure": labels.failure,
+        "handle_fraction": labels.handle_fraction,
+        "lift_height": labels.lift_height,
+    }
+    if _scored(records):
+        arrays["score"] = np.array([r.get("score", 0.0) for r in records], dtype=float)
+    np.savez(path, **arrays)  # type: ignore[arg-type]
+
+
+def _scored(records: list[dict[str, Any]]) -> bool:
+    """Whether the protocol gave the records a ``score`` (an ``invalid`` row has none)."""
+    return any("score" in r for r in records)
 
 
 def summarize(

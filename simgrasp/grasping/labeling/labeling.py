@@ -48,7 +48,9 @@ class LabelConfig(Checked):
     """What a grasp set is labeled with (importable without MuJoCo).
 
     Attributes:
-        object: YCB id or generated tool name.
+        object: YCB id, generated tool name, catalog name or mesh file spec
+            (:mod:`simgrasp.assets.mesh_object`); may be left out for grasp files that name
+            their object (ACRONYM, GraspGen).
         gripper: a registered gripper (:func:`simgrasp.grippers.gripper_names`).
         protocol: trial protocol, ``"full"`` (as ``trial``/``evaluate``) or ``"fast"``.
         seed: seed of the scene (the object's rest pose and yaw on the table).
@@ -58,7 +60,7 @@ class LabelConfig(Checked):
             the object's weight and the tugs test the hold.
     """
 
-    object: str = setting(positional=True, metavar="OBJECT")
+    object: str = setting("", positional=True, metavar="OBJECT")
     gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
     protocol: Protocol = DEFAULT_PROTOCOL
     seed: NonNegativeInt = 0
@@ -68,7 +70,8 @@ class LabelConfig(Checked):
     @property
     def trial(self) -> TrialConfig:
         """The trial settings of every grasp: the protocol's, in free space if asked."""
-        return replace(protocol_config(self.protocol), free_floating=self.free_floating)
+        trial = protocol_config(self.protocol)
+        return replace(trial, free_floating=self.free_floating or trial.free_floating)
 
 
 class GraspLabeler:

@@ -13,6 +13,7 @@ Failure = Literal[
     "dropped_in_perturbation",
     "sim_unstable",
     "invalid_start",
+    "dropped_in_shaking",
 ]
 Phase = Literal["pregrasp", "closed", "lifted", "perturbed"]
 
@@ -46,7 +47,14 @@ class TrialResult:
     sim_time: float
     steps: int
     timings_s: dict[str, float] = field(compare=False)
+    score: float | None = None
+    """How firmly the object was held, in [0, 1] (protocols with a shake,
+    :mod:`simgrasp.grasping.trials.shake`); None, and left out of the record, otherwise."""
 
     def to_json(self) -> dict[str, Any]:
-        """The record as a dict of JSON types (shallow: its lists are this result's own)."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        """The record as a dict of JSON types (shallow: its lists are this result's own);
+        ``score`` only where the protocol gives one."""
+        record = {f.name: getattr(self, f.name) for f in fields(self)}
+        if record["score"] is None:
+            del record["score"]
+        return record

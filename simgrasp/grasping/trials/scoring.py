@@ -37,10 +37,16 @@ class FingerContacts:
         return self.left and self.right
 
 
-def geoms_touching(data: mujoco.MjData, geoms: NDArray[np.int64]) -> bool:
-    """Whether any of ``geoms`` is in contact (penetration or within margin) with anything."""
+def geoms_touching(
+    data: mujoco.MjData, geoms: NDArray[np.int64], tolerance: float | None = None
+) -> bool:
+    """Whether any of ``geoms`` is in contact (penetration or within margin) with anything;
+    with ``tolerance`` (m), only contacts that penetrate deeper than it count."""
     contacts = data.contact
-    return bool(np.any(np.isin(contacts.geom1, geoms) | np.isin(contacts.geom2, geoms)))
+    rows = np.isin(contacts.geom1, geoms) | np.isin(contacts.geom2, geoms)
+    if tolerance is not None:
+        rows &= contacts.dist < -tolerance
+    return bool(np.any(rows))
 
 
 def points_in_object_frame(

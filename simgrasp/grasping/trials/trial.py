@@ -116,6 +116,8 @@ def run_trial(
     config = config or TrialConfig()
     _start(scene, config)
     trial = _Trial(scene, grasp, config, Runner(scene, config), on_phase)
+    if config.shake is not None:
+        trial.record["score"] = 0.0
     start = trial.clock = time.perf_counter()
     try:
         failure = _execute(trial)
@@ -193,8 +195,13 @@ class _Trial:
 
 
 def _execute(trial: _Trial) -> Failure | None:
-    """Run the phases in turn; the first failure ends the trial (None: success)."""
-    for phase in (_settle, _pregrasp, _approach, _close, _lift_and_hold, _perturb):
+    """Run the phases in turn; the first failure ends the trial (None: success). With
+    ``config.shake``, the shake (:mod:`simgrasp.grasping.trials.shake`) replaces the lift, hold and
+    tugs."""
+    from simgrasp.grasping.trials.shake import shake_phase
+
+    tests = (_lift_and_hold, _perturb) if trial.config.shake is None else (shake_phase,)
+    for phase in (_settle, _pregrasp, _approach, _close, *tests):
         failure = phase(trial)
         if failure is not None:
             return failure
@@ -232,7 +239,7 @@ def _pregrasp(trial: _Trial) -> Failure | None:
     scene.gripper.teleport(scene.data, world_T_pregrasp)
     mujoco.mj_forward(scene.model, scene.data)
     trial.moment("pregrasp")
-    touching = geoms_touching(scene.data, trial.runner.gripper_geoms)
+    touching = geoms_touching(scene.data, trial.runner.gripper_geoms, trial.config.start_tolerance)
     trial.lap("pregrasp")
     return "invalid_start" if touching else None
 
@@ -301,17 +308,25 @@ def _lift_and_hold(trial: _Trial) -> Failure | None:
     trial.lap("lift_hold")
     trial.moment("lifted")
     world_T_object = scene.object_pose()
-    contacts = trial.held()
     record["lift_height"] = float(world_T_object[2, 3] - trial.object_z_closed)
     record["slip_lift"] = trial.slip(world_T_object)
-    points_object = points_in_object_frame(contacts.points_world, world_T_object)
+    contacts = score_contacts(trial)
+    if not (contacts.both and trial.still_lifted(world_T_object)):
+        return "slipped_in_lift"
+    return None
+
+
+def score_contacts(trial: _Trial) -> FingerContacts:
+    """The finger-object contacts now, recorded in the object frame with the share on the
+    handle label (``contact_points_object``, ``handle_fraction``, ``on_handle``)."""
+    scene, config, record = trial.scene, trial.config, trial.record
+    contacts = trial.held()
+    points_object = points_in_object_frame(contacts.points_world, scene.object_pose())
     fraction = handle_fraction(points_object, scene.object_model.asset.handle, config.handle_margin)
     record["contact_points_object"] = points_object.tolist()
     record["handle_fraction"] = fraction
     record["on_handle"] = bool(len(points_object)) and fraction >= config.on_handle_threshold
-    if not (contacts.both and trial.still_lifted(world_T_object)):
-        return "slipped_in_lift"
-    return None
+    return contacts
 
 
 def _perturb(trial: _Trial) -> Failure | None:
