@@ -60,6 +60,11 @@ def outcome(record: dict[str, Any]) -> str:
     return "failed"
 
 
+def _group(record: dict[str, Any]) -> tuple[str, str]:
+    """(outcome, failure mode or ``held``) of a record: its trace pair."""
+    return outcome(record), record["failure"] or "held"
+
+
 def wireframes(
     object_T_tcp: NDArray[np.float64], widths: NDArray[np.float64], geometry: GripperGeometry
 ) -> NDArray[np.float64]:
@@ -96,13 +101,13 @@ def grasp_figure(
     count of each group."""
     figure = go.Figure([mesh_trace(asset.mesh, name=asset.name)])
     figure.add_traces(handle_traces(asset.handle, np.eye(4)))
-    groups = Counter((outcome(r), r["failure"] or "held") for r in records)
+    groups = Counter(_group(r) for r in records)
     if records:
         segments = wireframes(
             object_frame_grasps(records), np.array([r["grasp_width"] for r in records]), geometry
         )
     for kind, failure in sorted(groups):
-        chosen = [i for i, r in enumerate(records) if (outcome(r), r["failure"] or "held") == (kind, failure)]
+        chosen = [i for i, r in enumerate(records) if _group(r) == (kind, failure)]
         name = f"{kind.replace('_', ' ')}: {failure.replace('_', ' ')} ({len(chosen)})"
         meta = {"outcome": kind, "failure": failure}
         group = f"{kind}/{failure}"
@@ -133,7 +138,8 @@ def grasp_page(path: Path, ycb_dir: str | None = None) -> str:
     figure, groups = grasp_figure(asset, records, geometry)
     title = f"{asset.name}: {len(records)} grasps ({run['gripper']}, {run['protocol']})"
     scene_layout(figure)
-    kinds, failures = Counter(), Counter()
+    kinds: Counter[str] = Counter()
+    failures: Counter[str] = Counter()
     for (kind, failure), count in groups.items():
         kinds[kind] += count
         failures[failure] += count
@@ -141,7 +147,9 @@ def grasp_page(path: Path, ycb_dir: str | None = None) -> str:
         "<h4>outcome</h4>"
         + "".join(checkbox("outcome", k, k.replace("_", " "), n) for k, n in sorted(kinds.items()))
         + "<h4>failure mode</h4>"
-        + "".join(checkbox("failure", f, f.replace("_", " "), n) for f, n in sorted(failures.items()))
+        + "".join(
+            checkbox("failure", f, f.replace("_", " "), n) for f, n in sorted(failures.items())
+        )
         + f"<p>protocol {run['protocol']}, seed {run['seed']}, placement {run['placement']}</p>"
     )
     shown = {r["index"]: {k: r.get(k) for k in RECORD_FIELDS} for r in records}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import http.server
 from collections.abc import Callable
 
@@ -24,7 +25,5 @@ def serve(page: Callable[[], str], port: int) -> None:
 
     with http.server.ThreadingHTTPServer(("127.0.0.1", port), Handler) as server:
         print(f"serving http://127.0.0.1:{server.server_address[1]}/ (Ctrl-C stops)")
-        try:
+        with contextlib.suppress(KeyboardInterrupt):
             server.serve_forever()
-        except KeyboardInterrupt:
-            pass

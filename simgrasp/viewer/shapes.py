@@ -15,7 +15,6 @@ import trimesh
 from numpy.typing import NDArray
 
 from simgrasp.assets.labels import Box, Capsule, HandleLabel
-from simgrasp.grippers.geometry import GripperGeometry
 
 COLORS = {"on_handle": "#2ca02c", "off_handle": "#1f77b4", "failed": "#d62728"}
 """Outcome colors, as ``labels.png`` draws them (matplotlib's tab:green, tab:blue, tab:red)."""
@@ -100,37 +99,3 @@ def handle_traces(handle: HandleLabel, world_T_object: NDArray[np.float64]) -> l
         )
         for k, region in enumerate(handle.regions)
     ]
-
-
-def gripper_box_corners(
-    geometry: GripperGeometry, opening: float
-) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
-    """(center, half size) of the planning boxes (two fingers, palm) in the TCP frame."""
-    half_y = opening / 2 + geometry.finger_thickness / 2
-    finger_z = (geometry.pad_reach - geometry.finger_length) / 2
-    finger_half = np.array(
-        [
-            geometry.finger_width / 2,
-            geometry.finger_thickness / 2,
-            (geometry.finger_length + geometry.pad_reach) / 2,
-        ]
-    )
-    palm_half = np.asarray(geometry.palm_size) / 2
-    palm_z = -geometry.finger_length - palm_half[2]
-    return [
-        (np.array([0.0, -half_y, finger_z]), finger_half),
-        (np.array([0.0, half_y, finger_z]), finger_half),
-        (np.array([0.0, 0.0, palm_z]), palm_half),
-    ]
-
-
-def gripper_mesh(
-    geometry: GripperGeometry, opening: float, world_T_tcp: NDArray[np.float64]
-) -> trimesh.Trimesh:
-    """The planning boxes as one mesh at ``world_T_tcp``, jaws ``opening`` apart."""
-    boxes = []
-    for center, half in gripper_box_corners(geometry, opening):
-        transform = world_T_tcp.copy()
-        transform[:3, 3] = world_T_tcp[:3, :3] @ center + world_T_tcp[:3, 3]
-        boxes.append(trimesh.creation.box(extents=2 * half, transform=transform))
-    return trimesh.util.concatenate(boxes)
