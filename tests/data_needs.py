@@ -60,6 +60,13 @@ KINDS = {
             f"SIMGRASP_REAL_DIR=their directory (default {REAL_DEFAULT})",
             default=REAL_DEFAULT,
         ),
+        DataKind(
+            "acronym",
+            "SIMGRASP_ACRONYM_DIR",
+            "the ACRONYM reference grasps",
+            "SIMGRASP_ACRONYM_DIR=../shared/acronym (its README)",
+            probe="affordance/grasps",
+        ),
     )
 }
 

@@ -9,10 +9,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     reference: Path = setting(positional=True, metavar="REFERENCE")
     """label-grasps output directory (e.g. of the full protocol)."""
     other: Path = setting(positional=True, metavar="OTHER")
@@ -22,7 +23,7 @@ class Options:
 
 
 def run(options: Options) -> int:
-    from simgrasp.grasping.label_compare import compare_labels, confusion_text
+    from simgrasp.grasping.labeling.label_compare import compare_labels, confusion_text
 
     comparison = compare_labels(options.reference, options.other)
     if options.json:

@@ -3,6 +3,12 @@
 Without ``--grasp`` the full chain runs: render the scene, detect handles, plan and execute
 the best grasp. Every chain setting is a flag (``--detector.quadric.shell-test false``,
 ``--trial.hold-time 2``) or comes from ``--config FILE``; ``--print-config`` shows them.
+
+The quadric detector's chain default adds a fine pass (``--detector.quadric.fine-half-size``
+0.012, ``QuadricDetectorConfig.two_scales``) to the plain defaults that ``detect`` and
+``detect-eval`` use: the chain's clouds are fused rendered depth views, where a thin handle (a
+lying mug's strap) is seen from two sides and the one-pass fits come out too wide. Give
+``--detector.quadric.fine-half-size 0`` to detect as ``detect`` does.
 """
 
 from __future__ import annotations
@@ -16,7 +22,7 @@ from typing import Any, Literal
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -52,7 +58,7 @@ def run(options: Options) -> int:
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
     if options.render is not None:
-        from simgrasp.evaluation.out_dir import check_output_file
+        from simgrasp.runs.out_dir import check_output_file
 
         check_frames_target(options.render)
         check_output_file(options.render, "--render")
@@ -86,7 +92,7 @@ def _recorded_trial(options: Options, frames: Any) -> dict[str, Any]:
 def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.given_grasp import trial_of_grasp
+    from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
@@ -105,9 +111,9 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
 
 
 def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
-    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.chain`)."""
+    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`)."""
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.chain import run_chain
+    from simgrasp.grasping.trials.chain import run_chain
 
     object_model = model_for(options.object, options.ycb_dir)
     return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
