@@ -46,6 +46,9 @@ class Options(YcbSource):
     """Print the trial record as JSON."""
     render: Path | None = None
     """Write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4."""
+    record: bool = False
+    """Add the states a replay needs to the record (``replay``: object and TCP poses, jaw
+    opening at 30 Hz of sim time, phase names and times) for ``simgrasp view``."""
     chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True)
 
 
@@ -59,15 +62,31 @@ def run(options: Options) -> int:
 
         check_frames_target(options.render)
         check_output_file(options.render, "--render")
-    recorder = FrameRecorder() if options.render is not None else None
-    record = _given_trial(options, recorder) if options.grasp else _chain_trial(options, recorder)
-    if options.render is not None and recorder is not None:
-        record["render"] = write_frames(recorder.frames, options.render)
+    frames = FrameRecorder() if options.render is not None else None
+    record = _recorded_trial(options, frames) if options.record else _trial(options, frames)
+    if options.render is not None and frames is not None:
+        record["render"] = write_frames(frames.frames, options.render)
     if options.json:
         print(json.dumps(record))
     else:
         _print_summary(record)
     return 0
+
+
+def _trial(options: Options, on_phase: Any) -> dict[str, Any]:
+    """The record of the given grasp's trial (``--grasp``) or of the full chain's."""
+    return _given_trial(options, on_phase) if options.grasp else _chain_trial(options, on_phase)
+
+
+def _recorded_trial(options: Options, frames: Any) -> dict[str, Any]:
+    """:func:`_trial` with the states of a replay (:mod:`simgrasp.viewer.record`)."""
+    from simgrasp.viewer.record import StateRecorder
+
+    recorder = StateRecorder(next_phase=frames)
+    with recorder.installed():
+        record = _trial(options, recorder)
+    record["replay"] = recorder.replay()
+    return record
 
 
 def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
