@@ -33,8 +33,10 @@ def load_object(
     name_or_path: str | os.PathLike[str], *, ycb_dir: str | os.PathLike[str] | None = None
 ) -> ObjectAsset:
     """The object ``name_or_path`` names: a generated tool (``"gen_hammer"``), a YCB id
-    (``"025_mug"``, read from ``ycb_dir`` or ``$SIMGRASP_YCB_DIR``), with its mesh (object
-    frame, meters), mass (kg) and handle label."""
+    (``"025_mug"``, read from ``ycb_dir`` or ``$SIMGRASP_YCB_DIR``), a name from an
+    ``objects.toml`` catalog, or a mesh file with optional settings
+    (``"mug.obj?units=mm&mass=0.3&handles=handles.json"``), with its mesh (object frame,
+    meters), mass (kg) and handle label."""
     from simgrasp.assets.registry import load_object as lookup
 
     return lookup(os.fspath(name_or_path), ycb_dir)
