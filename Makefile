@@ -4,7 +4,7 @@
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
-APT_PACKAGES := libusb-1.0-0 libgomp1 libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libosmesa6
+APT_PACKAGES := libusb-1.0-0 libgomp1 libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libosmesa6 chromium chromium-driver
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: demo test install system-deps lint

@@ -21,7 +21,7 @@ import numpy as np  # noqa: E402
 
 from simgrasp.assets.model import model_for  # noqa: E402
 from simgrasp.assets.object_sets import PAPER_OBJECTS  # noqa: E402
-from simgrasp.grasping.chain_config import ChainConfig  # noqa: E402
+from simgrasp.grasping.trials.chain_config import ChainConfig  # noqa: E402
 from simgrasp.grippers import make_gripper  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, detect  # noqa: E402
 from simgrasp.perception.sensors.settings import SensorSettings  # noqa: E402

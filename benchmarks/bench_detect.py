@@ -66,13 +66,28 @@ def main() -> None:
     quadric = QuadricDetectorConfig(neighborhoods=args.neighborhoods)
     tenpas = TenPasConfig(neighborhoods=args.neighborhoods)
     voxelized, _ = voxel_downsample(points, quadric.voxel_size)
+    steps, totals, hoods = _measure(points, voxelized, quadric, tenpas, args.runs)
+    _report(args, points, voxelized, steps, totals, hoods)
 
-    steps: dict[str, dict[str, list[float]]] = {"quadric": {}, "tenpas": {}}
+
+Steps = dict[str, dict[str, list[float]]]
+
+
+def _measure(
+    points: np.ndarray,
+    voxelized: np.ndarray,
+    quadric: QuadricDetectorConfig,
+    tenpas: TenPasConfig,
+    runs: int,
+) -> tuple[Steps, dict[str, list[float]], dict[str, list[int]]]:
+    """Per-step and total seconds of each detector and of Open3D's normals over ``runs`` runs,
+    and each detector's fitted neighborhood counts."""
+    steps: Steps = {"quadric": {}, "tenpas": {}}
     totals: dict[str, list[float]] = {"quadric": [], "tenpas": [], "open3d_normals": []}
     totals["open3d_normals_input"] = []
     totals["open3d_oriented_normals"] = []
     hoods: dict[str, list[int]] = {"quadric": [], "tenpas": []}
-    for run in range(args.runs):
+    for run in range(runs):
         totals["open3d_normals"].append(
             open3d_normals_seconds(voxelized, quadric.normal_radius, 30)
         )
@@ -89,7 +104,18 @@ def main() -> None:
             hoods[name].append(detection.neighborhoods)
             for step in TIMING_STEPS:
                 steps[name].setdefault(step, []).append(detection.timings_s.get(step, 0.0))
+    return steps, totals, hoods
 
+
+def _report(
+    args: argparse.Namespace,
+    points: np.ndarray,
+    voxelized: np.ndarray,
+    steps: Steps,
+    totals: dict[str, list[float]],
+    hoods: dict[str, list[int]],
+) -> None:
+    """Print the per-step table against the paper's Table III and the ratios to Open3D."""
     print(
         f"{args.object}: {len(points)} points -> {len(voxelized)} after voxelizing, "
         f"{args.neighborhoods} neighborhood centers requested, fitted (min-max over runs): "

@@ -35,8 +35,8 @@ from step_replay import timed_steps  # noqa: E402  (this folder)
 
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import model_for
-from simgrasp.grasping.antipodal import Table, sample_antipodal
-from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
+from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
+from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
 from simgrasp.grippers import make_gripper
 
 

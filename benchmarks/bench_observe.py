@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from simgrasp.assets.model import model_for
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
 from simgrasp.scenes.observe import render_views

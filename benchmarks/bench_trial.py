@@ -32,8 +32,8 @@ import numpy as np
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
-from simgrasp.grasping.trial import run_trial
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 

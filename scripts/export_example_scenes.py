@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from simgrasp.assets.model import model_for
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
 

@@ -22,7 +22,7 @@ from simgrasp.evaluation.real_pots import (
     summarize,
 )
 from simgrasp.handles import QuadricDetectorConfig, TenPasConfig
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 SETTINGS = {
     "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth()),
@@ -114,7 +114,7 @@ def render_report(runs: dict[str, list[PotResult]], seeds: int, elapsed: float) 
         "# Handle detection on the real osd-learn pots",
         "",
         f"Each labeled pot cut from its scene by the scene segmentation (`segment` cut, "
-        f"`simgrasp.perception.segment.segment_scene` with rim joins, "
+        f"`simgrasp.perception.segmentation.segment.segment_scene` with rim joins, "
         f"`SegmentConfig(rim_band=0.005)`: the object overlapping the labeled pot "
         f"most, with its side parts and a joined inside, as `detect --segment --config "
         f"real_depth.toml` takes it) or by its ground-truth part "

@@ -1,11 +1,13 @@
 """The data a test may need beyond the repository, and how a test says so.
 
-Three kinds, each a pytest marker and an environment variable:
+Four kinds, each a pytest marker and an environment variable:
 
 - ``ycb``: YCB meshes, ``SIMGRASP_YCB_DIR`` (the ``ycb_dir`` fixture marks its tests itself);
 - ``menagerie``: the Robotiq 2F-85 of a MuJoCo Menagerie checkout, ``MENAGERIE_ROOT``;
 - ``real``: the real sensor scenes, ``SIMGRASP_REAL_DIR`` (default ``../shared/real`` beside
-  the repository).
+  the repository);
+- ``acronym``: the ACRONYM example and affordance files, ``SIMGRASP_ACRONYM_DIR`` (default
+  ``../shared/acronym``).
 
 A test that needs missing data is skipped, with a reason starting with :data:`SKIP_PREFIX`;
 ``SIMGRASP_REQUIRE_DATA=1`` (set by ``.ci/run``) turns that skip into a failure.
@@ -22,6 +24,7 @@ import pytest
 REQUIRE_ENV = "SIMGRASP_REQUIRE_DATA"
 SKIP_PREFIX = "needs data:"
 REAL_DEFAULT = Path(__file__).resolve().parents[2] / "shared" / "real"
+ACRONYM_DEFAULT = Path(__file__).resolve().parents[2] / "shared" / "acronym"
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,14 @@ KINDS = {
             "the real sensor scenes",
             f"SIMGRASP_REAL_DIR=their directory (default {REAL_DEFAULT})",
             default=REAL_DEFAULT,
+        ),
+        DataKind(
+            "acronym",
+            "SIMGRASP_ACRONYM_DIR",
+            "the ACRONYM example and affordance files",
+            f"SIMGRASP_ACRONYM_DIR=their directory (default {ACRONYM_DEFAULT})",
+            probe="examples/grasps",
+            default=ACRONYM_DEFAULT,
         ),
     )
 }

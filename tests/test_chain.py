@@ -8,14 +8,14 @@ import pytest
 from data_needs import ROBOTIQ
 
 from simgrasp.assets.model import model_for
-from simgrasp.grasping.chain import run_chain
-from simgrasp.grasping.chain_config import ChainConfig
-from simgrasp.grasping.planner import (
+from simgrasp.grasping.planning.planner import (
     PlannerConfig,
     collides,
     grasps_from_handles,
     table_margin,
 )
+from simgrasp.grasping.trials.chain import run_chain
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
 

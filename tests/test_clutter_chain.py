@@ -7,14 +7,14 @@ import pytest
 from scipy.spatial import cKDTree
 
 from simgrasp.assets.model import model_for
-from simgrasp.grasping.chain import run_chain
-from simgrasp.grasping.chain_config import ChainConfig
-from simgrasp.grasping.clutter_scoring import NeighborWatch, score_in_clutter
 from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.trial import run_trial
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trials.chain import run_chain
+from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.grasping.trials.clutter_scoring import NeighborWatch, score_in_clutter
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
-from simgrasp.perception.segment import segment_scene
+from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.kept_renderer import kept_renderer
 from simgrasp.scenes.observe import observe

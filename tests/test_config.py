@@ -14,7 +14,7 @@ from simgrasp.config.arguments import flag_name
 from simgrasp.config.schema import leaves
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 
@@ -75,9 +75,9 @@ def test_yaml_config(tmp_path: Path, capsys) -> None:
         ),
         (["--set", "seed"], "expected KEY=VALUE"),
         (["--set", "noise=loud"], "noise: expected float"),
-        (["--set", "scene.placement=sideways"], "must be one of stable, upright"),
-        (["--detector.quadric.max-points", "many"], "--detector.quadric.max-points"),
-        (["--noise", "2"], "noise sigma must be in [0, 1)"),
+        (["--set", "scene.placement=sideways"], "'sideways' is not one of stable, upright"),
+        (["--detector.quadric.max-points", "many"], "detector.quadric.max_points: expected"),
+        (["--noise", "2"], "noise: 2.0 is not in [0, 1)"),
     ],
 )
 def test_bad_settings_are_one_line_errors(argv, message, capsys) -> None:

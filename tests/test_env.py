@@ -16,10 +16,10 @@ import simgrasp  # noqa: F401  (registers the env)
 from simgrasp.assets.model import model_for
 from simgrasp.envs.handle_grasp import HandleGraspConfig, HandleGraspEnv, trial_reward
 from simgrasp.envs.policy import FALLBACK_SOURCE, DetectorPolicy
-from simgrasp.grasping.chain import run_chain
-from simgrasp.grasping.chain_config import ChainConfig
-from simgrasp.grasping.trial import TrialResult
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trials.chain import run_chain
+from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.grasping.trials.result import TrialResult
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.camera import CameraSpec
 from simgrasp.scenes.config import SceneConfig

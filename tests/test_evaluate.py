@@ -280,7 +280,7 @@ def test_ray_backend_gives_the_same_records_as_local(tmp_path: Path, reference: 
         (["--detector", "quadric,nope"], "'nope'"),
         (["--gripper", "builtin,nope"], "'nope'"),
         (["--objects", "gen_hammer,nope_object"], "'nope_object'"),
-        (["--seeds", "0"], "--seeds must be >= 1, got 0"),
+        (["--seeds", "0"], "seeds: 0 is not >= 1"),
         (["--address", "10.1.2.3:6379"], "10.1.2.3:6379"),
         (["--noise", "0,1.5"], "1.5"),
     ],

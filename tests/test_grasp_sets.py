@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from simgrasp.grasping.grasp_sets import (
+from simgrasp.grasping.labeling.grasp_sets import (
     ACRONYM_TCP_OFFSET,
+    GraspSet,
     read_grasp_set,
     write_grasp_set,
 )
@@ -46,6 +47,32 @@ def test_npz_matrices_with_bad_rows_reported_by_index(tmp_path: Path) -> None:
     assert grasps.valid.tolist() == [True, False, False, False, False, False]
     np.testing.assert_allclose(grasps.object_T_tcp[0], GOOD)
     np.testing.assert_array_equal(grasps.object_T_tcp[1], np.eye(4))
+
+
+def test_from_arrays_checks_rows_as_the_file_reader(tmp_path: Path) -> None:
+    """GraspSet.from_arrays: the same rows, reasons and replaced poses as reading them from
+    our .npz; a wrong shape or width count raises naming it."""
+    matrices = np.stack([GOOD, GOOD, np.zeros((4, 4)), GOOD, GOOD])
+    matrices[1, 2, 3] = np.inf
+    matrices[3, 3] = [0.0, 0.0, 0.1, 1.0]  # not a rigid transform's last row
+    widths = np.array([0.04, 0.04, 0.04, 0.04, 0.0])
+    grasps = GraspSet.from_arrays(matrices, widths)
+    assert grasps.fmt == "arrays" and len(grasps) == 5
+    assert list(grasps.problems) == [1, 2, 3, 4]
+    assert grasps.problems[1] == "non-finite values"
+    assert "not orthonormal" in grasps.problems[2]
+    assert "last row" in grasps.problems[3]
+    assert grasps.problems[4].endswith("is not a positive length")
+    assert grasps.valid.tolist() == [True, False, False, False, False]
+    read = read_grasp_set(write_grasp_set(tmp_path / "set.npz", matrices, widths))
+    assert read.problems == grasps.problems
+    np.testing.assert_array_equal(read.object_T_tcp, grasps.object_T_tcp)
+    np.testing.assert_array_equal(grasps.object_T_tcp[1], np.eye(4))
+    assert np.isnan(GraspSet.from_arrays(matrices[:1]).width).all()  # no width: fully open
+    with pytest.raises(ValueError, match=r"object_T_grasp must be N x 4 x 4, got shape \(4, 4\)"):
+        GraspSet.from_arrays(GOOD)
+    with pytest.raises(ValueError, match="width has 2 entries for 5 grasps"):
+        GraspSet.from_arrays(matrices, widths[:2])
 
 
 def test_json_poses_without_width(tmp_path: Path) -> None:
@@ -118,9 +145,9 @@ def test_sampler_table_margins_match_the_planner() -> None:
     """The sampler's vectorized table check is the planner's table_margin, grasp by grasp."""
     from dataclasses import replace
 
-    from simgrasp.grasping.antipodal import Table
-    from simgrasp.grasping.planner import table_margin
-    from simgrasp.grasping.planner_config import PlannerConfig
+    from simgrasp.grasping.planning.antipodal import Table
+    from simgrasp.grasping.planning.planner import table_margin
+    from simgrasp.grasping.planning.planner_config import PlannerConfig
     from simgrasp.grippers.geometry import GripperGeometry
 
     rng = np.random.default_rng(0)
@@ -141,8 +168,8 @@ def test_sampler_table_margins_match_the_planner() -> None:
 
 
 def test_compare_labels_confusion_leaves_out_unscored(tmp_path: Path) -> None:
-    from simgrasp.grasping.label_compare import compare_labels
-    from simgrasp.grasping.label_run import write_label_arrays
+    from simgrasp.grasping.labeling.label_compare import compare_labels
+    from simgrasp.grasping.labeling.label_run import write_label_arrays
 
     def records(outcomes: list[tuple[bool, str | None]]) -> list[dict]:
         return [

@@ -18,9 +18,9 @@ from test_trial import handle_grasp, head_point, top_down_grasp
 from simgrasp.assets.model import model_for
 from simgrasp.cli import main
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.grasp_sets import read_grasp_set, write_grasp_set
-from simgrasp.grasping.label_run import LABELS_FILE, label_grasp_set
-from simgrasp.grasping.labeling import GraspLabeler, LabelConfig
+from simgrasp.grasping.labeling.grasp_sets import GraspSet, read_grasp_set, write_grasp_set
+from simgrasp.grasping.labeling.label_run import LABELS_FILE, label_grasp_set
+from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig, label_grasps
 from simgrasp.transforms import matrix_to_pose7
 
 OBJECT, SEED = "gen_hammer_s1", 3
@@ -69,6 +69,30 @@ def test_known_grasps_get_the_expected_labels(known_set: Path, tmp_path: Path, p
     assert summary["invalid"] == 1 and summary["scored"] == 3
     lines = (tmp_path / LABELS_FILE).read_text().splitlines()
     assert sorted(json.loads(line)["index"] for line in lines) == [0, 1, 2, 3]
+
+
+def test_label_grasps_in_memory_equals_the_on_disk_run(known_set: Path, tmp_path: Path) -> None:
+    """label_grasps on the file's arrays (no file, no directory) gives the labels and records
+    of the resumable on-disk run of the file, the invalid row reported by its index."""
+    config = LabelConfig(OBJECT, protocol="fast", seed=SEED)
+    _, on_disk = label_grasp_set(
+        read_grasp_set(known_set), config, tmp_path, grasp_file=known_set, progress=False
+    )
+    with np.load(known_set) as arrays:
+        matrices, widths = arrays["object_T_grasp"], arrays["width"]
+    result = label_grasps(OBJECT, GraspSet.from_arrays(matrices, widths), config=config)
+    labels = np.load(tmp_path / "labels.npz")
+    for name in ("success", "on_handle", "failure", "handle_fraction", "lift_height"):
+        np.testing.assert_array_equal(getattr(result, name), labels[name], err_msg=name)
+    assert result.failure.tolist() == ["", "", "missed", "invalid"]
+    in_memory = [json.loads(json.dumps(r)) for r in result.records]
+    for record in (*in_memory, *on_disk):
+        record.pop("timings_s", None)
+    assert in_memory == on_disk
+    bare = label_grasps(OBJECT, matrices[:1], config=config)  # an array: fully open jaws
+    assert bare.records[0]["index"] == 0 and len(bare.success) == 1
+    with pytest.raises(ValueError, match="config labels 'gen_hammer_s1', not 'gen_mug'"):
+        label_grasps("gen_mug", matrices, config=config)
 
 
 def test_label_equals_trial_grasp(labeler: GraspLabeler, tmp_path: Path, capsys) -> None:

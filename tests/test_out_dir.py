@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from simgrasp.evaluation.out_dir import LOCK_FILE, claim_out_dir
+from simgrasp.runs.out_dir import LOCK_FILE, claim_out_dir
 
 TIMEOUT_S = 120
 SWEEP = ["evaluate", "--objects", "gen_hammer", "--detector", "centroid", "--seeds", "50"]

@@ -14,7 +14,7 @@ from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.evaluation.real_pots import labeled_pot, score_pot
 from simgrasp.handles import QuadricDetectorConfig, detect
 from simgrasp.handles.plate import plate_handles
-from simgrasp.perception.segment import segment_scene
+from simgrasp.perception.segmentation.segment import segment_scene
 
 TABLE = np.array([0.0, 0.0, 1.0, 0.0])  # z = 0, up +z
 EYE = np.array([0.0, -0.6, 0.5])  # in front of the wall (-y) and above it

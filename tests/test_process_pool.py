@@ -9,11 +9,11 @@ import sys
 import time
 from pathlib import Path
 
-from simgrasp.process_pool import PARENT_CHECK_S
+from simgrasp.runs.process_pool import PARENT_CHECK_S
 
 PARENT = """
 import os, time
-from simgrasp.process_pool import spawn_pool
+from simgrasp.runs.process_pool import spawn_pool
 pool = spawn_pool(1)
 print(pool.submit(os.getpid).result(), flush=True)
 time.sleep(120)

@@ -26,7 +26,7 @@ from simgrasp.quadric import (
     analyze_quadrics,
     fit_quadrics,
 )
-from simgrasp.quadric.fit import FLAT_TOL
+from simgrasp.quadric.fit_systems import FLAT_TOL
 
 FIT_RTOL = 1e-2
 POINTS = 50

@@ -73,7 +73,7 @@ def test_the_committed_real_depth_preset_file_is_the_real_depth_preset() -> None
     from simgrasp.config import build
     from simgrasp.config.files import read_config_file
     from simgrasp.handles.detector_config import DetectorConfig
-    from simgrasp.perception.segment_config import SegmentConfig
+    from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
     preset = Path(__file__).parents[1] / "docs" / "results" / "real-pots" / "real_depth.toml"
     settings = read_config_file(preset)

@@ -14,9 +14,9 @@ from simgrasp.cli import main
 from simgrasp.evaluation.segment_eval import part_ious, score_scene
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
-from simgrasp.perception.segment import segment_scene
-from simgrasp.perception.segment_config import SegmentConfig
-from simgrasp.perception.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segmentation.segment import segment_scene
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_parts import claim_table_edges, part_parents
 
 OSD = default_real_dir() / "osd-learn"
 needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simgrasp.perception.segment_config import SegmentConfig
-from simgrasp.perception.segment_rims import rim_parents
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_rims import rim_parents
 
 TABLE = np.array([0.0, 0.0, 1.0, 0.0])  # z = 0; the sensor looks from -y
 JOINS = SegmentConfig(rim_band=0.005)

@@ -270,7 +270,7 @@ def test_bad_input_raises_a_clear_value_error(depth, K_bad, message: str) -> Non
 def test_bad_settings_raise_value_errors() -> None:
     with pytest.raises(ValueError, match="KinectConfig.axial_a"):
         KinectConfig(axial_a=-1.0)
-    with pytest.raises(ValueError, match="edge_dropout is a probability"):
+    with pytest.raises(ValueError, match=r"KinectConfig.edge_dropout: 1.5 is not in \[0, 1\]"):
         KinectConfig(edge_dropout=1.5)
     with pytest.raises(ValueError, match="StereoConfig.subpixel_rms"):
         StereoConfig(subpixel_rms=math.nan)

@@ -16,8 +16,8 @@ from simgrasp.assets.labels import Box, Capsule
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.trial import run_trial
-from simgrasp.grasping.trial_config import FAST_TRIAL, TrialConfig
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import FAST_TRIAL, TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import Scene, build_scene
 

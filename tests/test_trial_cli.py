@@ -16,8 +16,8 @@ from simgrasp.assets.registry import load_object
 from simgrasp.cli import main
 from simgrasp.cli.trial import _print_summary
 from simgrasp.evaluation.sweep import TrialSpec, run_spec
-from simgrasp.grasping.chain import ChainResult
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain import ChainResult
+from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.key_frames import write_frames
 from simgrasp.scenes.scene import build_scene
@@ -85,7 +85,7 @@ def test_unknown_object_and_bad_width_are_clear_errors(capsys: pytest.CaptureFix
 
 def test_trial_rejects_a_fifth_camera(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["trial", "gen_mug", "--views", "5"]) == 2
-    assert "--views: invalid choice: 5" in capsys.readouterr().err
+    assert "scene.num_views: 5 is not one of 1, 2, 3, 4" in capsys.readouterr().err
 
 
 def test_trial_rejects_bad_render_suffix(capsys: pytest.CaptureFixture[str]) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from simgrasp.evaluation.report import write_report
-from simgrasp.evaluation.trial_log import TrialLog
+from simgrasp.evaluation.trial_log import trial_log
 
 COMMITTED = Path(__file__).parents[1] / "docs" / "results"
 EVALUATE_LOG = COMMITTED / "evaluate" / "trials.jsonl"
@@ -25,7 +25,7 @@ def real_lines(count: int) -> list[bytes]:
     "log", sorted(COMMITTED.glob("*/trials.jsonl")), ids=lambda p: p.parent.name
 )
 def test_every_committed_log_passes_the_record_check(log: Path) -> None:
-    assert len(TrialLog(log).load()) == len(log.read_bytes().splitlines())
+    assert len(trial_log(log).load()) == len(log.read_bytes().splitlines())
 
 
 @pytest.mark.parametrize(
@@ -50,7 +50,7 @@ def test_a_record_the_report_cannot_use_is_an_error_naming_file_line_and_field(
     log = tmp_path / "trials.jsonl"
     log.write_bytes(b"\n".join(lines) + b"\n")
     with pytest.raises(ValueError, match=rf"{log}:2: .*{problem}"):
-        TrialLog(log).load()
+        trial_log(log).load()
 
 
 def test_the_report_runs_on_every_record_the_check_accepts(tmp_path: Path) -> None:
@@ -61,7 +61,7 @@ def test_the_report_runs_on_every_record_the_check_accepts(tmp_path: Path) -> No
     record.update(detection_accuracy=None, handle_recall=None, success=None, failure=None)
     log = tmp_path / "trials.jsonl"
     log.write_bytes(lines[0] + b"\n" + json.dumps(record).encode() + b"\n")
-    records = TrialLog(log).load()
+    records = trial_log(log).load()
     assert len(records) == 2
     assert "Grasp sweep" in write_report(records, tmp_path, "Grasp sweep")
 
@@ -74,10 +74,10 @@ def test_a_complete_last_record_without_newline_is_kept(
     lines = real_lines(3)
     log = tmp_path / "trials.jsonl"
     log.write_bytes(b"\n".join(lines))
-    records = TrialLog(log).load()
+    records = trial_log(log).load()
     assert [r["seed"] for r in records] == [json.loads(line)["seed"] for line in lines]
     assert log.read_bytes() == b"\n".join(lines) + b"\n"
-    TrialLog(log).append(records[0])
+    trial_log(log).append(records[0])
     assert log.read_bytes().split(b"\n")[:3] == lines
 
 
@@ -88,7 +88,7 @@ def test_a_torn_last_line_is_cut_with_a_message_saying_what_and_why(
     torn = lines[2][:100]
     log = tmp_path / "trials.jsonl"
     log.write_bytes(lines[0] + b"\n" + lines[1] + b"\n" + torn)
-    assert len(TrialLog(log).load()) == 2
+    assert len(trial_log(log).load()) == 2
     assert log.read_bytes() == lines[0] + b"\n" + lines[1] + b"\n"
     err = capsys.readouterr().err
     assert f"{log}:3" in err and "100 bytes" in err and "torn" in err

@@ -17,8 +17,8 @@ from simgrasp.assets.model import build_object_model
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.trial import run_trial
-from simgrasp.grasping.trial_config import TrialConfig
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.scene import Scene, build_scene

@@ -164,3 +164,26 @@ def ycb_handle_label(object_id: str) -> HandleLabel:
     """The shipped handle label of a YCB object (e.g. ``"033_spatula"``); empty if unlabeled."""
     labels = load_label_file(model_path(*YCB_LABELS_FILE))
     return labels.get(object_id, HandleLabel(object_id))
+
+
+def load_handle_label(path: Path, object_name: str | None = None) -> HandleLabel:
+    """One object's label from a label file (``simgrasp label-handles --out``): the object
+    named ``object_name``, or the file's only object when no name is given."""
+    labels = load_label_file(path)
+    if object_name is not None:
+        if object_name not in labels:
+            raise SimgraspError(f"handle label file {path} has no object {object_name!r}")
+        return labels[object_name]
+    if len(labels) != 1:
+        names = ", ".join(sorted(labels)) or "none"
+        raise SimgraspError(
+            f"handle label file {path} holds {len(labels)} objects ({names}); name one"
+        )
+    return next(iter(labels.values()))
+
+
+def write_label_file(path: Path, labels: dict[str, HandleLabel], description: str) -> Path:
+    """Write ``labels`` in the format :func:`load_label_file` reads."""
+    data = {"description": description, "objects": {n: h.to_json() for n, h in labels.items()}}
+    Path(path).write_text(json.dumps(data, indent=1) + "\n")
+    return Path(path)

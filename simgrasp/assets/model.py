@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import functools
 import shutil
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -263,7 +263,10 @@ def build_object_model(
     if not asset.mass > 0:
         raise SimgraspError(f"object {asset.name!r}: mass must be positive, got {asset.mass}")
     hulls = decompose(asset.mesh, config or default_decomposition(asset), asset.name)
-    return ObjectModel(asset=asset, hulls=hulls, inertial=inertial_properties(asset, hulls))
+    model = ObjectModel(asset=asset, hulls=hulls, inertial=inertial_properties(asset, hulls))
+    if asset.friction is not None:
+        model = replace(model, friction=(asset.friction, *model.friction[1:]))
+    return model
 
 
 def model_for(object_name: str, ycb_dir: str | None = None) -> ObjectModel:

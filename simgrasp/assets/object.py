@@ -21,15 +21,19 @@ class ObjectAsset:
             frame: z up, resting near z = 0).
         handle: labeled handle region(s), in the same frame.
         mass: kilograms (YCB: published mass; generated: density x volume).
-        source: ``"ycb"`` or ``"generated"``.
+        source: ``"ycb"``, ``"generated"`` or ``"mesh"`` (a mesh file spec,
+            :mod:`simgrasp.assets.mesh_object`).
         mesh_file: the file the visual mesh came from (YCB ``textured.obj``), if any.
         texture_file: the texture image for ``mesh_file``, if any.
+        friction: the surface's sliding friction, if the object's source sets one (else the
+            model's default).
     """
 
     name: str
     mesh: trimesh.Trimesh
     handle: HandleLabel
     mass: float
-    source: Literal["ycb", "generated"]
+    source: Literal["ycb", "generated", "mesh"]
     mesh_file: Path | None = None
     texture_file: Path | None = None
+    friction: float | None = None

@@ -1,11 +1,14 @@
-"""Look objects up by name: generated tools (``gen_<kind>``) or YCB objects (id or bare name)."""
+"""Look objects up by name: a mesh file spec (``PATH.obj?scale=...``), a name in the object
+catalog (``objects.toml``), generated tools (``gen_<kind>``) or YCB objects (id or bare name)."""
 
 from __future__ import annotations
 
 import os
 import re
 
+from simgrasp.assets.catalog import catalog_entry
 from simgrasp.assets.generated import GENERATED_KINDS, generate_tool
+from simgrasp.assets.mesh_object import is_mesh_spec, load_mesh_object, relabeled
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.errors import SimgraspError
@@ -18,8 +21,16 @@ _GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+)(?:_s(?P<seed>\d+))?$")
 def load_object(
     name: str, ycb_dir: str | os.PathLike[str] | None = None, *, seed: int = 0
 ) -> ObjectAsset:
-    """Load ``gen_<kind>`` (sizes drawn from ``seed``), ``gen_<kind>_s<N>`` (seed N), or a
-    YCB object (``"025_mug"`` or ``"mug"``) from ``ycb_dir`` / ``$SIMGRASP_YCB_DIR``."""
+    """Load a mesh file spec (:mod:`simgrasp.assets.mesh_object`), a catalog name
+    (:mod:`simgrasp.assets.catalog`), ``gen_<kind>`` (sizes drawn from ``seed``),
+    ``gen_<kind>_s<N>`` (seed N), ``NAME?handles=FILE`` (another handle label), or a YCB
+    object (``"025_mug"`` or ``"mug"``) from ``ycb_dir`` / ``$SIMGRASP_YCB_DIR``."""
+    if is_mesh_spec(name):
+        return load_mesh_object(name)
+    if "?" in name:  # a named object with a handle label file
+        return relabeled(load_object(name.partition("?")[0], ycb_dir, seed=seed), name)
+    if (entry := catalog_entry(name)) is not None:
+        return load_mesh_object(entry)
     match = _GENERATED.match(name)
     if match:
         kind = match["kind"]

@@ -39,6 +39,8 @@ COMMANDS: dict[str, str] = {
     "sample-grasps": "sample antipodal grasps on an object's mesh",
     "label-grasps": "score every grasp of a file: does it hold, by the handle?",
     "compare-labels": "confusion matrix of two label-grasps runs",
+    "label-handles": "find the handle regions of any mesh, as a label file",
+    "view": "interactive 3D view of a label-grasps folder (served or exported as HTML)",
 }
 
 

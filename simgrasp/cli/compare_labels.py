@@ -1,5 +1,7 @@
 """``simgrasp compare-labels REFERENCE OTHER``: the confusion matrix of two label-grasps runs
-of one grasp set (e.g. the full and the fast protocol)."""
+of one grasp set (e.g. the full and the fast protocol); ``compare-labels OURS --reference
+FILE.h5|GLOB|DIR``: our labels against a grasp file's own (FleX's), per object and overall
+(:mod:`simgrasp.grasping.labeling.reference_compare`)."""
 
 from __future__ import annotations
 
@@ -9,25 +11,58 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
+from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     reference: Path = setting(positional=True, metavar="REFERENCE")
-    """label-grasps output directory (e.g. of the full protocol)."""
-    other: Path = setting(positional=True, metavar="OTHER")
+    """label-grasps output directory (e.g. of the full protocol; with --reference FILE: ours)."""
+    other: Path | None = setting(None, positional=True, metavar="OTHER")
     """label-grasps output directory (e.g. of the fast protocol)."""
+    reference_file: Path | None = setting(None, flag="--reference")
+    """Grasp file(s) with labels (ACRONYM .h5: FleX's; a glob or folder) to compare
+    REFERENCE's labels with, instead of OTHER."""
+    plot: Path | None = None
+    """With --reference: write the agreement plot (PNG) here."""
     json: bool = False
     """Print the counts as JSON."""
 
 
 def run(options: Options) -> int:
-    from simgrasp.grasping.label_compare import compare_labels, confusion_text
+    from simgrasp.grasping.labeling.label_compare import compare_labels, confusion_text
 
+    if options.reference_file is not None:
+        return _against_file(options)
+    if options.other is None:
+        raise SimgraspError("compare-labels needs OTHER (a second label directory) or --reference")
     comparison = compare_labels(options.reference, options.other)
     if options.json:
         print(json.dumps(comparison))
     else:
         names = [path.name or str(path) for path in (options.reference, options.other)]
         sys.stdout.write(confusion_text(comparison, *names) + "\n")
+    return 0
+
+
+def _against_file(options: Options) -> int:
+    from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
+    from simgrasp.grasping.labeling.reference_compare import (
+        compare_with_reference,
+        comparison_text,
+        plot_comparison,
+    )
+
+    assert options.reference_file is not None
+    if options.other is not None:
+        raise SimgraspError("give OTHER or --reference, not both")
+    files = expand_grasp_files(options.reference_file)
+    comparison = compare_with_reference(options.reference, files)
+    if options.plot is not None:
+        plot_comparison(comparison, options.reference, options.plot)
+    if options.json:
+        print(json.dumps(comparison))
+    else:
+        sys.stdout.write(comparison_text(comparison) + "\n")
     return 0

@@ -17,15 +17,16 @@ from pathlib import Path
 
 from simgrasp.cli import invocation
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 DETECTORS = ("quadric", "centroid")
 NOISE = (0.0, 0.02)
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     seeds: int | None = None
     """Seeds per setting (default 2, 1 with YCB)."""
     workers: int = 2
@@ -39,10 +40,10 @@ class Options:
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import GENERATED_OBJECTS, PAPER_OBJECTS
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.report import write_report
     from simgrasp.evaluation.sweep import TRIALS_FILE, plan_trials, run_sweep
     from simgrasp.evaluation.trial_log import DEFAULTS_FILE
+    from simgrasp.runs.out_dir import claim_out_dir
 
     ycb_dir = os.environ.get("SIMGRASP_YCB_DIR")
     objects = GENERATED_OBJECTS + (PAPER_OBJECTS if ycb_dir else ())

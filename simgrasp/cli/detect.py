@@ -2,6 +2,14 @@
 
 Every threshold of both detectors is a flag (``--detector.quadric.shell-test false``), or set
 it from a file (``--config detect.toml``); ``--print-config`` lists them all.
+
+Detector defaults: the quadric detector's plain defaults (one pass), the same as
+``detect-eval``'s, whose committed tables (docs/results/detect-eval) they produced. ``trial``
+and ``evaluate`` add a fine pass for the fused clouds of rendered depth views
+(``--detector.quadric.fine-half-size 0.012``, ``QuadricDetectorConfig.two_scales``), on which
+thin handles (a lying mug's strap) are seen from two sides; give that flag here to detect on a
+cloud file as ``trial`` does. The defaults stay apart so that both commands' committed
+results stay as they are.
 """
 
 from __future__ import annotations
@@ -12,17 +20,18 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     cloud: Path = setting(positional=True, metavar="CLOUD")
     """Point cloud file: .ply, .pcd, .xyz or .npy (in --units)."""
     units: Units = "m"
@@ -136,7 +145,7 @@ def _detect(options: Options) -> Detection:
     kind = options.detector.kind
     detection = detect(points, normals, config, options.seed, detector=kind, viewpoint=viewpoint)
     if options.plot:
-        from simgrasp.handles.plot import plot_detection
+        from simgrasp.plots.detection import plot_detection
 
         plot_detection(detection, options.plot, title=f"{options.cloud} ({kind})")
     return detection

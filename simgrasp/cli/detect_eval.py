@@ -1,54 +1,96 @@
 """``simgrasp detect-eval``: detection accuracy on object meshes over noise and seeds (the
-paper's Tables I and II, Fig. 8)."""
+paper's Tables I and II, Fig. 8), resumable: rerunning with the same ``--out`` runs only the
+detections not yet in ``OUT/detections.jsonl``; ``--real MANIFEST``: on the real clouds of a
+manifest (:mod:`simgrasp.evaluation.real_detect`).
+
+The detectors run with their plain defaults, as ``simgrasp detect`` does; ``trial`` and
+``evaluate`` add a fine pass to the quadric detector for fused depth-camera clouds (see
+``simgrasp detect --help``).
+"""
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Literal
 
+from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
-from simgrasp.errors import SimgraspError
+from simgrasp.config.checks import Positive, PositiveInt
+from simgrasp.grasping.trials.chain_config import NoiseSigma
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
+
+if TYPE_CHECKING:
+    from simgrasp.evaluation.detection_run import DetectionItem
+    from simgrasp.runs.engine import RunConfig
 
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
     objects: tuple[str, ...] = ("paper",)
     """Object names and/or the sets paper, ycb, generated, all."""
-    noise: tuple[float, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
+    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
     """Multiplicative noise sigmas: START:STOP:STEP (e.g. 0:0.1:0.01) or a comma list."""
-    seeds: int = 10
+    seeds: PositiveInt = 10
     """Seeds 0..N-1 per object and sigma."""
     detector: tuple[DetectorName, ...] = DETECTORS
     """Detectors to compare."""
-    gripper_width: float | None = setting(None, metavar="M")
+    gripper_width: Positive | None = setting(None, metavar="M")
     """Maximum gripper opening (m; default the detectors' 0.085)."""
-    workers: int = 1
-    """Parallel worker processes."""
+    workers: PositiveInt = 1
+    """Parallel worker processes (or Ray CPUs)."""
+    backend: Literal["local", "ray"] = "local"
+    """Run detections in local worker processes or as Ray tasks."""
+    address: str | None = None
+    """Ray cluster to join with --backend ray (auto or HOST:PORT)."""
+    no_progress: bool = False
+    """Hide the progress bar."""
     out: Path = Path("out/detect-eval")
-    """Output directory."""
+    """Output directory (detections.jsonl, resumed by the same command; run.json, the CSV,
+    tables and plot)."""
+    real: Path | None = setting(None, metavar="MANIFEST")
+    """Score the real clouds of this manifest instead (TOML, see
+    simgrasp/evaluation/real_manifest.py; the shipped one: models/handles/real_detect.toml)."""
+    real_configs: tuple[str, ...] = ("default",)
+    """With --real: the named detector settings to compare (default, paper, two_scales,
+    camera_cloud, noisy_camera_cloud, real_depth, tenpas, ...)."""
+    real_dir: Path | None = None
+    """With --real: folder the manifest's cloud paths are relative to (default:
+    $SIMGRASP_REAL_DIR, else ../shared/real)."""
 
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import expand_objects
+    from simgrasp.evaluation.detection_run import plan_detections
+    from simgrasp.runs.engine import RunConfig
+    from simgrasp.runs.out_dir import claim_out_dir
+
+    if options.real is not None:
+        return _run_real(options)
+    run = RunConfig(options.workers, options.backend, options.address, not options.no_progress)
+    objects = tuple(expand_objects(options.objects))
+    items = plan_detections(
+        objects, options.detector, options.noise, range(options.seeds), options.ycb_dir
+    )
+    with claim_out_dir(options.out, invocation()):  # one run at a time per --out
+        return _run(options, items, run)
+
+
+def _run(options: Options, items: list[DetectionItem], run: RunConfig) -> int:
     from simgrasp.evaluation.detection_eval import (
         accuracy_tables,
         plot_accuracy_vs_noise,
-        run_evaluation,
         write_csv,
     )
+    from simgrasp.evaluation.detection_run import run_evaluation
 
-    if options.seeds < 1:
-        raise SimgraspError(f"--seeds must be >= 1, got {options.seeds}")
     start = time.perf_counter()
     records = run_evaluation(
-        tuple(expand_objects(options.objects)),
-        options.detector,
-        options.noise,
-        range(options.seeds),
-        workers=options.workers,
+        items,
+        options.out,
+        run=run,
         ycb_dir=options.ycb_dir,
         gripper_max_opening=options.gripper_width,
     )
@@ -59,4 +101,22 @@ def run(options: Options) -> int:
     (options.out / "detect_eval.md").write_text(tables + "\n")
     print(f"wrote {csv_path}, {plot_path} and {options.out / 'detect_eval.md'}")
     print(f"{len(records)} detections in {time.perf_counter() - start:.0f} s")
+    return 0
+
+
+def _run_real(options: Options) -> int:
+    """``--real``: every manifest cloud x named setting x seed (rows already in the output's
+    CSV are kept, not redone)."""
+    from simgrasp.evaluation.real_detect import run_real_detect, tables
+    from simgrasp.evaluation.real_manifest import read_manifest
+
+    start = time.perf_counter()
+    clouds = read_manifest(options.real, options.real_dir)
+    csv_path = options.out / "real_detect.csv"
+    rows = run_real_detect(clouds, options.real_configs, range(options.seeds), csv_path)
+    text = tables(rows)
+    print(text)
+    (options.out / "real_detect.md").write_text(text + "\n")
+    print(f"wrote {csv_path} and {options.out / 'real_detect.md'}")
+    print(f"{len(rows)} detections in {time.perf_counter() - start:.0f} s")
     return 0

@@ -18,16 +18,16 @@ from typing import TYPE_CHECKING, Literal
 from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
-from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import (
-    CHAIN_DETECTORS,
+from simgrasp.config.checks import PositiveInt
+from simgrasp.grasping.proposers import BUILTIN_PROPOSERS, proposer_names
+from simgrasp.grasping.trials.chain_config import (
     PERCEPTIONS,
     ChainConfig,
-    ChainDetector,
+    NoiseSigma,
     Perception,
 )
 from simgrasp.grippers.registry import gripper_names
-from simgrasp.perception.sensors.settings import sensor_names
+from simgrasp.perception.sensors.registry import sensor_names
 
 if TYPE_CHECKING:
     from simgrasp.evaluation.sweep import TrialSpec
@@ -39,19 +39,19 @@ SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind", "perception")
 class Options(YcbSource):
     objects: tuple[str, ...] = ("generated",)
     """Object names and/or the sets generated, paper, ycb, all."""
-    detector: tuple[ChainDetector, ...] = CHAIN_DETECTORS
-    """Grasp proposers to sweep (quadric, tenpas, centroid, random)."""
-    gripper: tuple[str, ...] = setting(("builtin",), choices=None)
-    """Grippers to sweep (builtin, robotiq_2f85)."""
-    noise: tuple[float, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
+    detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names)
+    """Grasp proposers to sweep (:mod:`simgrasp.grasping.proposers`)."""
+    gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names)
+    """Grippers to sweep."""
+    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
     """Multiplicative cloud-noise sigmas: START:STOP:STEP or a comma list."""
-    sensor: tuple[str, ...] = setting(("ideal",), choices=None)
-    """Depth sensors to sweep (ideal, kinect, stereo)."""
-    perception: tuple[Perception, ...] = setting(("auto",), choices=None)
+    sensor: tuple[str, ...] = setting(("ideal",), choices=sensor_names)
+    """Depth sensors to sweep."""
+    perception: tuple[Perception, ...] = setting(("auto",), choices=PERCEPTIONS)
     """Cuts of the target to sweep (auto, segment, mask; auto: segment in clutter, else mask)."""
-    seeds: int = 3
+    seeds: PositiveInt = 3
     """Seeds 0..N-1 per setting."""
-    workers: int = 2
+    workers: PositiveInt = 2
     """Parallel worker processes (or Ray CPUs)."""
     out: Path
     """Output directory (trials.jsonl, summary.csv, report.md, plots)."""
@@ -64,13 +64,16 @@ class Options(YcbSource):
     """Hide the progress bar."""
     chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True, exclude=SWEPT)
 
+    def _check(self) -> None:
+        if self.address and self.backend != "ray":
+            self.refuse("address", "needs backend ray")
+
 
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import expand_objects
-    from simgrasp.evaluation.out_dir import claim_out_dir
     from simgrasp.evaluation.sweep import check_plan, plan_trials
+    from simgrasp.runs.out_dir import claim_out_dir
 
-    _check(options)
     ycb_dir = options.ycb_dir or os.environ.get("SIMGRASP_YCB_DIR")
     axes = {
         "detector.kind": options.detector,
@@ -109,30 +112,3 @@ def _run(options: Options, specs: list[TrialSpec], ycb_dir: str | None) -> int:
         f"report.md and plots in {options.out}"
     )
     return 0
-
-
-def _check(options: Options) -> None:
-    if options.seeds < 1:
-        raise SimgraspError(f"--seeds must be >= 1, got {options.seeds}")
-    if options.workers < 1:
-        raise SimgraspError(f"--workers must be >= 1, got {options.workers}")
-    if options.address and options.backend != "ray":
-        raise SimgraspError(f"--address {options.address} needs --backend ray")
-    unknown = [g for g in options.gripper if g not in gripper_names()]
-    if unknown:
-        raise SimgraspError(
-            f"unknown --gripper {unknown[0]!r}; choose from {', '.join(gripper_names())}"
-        )
-    unknown = [s for s in options.sensor if s not in sensor_names()]
-    if unknown:
-        raise SimgraspError(
-            f"unknown --sensor {unknown[0]!r}; choose from {', '.join(sensor_names())}"
-        )
-    unknown = [p for p in options.perception if p not in PERCEPTIONS]
-    if unknown:
-        raise SimgraspError(
-            f"unknown --perception {unknown[0]!r}; choose from {', '.join(PERCEPTIONS)}"
-        )
-    bad = [sigma for sigma in options.noise if not 0 <= sigma < 1]
-    if bad:
-        raise SimgraspError(f"--noise sigmas must be in [0, 1), got {bad[0]:g}")

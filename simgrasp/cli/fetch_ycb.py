@@ -23,11 +23,12 @@ from simgrasp.assets.fetch import (
 )
 from simgrasp.assets.ycb import YCB_DIR_ENV
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked, Positive
 from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     objects: str
     """Comma-separated YCB ids or names (025_mug,hammer), or all."""
     dest: str | None = None
@@ -36,7 +37,7 @@ class Options:
     """google_16k: textured 16k-face scans; berkeley: Poisson/TSDF meshes."""
     base_url: str = YCB_BASE_URL
     """Site to download from (default: the official YCB mirror)."""
-    timeout: float = 30.0
+    timeout: Positive = 30.0
     """Network timeout (s)."""
     no_progress: bool = False
     """No progress bars."""
@@ -46,8 +47,6 @@ def run(options: Options) -> int:
     dest_text = options.dest or os.environ.get(YCB_DIR_ENV)
     if not dest_text:
         raise SimgraspError(f"give --dest DIR (or set {YCB_DIR_ENV})")
-    if not options.timeout > 0:
-        raise SimgraspError(f"--timeout must be positive, got {options.timeout}")
     dest = Path(dest_text).expanduser()
     kind = cast(ArchiveKind, options.kind)
     object_ids = resolve_object_ids(options.objects, kind)

@@ -1,9 +1,13 @@
-"""``simgrasp label-grasps OBJECT --grasps FILE``: score every grasp of a file on an object,
-resumably, and say which hold it by its handle.
+"""``simgrasp label-grasps [OBJECT] --grasps FILE|GLOB|DIR``: score every grasp of a file on
+an object, resumably, and say which hold it by its handle.
 
 Writes ``OUT/labels.jsonl`` (one record per grasp, appended as each finishes; rerun the same
 command to finish an interrupted run), ``labels.npz`` (``success``, ``on_handle``,
-``failure`` in input order), ``summary.json`` and ``labels.png``.
+``failure`` in input order; ``score`` for protocols with one), ``summary.json`` and
+``labels.png``. OBJECT may be left out for ACRONYM ``.h5`` and GraspGen ``.json`` files,
+which name their object (:mod:`simgrasp.grasping.labeling.grasp_files`). A glob or a folder
+labels every file into ``OUT/<file stem>/`` with one ``OUT/summary.json``
+(:mod:`simgrasp.grasping.labeling.dataset_run`).
 """
 
 from __future__ import annotations
@@ -14,24 +18,34 @@ from pathlib import Path
 from typing import Any, Literal
 
 from simgrasp.cli import invocation
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
+from simgrasp.config.checks import PositiveInt
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.labeling import LabelConfig
+from simgrasp.grasping.labeling.labeling import LabelConfig
 
 SHOWN_PROBLEMS = 10
 """Invalid rows listed one by one before the rest are counted."""
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     label: LabelConfig = setting(flatten=True)
     grasps: Path
     """Grasp file in the object frame: .npz/.json (object_T_grasp N x 4 x 4 or poses N x 7
-    [x y z qw qx qy qz], optional width), .h5 (ACRONYM) or .npy (graspnetAPI rows)."""
+    [x y z qw qx qy qz], optional width), .h5 (ACRONYM), .json (GraspGen) or .npy (graspnetAPI
+    rows); or a glob or folder of them (each into OUT/<stem>/)."""
+    mesh_root: Path | None = None
+    """Folder that ACRONYM/GraspGen object/file paths are relative to (default: the folder
+    holding the grasp file's grasps/ folder)."""
+    max_grasps: int | None = None
+    """Label only each file's first N grasps."""
+    export: Literal["acronym", "graspgen"] | None = None
+    """Also write each input file with our labels under grasps/qualities/simgrasp (OUT/export/)."""
     out: Path | None = None
     """Output directory (default out/labels/OBJECT)."""
-    workers: int = 1
+    workers: PositiveInt = 1
     """Worker processes (or Ray CPUs)."""
     backend: Literal["local", "ray"] = "local"
     """Label in local worker processes or as Ray tasks."""
@@ -43,15 +57,20 @@ class Options(YcbSource):
 
 def run(options: Options) -> int:
     from simgrasp.assets.model import model_for
-    from simgrasp.evaluation.out_dir import claim_out_dir
-    from simgrasp.grasping.grasp_sets import read_grasp_set
-    from simgrasp.grasping.label_run import label_grasp_set
+    from simgrasp.grasping.labeling.dataset_run import label_files, object_for
+    from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
+    from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
 
-    if options.workers < 1:
-        raise SimgraspError(f"--workers must be >= 1, got {options.workers}")
-    config = options.label
-    grasps = read_grasp_set(options.grasps)
-    _report_problems(grasps.problems, len(grasps))
+    if options.max_grasps is not None and options.max_grasps < 1:
+        raise SimgraspError(f"--max-grasps must be >= 1, got {options.max_grasps}")
+    files = expand_grasp_files(options.grasps)
+    if len(files) > 1 or options.grasps.is_dir():
+        return label_files(files, options, invocation())
+    config = object_for(options, files[0])
+    grasps = read_grasp_set(options.grasps).first(options.max_grasps)
+    report_problems(grasps.problems, len(grasps))
     model = model_for(config.object, options.ycb_dir)
     out = options.out or Path("out") / "labels" / model.asset.name
     with claim_out_dir(out, invocation()):  # one run at a time per --out, as evaluate
@@ -67,11 +86,15 @@ def run(options: Options) -> int:
         )
         if not options.no_picture:
             _picture(model, grasps, records, config, out / "labels.png")
-    _print_summary(summary, out)
+        if options.export:
+            from simgrasp.grasping.labeling.dataset_run import export_run
+
+            export_run(files[0], out, options.export, out)
+    print_summary(summary, out)
     return 0
 
 
-def _report_problems(problems: dict[int, str], count: int) -> None:
+def report_problems(problems: dict[int, str], count: int) -> None:
     """List the rows that are not grasps on stderr (they are labeled ``invalid``)."""
     for index, problem in list(problems.items())[:SHOWN_PROBLEMS]:
         print(f"row {index}: {problem}: skipped (invalid)", file=sys.stderr)
@@ -84,8 +107,8 @@ def _report_problems(problems: dict[int, str], count: int) -> None:
 def _picture(model: Any, grasps: Any, records: list, config: LabelConfig, path: Path) -> None:
     import numpy as np
 
-    from simgrasp.grasping.label_plot import plot_labels
     from simgrasp.grippers import make_gripper
+    from simgrasp.plots.grasp_labels import plot_labels
 
     widths = np.where(
         np.isfinite(grasps.width), grasps.width, make_gripper(config.gripper).max_opening
@@ -97,7 +120,7 @@ def _picture(model: Any, grasps: Any, records: list, config: LabelConfig, path: 
     plot_labels(model.asset.mesh, grasps.object_T_tcp, widths, records, path, title)
 
 
-def _print_summary(summary: dict[str, Any], out: Path) -> None:
+def print_summary(summary: dict[str, Any], out: Path) -> None:
     rate = summary["grasps_per_s"]
     lines = [
         f"grasps       {summary['grasps']} ({summary['invalid']} invalid, "

@@ -1,5 +1,6 @@
 """``simgrasp labels``: draw objects with their labeled handle regions, for a person to check;
-``--osd`` draws the handles we labeled in real osd-learn scenes instead."""
+``--osd`` draws the handles we labeled in real osd-learn scenes instead, ``--real`` those of the
+real clouds of a ``detect-eval --real`` manifest."""
 
 from __future__ import annotations
 
@@ -20,6 +21,10 @@ class Options(YcbSource):
     """Output directory (one PNG per object or scene)."""
     osd: tuple[str, ...] = ()
     """Draw the labeled pot handles of these osd-learn scenes instead (learn33,... or all)."""
+    real: tuple[str, ...] = ()
+    """Draw the labeled handles of these clouds of --manifest instead (names or all)."""
+    manifest: Path | None = None
+    """With --real: the real-data manifest (default: models/handles/real_detect.toml)."""
     real_dir: str | None = None
     """Real data root holding osd-learn/ (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
 
@@ -27,11 +32,13 @@ class Options(YcbSource):
 def run(options: Options) -> int:
     if options.osd:
         return _run_osd(options)
+    if options.real:
+        return _run_real(options)
     import numpy as np
 
-    from simgrasp.assets.label_plot import draw_label
     from simgrasp.assets.object_sets import expand_objects
     from simgrasp.assets.registry import load_object
+    from simgrasp.plots.object_labels import draw_label
 
     options.out.mkdir(parents=True, exist_ok=True)
     for name in expand_objects(options.objects):
@@ -46,7 +53,7 @@ def _run_osd(options: Options) -> int:
     """Draw the labeled handles of the chosen osd-learn scenes."""
     from simgrasp.assets.real import osd_scene_file, read_labeled_scene
     from simgrasp.assets.scene_labels import load_scene_labels
-    from simgrasp.handles.scene_label_plot import draw_scene_label
+    from simgrasp.plots.scene_labels import draw_scene_label
 
     labels = load_scene_labels()
     names = tuple(labels) if options.osd == ("all",) else options.osd
@@ -58,4 +65,26 @@ def _run_osd(options: Options) -> int:
         scene = read_labeled_scene(osd_scene_file(name, options.real_dir))
         path = draw_scene_label(scene, labels[name], options.out / f"{name}.png")
         print(f"{name}: {path} ({len(labels[name].label.regions)} handle region(s))")
+    return 0
+
+
+def _run_real(options: Options) -> int:
+    """Draw the labeled handles of the chosen manifest clouds, each cut as detection gets it."""
+    from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
+    from simgrasp.plots.real_labels import draw_real_label
+
+    real_dir = Path(options.real_dir) if options.real_dir else None
+    clouds = {c.name: c for c in read_manifest(options.manifest, real_dir)}
+    names = tuple(clouds) if options.real == ("all",) else options.real
+    unknown = [n for n in names if n not in clouds]
+    if unknown:
+        raise SimgraspError(f"no cloud {', '.join(unknown)} in the manifest")
+    options.out.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        cloud = clouds[name]
+        title = f"{name} ({cloud.dataset}, {cloud.split})"
+        path, inside = draw_real_label(
+            load_real_cloud(cloud), cloud.label, title, options.out / f"{name}.png"
+        )
+        print(f"{name}: {path} ({len(cloud.label.regions)} region(s), {inside} points)")
     return 0

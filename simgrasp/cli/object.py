@@ -11,10 +11,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
+from simgrasp.config.checks import Range
 from simgrasp.errors import SimgraspError
 
 
@@ -28,7 +29,7 @@ class Options(YcbSource):
     """show: PNG file to write; export: directory to write."""
     seed: int = 0
     """Sizes of generated objects named without _s<seed>."""
-    size: int = 480
+    size: Annotated[int, Range(ge=16)] = 480
     """show: height of each view (pixels)."""
 
 
@@ -36,8 +37,6 @@ def run(options: Options) -> int:
     from simgrasp.assets.model import build_object_model
     from simgrasp.assets.registry import load_object
 
-    if options.size < 16:
-        raise SimgraspError(f"--size must be at least 16 pixels, got {options.size}")
     if options.action == "show" and options.out.suffix.lower() != ".png":
         raise SimgraspError(f"--out for show must be a .png file, got {options.out}")
     model = build_object_model(load_object(options.name, options.ycb_dir, seed=options.seed))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 
 MAX_RANGE_VALUES = 1000
@@ -13,8 +14,9 @@ typo (``1e-12`` for ``1e-2``), not a plan."""
 
 
 @dataclass(frozen=True, kw_only=True)
-class YcbSource:
-    """Where YCB objects are read from."""
+class YcbSource(Checked):
+    """Where YCB objects are read from (and the base of every command's options: their
+    fields are checked when the options are built)."""
 
     ycb_dir: str | None = None
     """YCB download root holding 025_mug/ etc. (default: $SIMGRASP_YCB_DIR)."""

@@ -16,6 +16,7 @@ from pathlib import Path
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
+from simgrasp.config.checks import PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 
@@ -24,7 +25,7 @@ from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 class Options(YcbSource):
     object: str = setting(positional=True, metavar="OBJECT")
     """YCB id (048_hammer or hammer) or generated tool."""
-    n: int
+    n: PositiveInt
     """Number of grasps."""
     out: Path
     """Output .npz file."""
@@ -40,30 +41,24 @@ class Options(YcbSource):
 
 
 def run(options: Options) -> int:
-    from simgrasp.assets.model import model_for
-    from simgrasp.grasping.antipodal import Table, sample_antipodal
-    from simgrasp.grasping.grasp_sets import write_grasp_set
-    from simgrasp.grippers import make_gripper
-    from simgrasp.scenes.config import SceneConfig
-    from simgrasp.scenes.scene import build_scene
+    from simgrasp.api import sample_grasps
+    from simgrasp.grasping.labeling.grasp_sets import write_grasp_set
 
     if options.out.suffix.lower() != ".npz":
         raise SimgraspError(f"--out must end in .npz, got {options.out}")
-    if options.n < 1:
-        raise SimgraspError(f"--n must be >= 1, got {options.n}")
-    gripper = make_gripper(options.gripper)
-    model = model_for(options.object, options.ycb_dir)
-    table = None
-    if not options.no_table:
-        scene_config = SceneConfig(placement=options.placement)
-        scene = build_scene(model, gripper, scene_config, options.seed)
-        table = Table(scene.world_T_object, scene.config.table_top_z)
     start = time.perf_counter()
-    poses, widths = sample_antipodal(
-        model.asset.mesh, gripper.planning_geometry(), options.n, options.seed, table=table
+    grasps = sample_grasps(
+        options.object,
+        options.n,
+        seed=options.seed,
+        gripper=options.gripper,
+        placement=options.placement,
+        table=not options.no_table,
+        ycb_dir=options.ycb_dir,
     )
-    write_grasp_set(options.out, poses, widths)
+    write_grasp_set(options.out, grasps.object_T_tcp, grasps.width)
     seconds = time.perf_counter() - start
-    short = f" (only {len(poses)} of {options.n} found)" if len(poses) < options.n else ""
-    sys.stdout.write(f"{len(poses)} grasps{short} in {seconds:.1f} s -> {options.out}\n")
+    found = len(grasps.width)
+    short = f" (only {found} of {options.n} found)" if found < options.n else ""
+    sys.stdout.write(f"{found} grasps{short} in {seconds:.1f} s -> {options.out}\n")
     return 0

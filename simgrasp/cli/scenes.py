@@ -19,7 +19,7 @@ import numpy as np
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 TARGET_LABEL, FIRST_DISTRACTOR_LABEL, TABLE_LABEL = 20, 30, 1
 

@@ -12,12 +12,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     scene: Path = setting(positional=True, metavar="SCENE")
     """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters)."""
     json: bool = False
@@ -34,7 +35,7 @@ def run(options: Options) -> int:
     import numpy as np
 
     from simgrasp.perception.scene_cloud import read_scene
-    from simgrasp.perception.segment import segment_scene
+    from simgrasp.perception.segmentation.segment import segment_scene
 
     if options.labels and options.labels.suffix != ".npy":
         raise SimgraspError(f"--labels must name a .npy file, got {options.labels}")
@@ -43,7 +44,7 @@ def run(options: Options) -> int:
     if options.labels:
         np.save(options.labels, result.labels)
     if options.plot:
-        from simgrasp.perception.segment_plot import plot_segmentation
+        from simgrasp.plots.segmentation import plot_segmentation
 
         plot_segmentation(scene, result, options.plot)
     if options.json:

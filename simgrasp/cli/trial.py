@@ -3,6 +3,12 @@
 Without ``--grasp`` the full chain runs: render the scene, detect handles, plan and execute
 the best grasp. Every chain setting is a flag (``--detector.quadric.shell-test false``,
 ``--trial.hold-time 2``) or comes from ``--config FILE``; ``--print-config`` shows them.
+
+The quadric detector's chain default adds a fine pass (``--detector.quadric.fine-half-size``
+0.012, ``QuadricDetectorConfig.two_scales``) to the plain defaults that ``detect`` and
+``detect-eval`` use: the chain's clouds are fused rendered depth views, where a thin handle (a
+lying mug's strap) is seen from two sides and the one-pass fits come out too wide. Give
+``--detector.quadric.fine-half-size 0`` to detect as ``detect`` does.
 """
 
 from __future__ import annotations
@@ -16,7 +22,7 @@ from typing import Any, Literal
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -40,6 +46,9 @@ class Options(YcbSource):
     """Print the trial record as JSON."""
     render: Path | None = None
     """Write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4."""
+    record: bool = False
+    """Add the states a replay needs to the record (``replay``: object and TCP poses, jaw
+    opening at 30 Hz of sim time, phase names and times) for ``simgrasp view``."""
     chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True)
 
 
@@ -49,14 +58,14 @@ def run(options: Options) -> int:
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
     if options.render is not None:
-        from simgrasp.evaluation.out_dir import check_output_file
+        from simgrasp.runs.out_dir import check_output_file
 
         check_frames_target(options.render)
         check_output_file(options.render, "--render")
-    recorder = FrameRecorder() if options.render is not None else None
-    record = _given_trial(options, recorder) if options.grasp else _chain_trial(options, recorder)
-    if options.render is not None and recorder is not None:
-        record["render"] = write_frames(recorder.frames, options.render)
+    frames = FrameRecorder() if options.render is not None else None
+    record = _recorded_trial(options, frames) if options.record else _trial(options, frames)
+    if options.render is not None and frames is not None:
+        record["render"] = write_frames(frames.frames, options.render)
     if options.json:
         print(json.dumps(record))
     else:
@@ -64,10 +73,26 @@ def run(options: Options) -> int:
     return 0
 
 
+def _trial(options: Options, on_phase: Any) -> dict[str, Any]:
+    """The record of the given grasp's trial (``--grasp``) or of the full chain's."""
+    return _given_trial(options, on_phase) if options.grasp else _chain_trial(options, on_phase)
+
+
+def _recorded_trial(options: Options, frames: Any) -> dict[str, Any]:
+    """:func:`_trial` with the states of a replay (:mod:`simgrasp.viewer.record`)."""
+    from simgrasp.viewer.record import StateRecorder
+
+    recorder = StateRecorder(next_phase=frames)
+    with recorder.installed():
+        record = _trial(options, recorder)
+    record["replay"] = recorder.replay()
+    return record
+
+
 def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.given_grasp import trial_of_grasp
+    from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
@@ -86,9 +111,9 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
 
 
 def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
-    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.chain`)."""
+    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`)."""
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.chain import run_chain
+    from simgrasp.grasping.trials.chain import run_chain
 
     object_model = model_for(options.object, options.ycb_dir)
     return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()

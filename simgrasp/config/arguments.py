@@ -57,20 +57,20 @@ def add_settings_arguments(parser: argparse.ArgumentParser, cls: type) -> None:
 
 
 def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
+    """The flag of ``leaf``; its text is converted and checked when the tree is built
+    (:func:`given_settings`), so a bad value names the setting's key like ``--set``'s."""
     kwargs: dict[str, Any] = {"help": _help(leaf), "dest": _PREFIX + leaf.key}
     choices = leaf.spec.choices() if callable(leaf.spec.choices) else leaf.spec.choices
     choices = choices or _literal_choices(leaf.annotation)
     arity = _fixed_arity(leaf.annotation)
     if arity:
         kwargs.update(nargs=arity, metavar=leaf.spec.metavar or "FLOAT")
+    elif leaf.annotation is bool:
+        kwargs.update(nargs="?", const=True, metavar="{true,false}")
+    elif choices and not leaf.spec.metavar:
+        kwargs["metavar"] = "{" + ",".join(map(str, choices)) + "}"
     else:
-        kwargs["type"] = _parser_for(leaf)
-        if choices:
-            kwargs["choices"] = choices
-        if leaf.annotation is bool:
-            kwargs.update(nargs="?", const=True, metavar="{true,false}")
-        elif not choices or leaf.spec.metavar:
-            kwargs["metavar"] = leaf.spec.metavar or _metavar(leaf.annotation)
+        kwargs["metavar"] = leaf.spec.metavar or _metavar(leaf.annotation)
     if leaf.spec.positional:
         kwargs.pop("dest")
         kwargs["metavar"] = leaf.spec.metavar or leaf.key.upper()
@@ -82,7 +82,9 @@ def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
 
 def _help(leaf: Leaf) -> str:
     default = "required" if leaf.required else f"default: {_shown(leaf.default)}"
-    text = f"{leaf.doc} ({type_name(leaf.annotation)}; {default})".strip()
+    allowed = leaf.allowed
+    kind = f"{type_name(leaf.annotation)}{': ' + allowed if allowed else ''}"
+    text = f"{leaf.doc} ({kind}; {default})".strip()
     return text.replace("%", "%%")
 
 
@@ -122,18 +124,16 @@ def _fixed_arity(annotation: Any) -> int | None:
     return len(args) if fixed and all(a in (int, float) for a in args) else None
 
 
-def _parser_for(leaf: Leaf) -> Any:
-    def parse(text: str) -> Any:
+def _from_flag(leaf: Leaf, value: Any) -> Any:
+    """The value of a flag's text (a list of texts for a fixed tuple), as the leaf's type."""
+    if leaf.spec.parse is not None:
         try:
-            if leaf.spec.parse is not None:
-                return leaf.spec.parse(text)
-            return parse_text(text, leaf.annotation, flag_name(leaf.key))
-        except SimgraspError as exc:  # argparse names the flag itself
-            message = str(exc).removeprefix(f"{flag_name(leaf.key)}: ")
-            raise argparse.ArgumentTypeError(message) from None
-
-    parse.__name__ = type_name(leaf.annotation)
-    return parse
+            return leaf.spec.parse(value)
+        except SimgraspError as exc:
+            raise SimgraspError(f"{leaf.key}: {exc}") from None
+    if isinstance(value, str):
+        return parse_text(value, leaf.annotation, leaf.key)
+    return convert(value, leaf.annotation, leaf.key)
 
 
 def given_settings(cls: type, args: argparse.Namespace) -> dict[str, Any]:
@@ -150,9 +150,12 @@ def given_settings(cls: type, args: argparse.Namespace) -> dict[str, Any]:
     overrides.update({k: parse_text(v, known[k].annotation, k) for k, v in items.items()})
     for dest, value in vars(args).items():
         if dest.startswith(_PREFIX):
-            overrides[dest.removeprefix(_PREFIX)] = value
+            key = dest.removeprefix(_PREFIX)
         elif dest.startswith(_POSITIONAL) and value is not None:
-            overrides[dest.removeprefix(_POSITIONAL)] = value
+            key = dest.removeprefix(_POSITIONAL)
+        else:
+            continue
+        overrides[key] = _from_flag(known[key], value)
     return overrides
 
 

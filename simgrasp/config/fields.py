@@ -20,7 +20,9 @@ class FieldSpec:
 
     Attributes:
         flag: an extra short flag (``"--views"`` for ``scene.num_views``).
-        choices: allowed values, or a function returning them (a registry read lazily).
+        choices: allowed values, or a function returning them (a registry read lazily);
+            checked when the config is made (:class:`~simgrasp.config.checks.Checked`), of each
+            item for a list setting.
         parse: converts the flag's text to the value (e.g. ``START:STOP:STEP`` ranges).
         positional: a positional argument instead of a ``--flag``.
         flatten: for a nested config field, its fields are named without its own name.

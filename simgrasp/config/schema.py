@@ -18,6 +18,7 @@ import typing
 from collections.abc import Iterator
 from typing import Any
 
+from simgrasp.config.checks import describe
 from simgrasp.config.fields import FieldSpec, field_spec
 
 MISSING: Any = dataclasses.MISSING
@@ -42,10 +43,17 @@ class Leaf:
     default: Any
     doc: str
     spec: FieldSpec
+    marked: Any = None
+    """The field's type with its ``Annotated`` marks (ranges), as declared."""
 
     @property
     def required(self) -> bool:
         return self.default is MISSING
+
+    @property
+    def allowed(self) -> str:
+        """What the setting allows (``> 0``, ``one of a, b``; empty when its type says it)."""
+        return describe(self.marked, self.spec.choices)
 
 
 def is_branch(annotation: Any) -> bool:
@@ -64,7 +72,14 @@ def field_default(field: dataclasses.Field[Any]) -> Any:
 
 @functools.cache
 def type_hints(cls: type) -> dict[str, Any]:
+    """Field name -> type, ``Annotated`` marks stripped."""
     return typing.get_type_hints(cls)
+
+
+@functools.cache
+def marked_hints(cls: type) -> dict[str, Any]:
+    """Field name -> type with its ``Annotated`` marks (:mod:`simgrasp.config.checks`)."""
+    return typing.get_type_hints(cls, include_extras=True)
 
 
 def leaves(
@@ -84,7 +99,8 @@ def leaves(
             yield from (leaf for leaf in sub if leaf.key not in excluded)
         else:
             doc = docs.get(field.name, "")
-            yield Leaf(path, ".".join(key), annotation, value, doc, spec)
+            marked = marked_hints(cls)[field.name]
+            yield Leaf(path, ".".join(key), annotation, value, doc, spec, marked)
 
 
 @functools.cache

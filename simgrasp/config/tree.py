@@ -12,6 +12,7 @@ import difflib
 from collections.abc import Mapping
 from typing import Any
 
+from simgrasp.config.checks import SettingError
 from simgrasp.config.schema import MISSING, Leaf, is_branch, leaves, type_hints
 from simgrasp.config.values import convert, to_plain
 from simgrasp.errors import SimgraspError
@@ -35,12 +36,19 @@ def check_keys(cls: type, keys: Any, source: str) -> None:
 
 def build(cls: type, overrides: Mapping[str, Any], base: Any = None, source: str = "") -> Any:
     """An instance of ``cls`` with ``overrides`` (dotted key -> value, converted to each
-    field's type) applied to ``base`` (or to the class defaults)."""
+    field's type) applied to ``base`` (or to the class defaults). A value a field does not
+    allow is a :class:`~simgrasp.config.checks.SettingError` naming its dotted key."""
     check_keys(cls, overrides, source or cls.__name__)
     known = leaf_map(cls)
     by_path = {known[key].path: convert(value, known[key].annotation, key)
                for key, value in overrides.items()}  # fmt: skip
-    return _build(cls, by_path, (), base)
+    try:
+        return _build(cls, by_path, (), base)
+    except SettingError as exc:
+        if not exc.owner:
+            raise
+        keys = {leaf.path: leaf.key for leaf in known.values()}
+        raise exc.keyed(keys.get(exc.path, ".".join(exc.path))) from None
 
 
 def _build(
@@ -58,12 +66,17 @@ def _build(
                 kwargs[field.name] = _build(annotation, values, path, nested_base)
         elif path in values:
             kwargs[field.name] = values[path]
-    if base is not None:
-        return dataclasses.replace(base, **kwargs)
-    missing = [f.name for f in dataclasses.fields(cls) if _required(f) and f.name not in kwargs]
-    if missing:
-        raise SimgraspError(f"missing required setting {'.'.join((*prefix, missing[0]))!r}")
-    return cls(**kwargs)
+    try:
+        if base is not None:
+            return dataclasses.replace(base, **kwargs)
+        missing = [f.name for f in dataclasses.fields(cls) if _required(f) and f.name not in kwargs]
+        if missing:
+            raise SimgraspError(f"missing required setting {'.'.join((*prefix, missing[0]))!r}")
+        return cls(**kwargs)
+    except SettingError as exc:
+        if not exc.owner:  # named from a deeper branch already
+            raise
+        raise SettingError((*prefix, *exc.path), exc.detail, exc.owner) from None
 
 
 def _required(field: dataclasses.Field[Any]) -> bool:

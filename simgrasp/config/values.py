@@ -15,6 +15,7 @@ import typing
 from pathlib import Path
 from typing import Any
 
+from simgrasp.config.checks import SettingError
 from simgrasp.errors import SimgraspError
 
 _TRUE = ("true", "yes", "on", "1")
@@ -28,7 +29,7 @@ def convert(value: Any, annotation: Any, key: str) -> Any:
     except SimgraspError:
         raise
     except (TypeError, ValueError):
-        raise SimgraspError(f"{key}: expected {type_name(annotation)}, got {value!r}") from None
+        raise SettingError((key,), f"expected {type_name(annotation)}, got {value!r}") from None
 
 
 def _convert(value: Any, annotation: Any, key: str) -> Any:
@@ -38,7 +39,7 @@ def _convert(value: Any, annotation: Any, key: str) -> Any:
     if origin is typing.Literal:
         matches = [a for a in args if a == value or (isinstance(value, str) and str(a) == value)]
         if not matches:
-            raise SimgraspError(f"{key}: must be one of {', '.join(map(str, args))}, got {value!r}")
+            raise SettingError((key,), f"{value!r} is not one of {', '.join(map(str, args))}")
         return matches[0]
     if origin in (typing.Union, types.UnionType):
         is_none = value is None or (isinstance(value, str) and value.lower() in ("none", "null"))

@@ -3,9 +3,9 @@
 Episode: :meth:`HandleGraspEnv.reset` picks an object and an episode seed, builds the chain's
 scene (the object in a seeded stable pose and yaw, :func:`simgrasp.scenes.scene.build_scene`)
 and observes it as the chain does (:func:`simgrasp.scenes.observe.observe`), so the cloud is
-exactly the one :func:`simgrasp.grasping.chain.run_chain` would plan on with that seed.
+exactly the one :func:`simgrasp.grasping.trials.chain.run_chain` would plan on with that seed.
 :meth:`HandleGraspEnv.step` executes the action as a grasp trial
-(:func:`simgrasp.grasping.trial.run_trial`) and ends the episode.
+(:func:`simgrasp.grasping.trials.trial.run_trial`) and ends the episode.
 
 Observation: see :mod:`simgrasp.envs.observation`. Action: see :mod:`simgrasp.envs.action`
 (``[x, y, z, qw, qx, qy, qz, width]``, world frame, meters).
@@ -18,7 +18,7 @@ start their workers with ``spawn`` or ``forkserver``
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
-from typing import Any, Literal, get_args
+from typing import Annotated, Any, Literal
 
 import gymnasium
 import numpy as np
@@ -27,6 +27,8 @@ from numpy.typing import NDArray
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import ObjectModel, model_for
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
+from simgrasp.config import setting
+from simgrasp.config.checks import Checked, MinLength, PositiveInt
 from simgrasp.envs.action import action_space, grasp_from_action
 from simgrasp.envs.observation import (
     Observation,
@@ -35,16 +37,17 @@ from simgrasp.envs.observation import (
     observation_space,
 )
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.trial import TrialResult, run_trial
-from simgrasp.grasping.trial_config import TrialConfig
-from simgrasp.grippers import DEFAULT_GRIPPER, check_gripper_name, make_gripper
+from simgrasp.grasping.trials.chain_config import NoiseSigma
+from simgrasp.grasping.trials.result import TrialResult
+from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial_config import TrialConfig
+from simgrasp.grippers import DEFAULT_GRIPPER, gripper_names, make_gripper
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.gl_fork import check_gl_allowed
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import Scene, build_scene
-from simgrasp.scenes.views import CHAIN_VIEWS, check_views
+from simgrasp.scenes.views import CHAIN_VIEWS, MAX_VIEWS
 from simgrasp.seeding import rng_for
 
 RewardKind = Literal["on_handle", "lift"]
@@ -56,7 +59,7 @@ RENDER_SIZE = (640, 480)
 
 
 @dataclass(frozen=True)
-class HandleGraspConfig:
+class HandleGraspConfig(Checked):
     """What an episode uses; every field is also a ``gymnasium.make(..., **kwargs)`` keyword.
 
     Attributes:
@@ -79,12 +82,12 @@ class HandleGraspConfig:
         trial: the grasp trial's parameters.
     """
 
-    objects: tuple[str, ...] = GENERATED_OBJECTS
-    gripper: str = DEFAULT_GRIPPER
-    noise: float = 0.0
+    objects: Annotated[tuple[str, ...], MinLength(1)] = GENERATED_OBJECTS
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
+    noise: NoiseSigma = 0.0
     sensor: SensorSettings = field(default_factory=SensorSettings)
-    num_views: int = CHAIN_VIEWS
-    max_points: int = 8192
+    num_views: int = setting(CHAIN_VIEWS, choices=tuple(range(1, MAX_VIEWS + 1)))
+    max_points: PositiveInt = 8192
     reward: RewardKind = "on_handle"
     ycb_dir: str | None = None
     scene: SceneConfig = field(default_factory=SceneConfig)
@@ -93,18 +96,7 @@ class HandleGraspConfig:
     def __post_init__(self) -> None:
         objects = (self.objects,) if isinstance(self.objects, str) else tuple(self.objects)
         object.__setattr__(self, "objects", objects)
-        if not objects:
-            raise SimgraspError("HandleGraspConfig.objects must name at least one object")
-        check_gripper_name(self.gripper)
-        if not 0 <= self.noise < 1:
-            raise SimgraspError(f"noise sigma must be in [0, 1), got {self.noise}")
-        check_views(self.num_views)
-        if self.max_points < 1:
-            raise SimgraspError(f"max_points must be >= 1, got {self.max_points}")
-        if self.reward not in get_args(RewardKind):
-            raise SimgraspError(
-                f"unknown reward {self.reward!r}; use one of {get_args(RewardKind)}"
-            )
+        super().__post_init__()
 
     @property
     def scene_config(self) -> SceneConfig:
@@ -188,7 +180,6 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         """Start an episode; info: ``object`` (the model's name), ``episode_seed`` and
         ``cloud_points`` (the cloud's size before subsampling). A reset that fails (an unknown
         object, say) has ended the previous episode: ``step`` then raises, naming it."""
-        check_gl_allowed()  # fail at once in a worker forked after its parent rendered
         super().reset(seed=seed)
         self._end_episode()
         try:

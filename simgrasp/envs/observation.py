@@ -32,7 +32,7 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.proposal import MIN_CLOUD_POINTS
+from simgrasp.grasping.planning.proposal import MIN_CLOUD_POINTS
 from simgrasp.scenes.camera import default_viewpoints
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.observe import ObjectCloud, viewpoint_normals

@@ -2,8 +2,8 @@
 action.
 
 :class:`DetectorPolicy` plans with the very function the chain plans with
-(:func:`simgrasp.grasping.proposal.plan_grasps`), on the observation's cloud, normals and the
-centers of the cameras that saw the cloud, and returns the best-ranked grasp as an action.
+(:func:`simgrasp.grasping.planning.proposal.plan_grasps`), on the observation's cloud, normals and
+the centers of the cameras that saw the cloud, and returns the best-ranked grasp as an action.
 Given the episode seed, it proposes exactly the grasp ``run_chain`` executes for that object
 and seed when the env and the chain share gripper, noise and scene (and the cloud was not
 subsampled, see :mod:`simgrasp.envs.observation`).
@@ -26,11 +26,12 @@ from simgrasp.config import build as build_settings
 from simgrasp.envs.action import action_from_grasp
 from simgrasp.envs.handle_grasp import HandleGraspEnv
 from simgrasp.envs.observation import Observation
-from simgrasp.grasping.chain_config import ChainDetector, ChainDetectorConfig
+from simgrasp.grasping.cloud_view import CloudView
 from simgrasp.grasping.grasp import Grasp
-from simgrasp.grasping.planner import top_down_above_table
-from simgrasp.grasping.planner_config import PlannerConfig
-from simgrasp.grasping.proposal import MIN_CLOUD_POINTS, plan_grasps
+from simgrasp.grasping.planning.planner import top_down_above_table
+from simgrasp.grasping.planning.planner_config import PlannerConfig
+from simgrasp.grasping.planning.proposal import MIN_CLOUD_POINTS, plan_grasps
+from simgrasp.grasping.trials.chain_config import ChainDetectorConfig
 from simgrasp.grippers import DEFAULT_GRIPPER, make_gripper
 from simgrasp.grippers.geometry import GripperGeometry
 
@@ -44,7 +45,7 @@ class DetectorPolicy:
     (``"centroid"``, ``"random"``), for ``gripper`` over a table top at ``table_top_z`` (world
     z, meters); :meth:`for_env` takes both from an env."""
 
-    detector: ChainDetector | ChainDetectorConfig = "quadric"
+    detector: str | ChainDetectorConfig = "quadric"
     """A proposer's name (with default thresholds) or its full settings."""
     gripper: str = DEFAULT_GRIPPER
     table_top_z: float = 0.0
@@ -62,7 +63,7 @@ class DetectorPolicy:
     def for_env(
         cls,
         env: gymnasium.Env,
-        detector: ChainDetector | ChainDetectorConfig = "quadric",
+        detector: str | ChainDetectorConfig = "quadric",
         planner: PlannerConfig | None = None,
     ) -> DetectorPolicy:
         """The policy for ``env`` (a possibly wrapped :class:`HandleGraspEnv`): its gripper
@@ -85,18 +86,13 @@ class DetectorPolicy:
         points_world = observation["points_world"][valid]
         if len(points_world) < MIN_CLOUD_POINTS:
             return self.fallback(points_world)
-        view_index = observation["view_index"][valid]
-        cameras_world = np.unique(observation["world_T_cam"][view_index, :3, 3], axis=0)
-        grasps, _ = plan_grasps(
+        view = CloudView.from_views(
             points_world,
             observation["normals_world"][valid],
-            cameras_world,
-            self.geometry,
+            observation["world_T_cam"][observation["view_index"][valid], :3, 3],
             self.table_top_z,
-            self.detector_config,
-            self.planner,
-            seed,
         )
+        grasps, _ = plan_grasps(view, self.geometry, self.detector_config, self.planner, seed)
         return grasps[0] if grasps else self.fallback(points_world)
 
     def act(self, observation: Observation, seed: int) -> NDArray[np.float64]:

@@ -3,7 +3,8 @@ paper's Tables I, II and Fig. 8), for one or more detectors.
 
 Clouds are sampled from each mesh's surface in the mesh frame (where the labels live), then
 perturbed with the paper's multiplicative noise about the cloud's centroid, then handed to the
-detector without normals (the detector estimates them, oriented outward).
+detector without normals (the detector estimates them, oriented outward). The resumable run
+over every object, detector, noise level and seed is :mod:`simgrasp.evaluation.detection_run`.
 """
 
 from __future__ import annotations
@@ -16,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.registry import load_object
 from simgrasp.handles import DetectorName, default_config, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
 from simgrasp.perception import multiplicative_noise, sample_surface
-from simgrasp.process_pool import spawn_pool
 from simgrasp.seeding import rng_for
 
 CLOUD_POINTS = 30000
@@ -58,6 +59,45 @@ def object_cloud(mesh_points: np.ndarray, sigma: float, seed: int, object_id: st
     return centroid + multiplicative_noise(mesh_points - centroid, sigma, rng)
 
 
+def evaluate_detection(
+    asset: ObjectAsset,
+    detector: DetectorName,
+    sigma: float,
+    seed: int,
+    gripper_max_opening: float | None = None,
+) -> EvalRecord:
+    """Run ``detector`` on the cloud of ``asset`` of one seed (its surface sample) and noise
+    level, scoring against the object's own handle label."""
+    config = default_config(detector, gripper_max_opening)
+    clean, _ = sample_surface(
+        asset.mesh, CLOUD_POINTS, rng_for(seed, "detect_eval", asset.name, "sample")
+    )
+    cloud = object_cloud(clean, sigma, seed, asset.name)
+    start = time.perf_counter()
+    detection = detect(cloud, None, config, seed, detector=detector)
+    total = time.perf_counter() - start
+    steps = detection.timings_s
+    return EvalRecord(
+        object=asset.name,
+        detector=detector,
+        sigma=float(sigma),
+        seed=int(seed),
+        points=len(cloud),
+        neighborhoods=detection.neighborhoods,
+        candidates=len(detection.candidates),
+        handles=len(detection.handles),
+        accuracy=detection_accuracy(detection, asset.handle),
+        handle_recall=handle_recall(detection, asset.handle),
+        t_voxelize=steps.get("voxelize", 0.0),
+        t_normals=steps.get("normals", 0.0),
+        t_sample=steps.get("sample", 0.0),
+        t_fit=steps.get("fit", 0.0),
+        t_test=steps.get("test", 0.0),
+        t_cluster=steps.get("cluster", 0.0),
+        t_total=total,
+    )
+
+
 def evaluate_object(
     object_id: str,
     detector: DetectorName,
@@ -67,81 +107,13 @@ def evaluate_object(
     gripper_max_opening: float | None = None,
 ) -> list[EvalRecord]:
     """Run ``detector`` on every (sigma, seed) cloud of one object (YCB id or generated tool),
-    scoring against the object's own handle label."""
+    seed-major."""
     asset = load_object(object_id, ycb_dir=ycb_dir)
-    label = asset.handle
-    config = default_config(detector, gripper_max_opening)
-    records = []
-    for seed in seeds:
-        clean, _ = sample_surface(
-            asset.mesh, CLOUD_POINTS, rng_for(seed, "detect_eval", asset.name, "sample")
-        )
-        for sigma in sigmas:
-            cloud = object_cloud(clean, sigma, seed, asset.name)
-            start = time.perf_counter()
-            detection = detect(cloud, None, config, seed, detector=detector)
-            total = time.perf_counter() - start
-            steps = detection.timings_s
-            records.append(
-                EvalRecord(
-                    object=asset.name,
-                    detector=detector,
-                    sigma=float(sigma),
-                    seed=int(seed),
-                    points=len(cloud),
-                    neighborhoods=detection.neighborhoods,
-                    candidates=len(detection.candidates),
-                    handles=len(detection.handles),
-                    accuracy=detection_accuracy(detection, label),
-                    handle_recall=handle_recall(detection, label),
-                    t_voxelize=steps.get("voxelize", 0.0),
-                    t_normals=steps.get("normals", 0.0),
-                    t_sample=steps.get("sample", 0.0),
-                    t_fit=steps.get("fit", 0.0),
-                    t_test=steps.get("test", 0.0),
-                    t_cluster=steps.get("cluster", 0.0),
-                    t_total=total,
-                )
-            )
-    return records
-
-
-def _evaluate_task(args: tuple) -> list[EvalRecord]:
-    return evaluate_object(*args)
-
-
-def run_evaluation(
-    objects: Sequence[str],
-    detectors: Sequence[DetectorName],
-    sigmas: Sequence[float],
-    seeds: Sequence[int],
-    *,
-    workers: int = 1,
-    ycb_dir: str | None = None,
-    gripper_max_opening: float | None = None,
-    progress: bool = True,
-) -> list[EvalRecord]:
-    """Evaluate every object x detector over all sigmas and seeds (worker processes: spawn)."""
-    from tqdm import tqdm
-
-    tasks = [
-        (obj, det, tuple(sigmas), tuple(seeds), ycb_dir, gripper_max_opening)
-        for obj in objects
-        for det in detectors
+    return [
+        evaluate_detection(asset, detector, sigma, seed, gripper_max_opening)
+        for seed in seeds
+        for sigma in sigmas
     ]
-    records: list[EvalRecord] = []
-    bar = tqdm(total=len(tasks), desc="detect-eval", unit="object", disable=not progress)
-    if workers <= 1:
-        for task in tasks:
-            records.extend(_evaluate_task(task))
-            bar.update()
-    else:
-        with spawn_pool(workers) as pool:
-            for result in pool.map(_evaluate_task, tasks):
-                records.extend(result)
-                bar.update()
-    bar.close()
-    return records
 
 
 def write_csv(records: Iterable[EvalRecord], path: Path) -> Path:

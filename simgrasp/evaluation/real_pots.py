@@ -22,14 +22,14 @@ from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorName
-from simgrasp.perception.segment import segment_scene
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment import segment_scene
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 SENSOR_ORIGIN = np.zeros(3)
 POT_SEGMENTATION = SegmentConfig(rim_band=0.005)
 """The segmentation the pots are cut with (and ``real_depth.toml`` gives ``detect
---segment``): the defaults plus rim joins (:mod:`simgrasp.perception.segment_rims`), so an
-upright pot seen from above is one object, not its outside (with its tabs) and its inside."""
+--segment``): the defaults plus rim joins (:mod:`simgrasp.perception.segmentation.segment_rims`), so
+an upright pot seen from above is one object, not its outside (with its tabs) and its inside."""
 
 
 @dataclass(frozen=True)

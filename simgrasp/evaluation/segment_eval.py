@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
 from simgrasp.perception.scene_cloud import read_scene
-from simgrasp.perception.segment import FIRST_OBJECT, segment_scene
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment import FIRST_OBJECT, segment_scene
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 FIRST_PART = 20
 GOOD_IOU = 0.8

@@ -1,6 +1,6 @@
 """Grasp-evaluation sweeps: every object x swept settings x seed as one full-chain
-trial (:func:`simgrasp.grasping.chain.run_chain`), run in worker processes or as Ray tasks and
-recorded in a resumable :class:`~simgrasp.evaluation.trial_log.TrialLog`.
+trial (:func:`simgrasp.grasping.trials.chain.run_chain`), run by the resumable-run engine
+(:mod:`simgrasp.runs`) in worker processes or as Ray tasks and recorded in ``trials.jsonl``.
 
 Workers are started with the ``spawn`` method (a GL context must not cross a ``fork``); each
 worker builds every object model once (CoACD decompositions come from the on-disk cache).
@@ -10,28 +10,23 @@ from __future__ import annotations
 
 import functools
 import itertools
-from collections.abc import Callable, Generator, Iterable, Iterator, Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, wait
-from contextlib import closing
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 from simgrasp.config.tree import build
-from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.trial_log import (
     NOISE_DIGITS,
     TrialKey,
-    TrialLog,
     check_defaults,
     trial_key,
+    trial_log,
     trial_settings,
 )
-from simgrasp.grasping.chain_config import ChainConfig
-from simgrasp.process_pool import spawn_pool
-from simgrasp.ray_session import ray_session
+from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.runs.engine import Backend, RunConfig, Work, run_resumable, run_tasks
 
-Backend = Literal["local", "ray"]
 TRIALS_FILE = "trials.jsonl"
 SWEEP_AXES = ("detector.kind", "gripper", "noise")
 """The chain settings a sweep varies (in this order, inside the object and outside the seed)."""
@@ -110,70 +105,12 @@ def prepare_object(name: str, ycb_dir: str | None) -> str:
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's summary fields."""
-    from simgrasp.grasping.chain import run_chain
+    from simgrasp.grasping.trials.chain import run_chain
 
     record = run_chain(_object_model(spec.object, ycb_dir), spec.config, spec.seed).to_json()
     record["object_asset"] = record["object"]
     record.update(spec.summary_fields())
     return record
-
-
-def run_local(
-    specs: Sequence[TrialSpec], ycb_dir: str | None, workers: int
-) -> Iterator[dict[str, Any]]:
-    """Yield trial records as they finish (in completion order) from ``workers`` spawned
-    processes; ``workers <= 1`` runs in this process."""
-    objects = list(dict.fromkeys(s.object for s in specs))
-    if workers <= 1:
-        for name in objects:
-            prepare_object(name, ycb_dir)
-        yield from (run_spec(spec, ycb_dir) for spec in specs)
-        return
-    pool = spawn_pool(workers)
-    try:
-        list(pool.map(prepare_object, objects, itertools.repeat(ycb_dir)))
-        pending = {pool.submit(run_spec, spec, ycb_dir) for spec in specs}
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
-                yield future.result()
-    finally:  # on an error, drop the queued trials instead of running them all first
-        pool.shutdown(cancel_futures=True)
-
-
-def run_ray(
-    specs: Sequence[TrialSpec], ycb_dir: str | None, workers: int, address: str | None
-) -> Iterator[dict[str, Any]]:
-    """Yield trial records as Ray tasks finish. Without ``address`` a new local Ray instance
-    with ``workers`` CPUs is started (and shut down afterwards), even if ``RAY_ADDRESS`` is set
-    or a ``ray start`` cluster runs on this machine; ``address="auto"`` joins those."""
-    with ray_session(workers, address) as ray:
-        prepare = ray.remote(prepare_object)
-        ray.get([prepare.remote(name, ycb_dir) for name in dict.fromkeys(s.object for s in specs)])
-        remote = ray.remote(run_spec)
-        pending = [remote.remote(spec, ycb_dir) for spec in specs]
-        while pending:
-            done, pending = ray.wait(pending, num_returns=1)
-            yield from ray.get(done)
-
-
-def run_trials(
-    specs: Sequence[TrialSpec],
-    ycb_dir: str | None,
-    workers: int,
-    backend: Backend,
-    address: str | None,
-) -> Generator[dict[str, Any], None, None]:
-    """Trial records from ``backend``, in completion order; starts no workers (nor Ray) when
-    there is nothing to run."""
-    if backend not in ("local", "ray"):
-        raise SimgraspError(f"unknown backend {backend!r}; use 'local' or 'ray'")
-    if specs:
-        yield from (
-            run_ray(specs, ycb_dir, workers, address)
-            if backend == "ray"
-            else run_local(specs, ycb_dir, workers)
-        )
 
 
 def run_sweep(
@@ -187,35 +124,24 @@ def run_sweep(
     progress: bool = True,
     on_record: Callable[[dict[str, Any]], None] | None = None,
 ) -> list[dict[str, Any]]:
-    """Run the trials of ``specs`` not yet in ``out_dir/trials.jsonl``, appending each as it
-    finishes; return the records of all of ``specs`` (earlier and new), in ``specs`` order."""
-    from tqdm import tqdm
-
-    if len(set(s.key for s in specs)) != len(specs):
-        raise SimgraspError("the sweep plan lists a trial twice")
+    """Run the trials of ``specs`` not yet in ``out_dir/trials.jsonl`` (the run engine:
+    :func:`~simgrasp.runs.engine.run_resumable`), appending each as it finishes; return the
+    records of all of ``specs`` (earlier and new), in ``specs`` order. Workers build each
+    object's model before the first trial."""
+    run = RunConfig(workers, backend, address, progress)
     check_defaults(Path(out_dir))
-    log = TrialLog(Path(out_dir) / TRIALS_FILE)
-    wanted = {spec.key for spec in specs}
-    finished = {}
-    for record in log.load():
-        key = trial_key(record)
-        if key in wanted:
-            finished[key] = record
-    todo = [spec for spec in specs if spec.key not in finished]
-    bar = tqdm(
-        total=len(specs), initial=len(finished), desc="evaluate", unit="trial", disable=not progress
+    objects = tuple((name,) for name in dict.fromkeys(s.object for s in specs))
+    work = Work(run_spec, (ycb_dir,), warm_up=prepare_object, warm_calls=objects)
+    finished = run_resumable(
+        specs,
+        lambda spec: spec.key,
+        trial_log(Path(out_dir) / TRIALS_FILE),
+        lambda todo: run_tasks(work, todo, run),
+        progress=progress,
+        desc="evaluate",
+        unit="trial",
+        on_record=on_record,
     )
-    with closing(run_trials(todo, ycb_dir, workers, backend, address)) as records:
-        for record in records:
-            key = trial_key(record)
-            if key in finished:  # never record a trial twice
-                continue
-            log.append(record)
-            finished[key] = record
-            bar.update()
-            if on_record:
-                on_record(record)
-    bar.close()
     return [finished[spec.key] for spec in specs]
 
 

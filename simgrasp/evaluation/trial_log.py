@@ -1,26 +1,22 @@
-"""The append-only trial log of a sweep: one JSON record per line in ``trials.jsonl``.
+"""A sweep's trial records: their identity (object, seed, settings), the fields the report
+reads, and the chain defaults (``defaults.json``) their settings are relative to.
 
-Every finished trial is appended as one line and flushed to disk (``flush`` + ``fsync``) before
-the next, so a killed sweep loses at most the trial that was being written. When the log is
-opened again, a last line without its newline is kept (the newline added) if it is a whole
-trial record, and otherwise cut off as torn (the process died mid-write) with a message on
-stderr saying what was cut; any other line that is not a trial record (a JSON object with every
-field of :data:`RECORD_FIELDS` the report reads, of its type) is an error naming the file and
-line, raised before the file is changed.
+The log itself is the run engine's :class:`~simgrasp.runs.record_log.RecordLog`
+(``trials.jsonl``); a line that is not a trial record (a JSON object with every field of
+:data:`RECORD_FIELDS` the report reads, of its type) is an error naming the file and line.
 """
 
 from __future__ import annotations
 
 import json
-import os
-import sys
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.chain_config import ChainConfig
+from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.runs.identity import claim_identity
+from simgrasp.runs.record_log import RecordLog
 from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
 TrialKey = tuple[str, int, str]
@@ -80,26 +76,14 @@ def check_defaults(out_dir: Path) -> None:
     other chain defaults: their identities (settings that differ from the defaults) would
     name other settings now, and a resume would mix them with new trials. Settings one of the
     two lacks (added or removed since) are not compared: a new setting starts at its default."""
-    path = Path(out_dir) / DEFAULTS_FILE
-    current = json.loads(json.dumps(flatten(ChainConfig())))
-    if not path.exists():
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(current, indent=1) + "\n", encoding="utf-8")
-        return
-    try:
-        earlier = json.loads(path.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as error:
-        raise SimgraspError(f"{path} is not JSON ({error})") from error
-    if not isinstance(earlier, dict):
-        raise SimgraspError(f"{path} is not a table of chain settings")
-    changed = [key for key in current if key in earlier and earlier[key] != current[key]]
-    if changed:
-        shown = ", ".join(f"{k}: {earlier[k]!r} -> {current[k]!r}" for k in changed[:3])
-        more = f" and {len(changed) - 3} more" if len(changed) > 3 else ""
-        raise SimgraspError(
-            f"{out_dir} holds trials recorded under other chain defaults ({shown}{more}); "
-            f"use another --out, or delete its trials.jsonl and {DEFAULTS_FILE} to rerun"
-        )
+    claim_identity(
+        Path(out_dir) / DEFAULTS_FILE,
+        flatten(ChainConfig()),
+        what="trials recorded under other chain defaults",
+        hint=f"use another --out, or delete its trials.jsonl and {DEFAULTS_FILE} to rerun",
+        shared_only=True,
+        indent=1,
+    )
 
 
 def record_settings(record: dict[str, Any]) -> dict[str, Any]:
@@ -147,76 +131,6 @@ def check_record(record: Any) -> TrialKey:
     return key
 
 
-class TrialLog:
-    """``trials.jsonl`` of one sweep directory (created on the first append). ``key`` checks
-    a record and returns its identity (a ValueError for a line that is no record): a sweep's
-    :func:`check_record` by default, e.g. the grasp index for ``label-grasps``."""
-
-    def __init__(self, path: Path, key: Callable[[Any], Any] = check_record) -> None:
-        self.path = Path(path)
-        self.key = key
-
-    def load(self) -> list[dict[str, Any]]:
-        """All complete records, in file order. A torn last line is then cut off the file; a
-        bad complete line raises before anything is changed."""
-        if not self.path.exists():
-            return []
-        data = self.path.read_bytes()
-        complete = data[: data.rfind(b"\n") + 1]
-        lines = complete.split(b"\n")[:-1]
-        records = [self._parse(line, n) for n, line in enumerate(lines, start=1) if line.strip()]
-        last = data[len(complete) :]
-        if last:
-            records += self._end_last_line(last, len(lines) + 1, len(complete))
-        return records
-
-    def _end_last_line(self, last: bytes, number: int, start: int) -> list[dict[str, Any]]:
-        """A last line without its newline: kept (newline added) if it is a whole record,
-        else cut off with a message on stderr."""
-        try:
-            record = self._parse(last, number)
-        except ValueError as exc:
-            problem = str(exc).split(": ", 1)[1].split("; the trial log")[0]
-            sys.stderr.write(
-                f"{self.path}:{number}: cut a torn last line ({len(last)} bytes, {problem}): "
-                f"{last[:60].decode(errors='replace')!r}...; its trial runs again\n"
-            )
-            self._truncate(start)
-            return []
-        with self.path.open("ab") as handle:
-            handle.write(b"\n")
-            handle.flush()
-            os.fsync(handle.fileno())
-        return [record]
-
-    def _parse(self, line: bytes, number: int) -> dict[str, Any]:
-        """The trial record on line ``number``; a ValueError naming the file and line if the
-        line is not one."""
-        try:
-            record = json.loads(line)
-            self.key(record)
-        except json.JSONDecodeError as exc:
-            problem = f"not a JSON record ({exc.msg})"
-        except ValueError as exc:  # not UTF-8, or not a trial record
-            problem = str(exc)
-        else:
-            return record
-        raise SimgraspError(
-            f"{self.path}:{number}: {problem}; the trial log is corrupt beyond a torn last line"
-        )
-
-    def append(self, record: dict[str, Any]) -> None:
-        """Append one record as a single line and force it to disk."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        line = json.dumps(record, separators=(",", ":"), allow_nan=False) + "\n"
-        with self.path.open("a", encoding="utf-8") as handle:
-            handle.write(line)
-            handle.flush()
-            os.fsync(handle.fileno())
-
-    def _truncate(self, size: int) -> None:
-        """Cut the file to ``size`` bytes (a line torn by a kill) and force that to disk."""
-        with self.path.open("rb+") as handle:
-            handle.truncate(size)
-            handle.flush()
-            os.fsync(handle.fileno())
+def trial_log(path: Path) -> RecordLog:
+    """The record log of a sweep (``trials.jsonl``), its lines checked by :func:`check_record`."""
+    return RecordLog(path, key=check_record)

@@ -43,6 +43,11 @@ GRIPPERS: dict[str, GripperEntry] = {
             "simgrasp.grippers.robotiq_2f85:robotiq_2f85",
             "the MuJoCo Menagerie Robotiq 2F-85 (needs $MENAGERIE_ROOT)",
         ),
+        GripperEntry(
+            "franka_panda",
+            "simgrasp.grippers.franka_panda:franka_panda",
+            "the Franka Emika Panda hand of ACRONYM / GraspGen, 0-8 cm, 70 N",
+        ),
     )
 }
 """Registered grippers by name; the first is the default."""

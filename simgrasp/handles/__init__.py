@@ -6,19 +6,15 @@ Platt 2013 style detector behind the same interface, so the harness can compare 
 
 from __future__ import annotations
 
-from typing import Literal
-
 from numpy.typing import ArrayLike
 
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
+from simgrasp.handles.detector_config import DETECTORS, DetectorName
 from simgrasp.handles.quadric_detector import detect_quadric_handles
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.handles.tenpas_detector import detect_tenpas_handles
-
-DETECTORS = ("quadric", "tenpas")
-DetectorName = Literal["quadric", "tenpas"]
 
 
 def default_config(

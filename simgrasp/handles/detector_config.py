@@ -6,6 +6,8 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 from simgrasp.config import setting
+from simgrasp.config.checks import Checked
+from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 
@@ -14,7 +16,7 @@ DETECTORS: tuple[DetectorName, ...] = ("quadric", "tenpas")
 
 
 @dataclass(frozen=True)
-class DetectorConfig:
+class DetectorConfig(Checked):
     """The handle detector and the settings of each (only the chosen one's are used)."""
 
     kind: DetectorName = setting("quadric", flag="--detector")
@@ -26,6 +28,14 @@ class DetectorConfig:
     def chosen(self) -> QuadricDetectorConfig | TenPasConfig:
         """The settings of the chosen detector."""
         return self.quadric if self.kind == "quadric" else self.tenpas
+
+    def handle_detector(self) -> DetectorName:
+        """The chosen handle detector's name (an error for a proposer that detects none)."""
+        if self.kind not in DETECTORS:
+            raise SimgraspError(
+                f"{self.kind!r} is no handle detector; choose one of {', '.join(DETECTORS)}"
+            )
+        return self.kind
 
     def for_gripper(self, max_opening: float) -> QuadricDetectorConfig | TenPasConfig:
         """The chosen detector's settings for a gripper opening ``max_opening`` (m)."""

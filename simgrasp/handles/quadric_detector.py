@@ -6,11 +6,13 @@ neighborhood (Birdal et al. normals-based least squares by default); test each f
 shape; cluster accepted candidates into handle hypotheses. One KD-tree of the voxelized cloud
 serves the normal orientation, the neighborhoods and the tests; it is built (and timed) in the
 normals step.
+The passes' accepted neighborhoods and their clustering into handles are in
+:mod:`simgrasp.handles.quadric_passes`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -18,10 +20,10 @@ from scipy.spatial import cKDTree
 
 import simgrasp.handles.criteria as criteria
 from simgrasp.handles.cloud_input import validate_cloud
-from simgrasp.handles.cluster import best_first, cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Candidate, Detection, Handle
+from simgrasp.handles.detection import Detection
 from simgrasp.handles.plate import plate_handles
+from simgrasp.handles.quadric_passes import Accepted, Pass, cluster_passes, joined
 from simgrasp.handles.step_timer import new_timings, timed
 from simgrasp.perception import (
     estimate_normals,
@@ -31,7 +33,6 @@ from simgrasp.perception import (
 )
 from simgrasp.quadric import (
     HANDLE_KINDS,
-    Quadric,
     QuadricAnalysis,
     QuadricFit,
     analyze_quadrics,
@@ -87,7 +88,7 @@ def detect_quadric_handles(
     if not any(p.fitted for p in passes):
         return Detection((), (), sampled_centers, "quadric", timings, pts)
     with timed(timings, "cluster"):
-        handles, candidates = _cluster(pts, passes, config)
+        handles, candidates = cluster_passes(pts, passes, config)
     return Detection(candidates, handles, sampled_centers, "quadric", timings, pts)
 
 
@@ -106,65 +107,6 @@ def fine_pass_config(config: QuadricDetectorConfig) -> QuadricDetectorConfig:
     )
 
 
-@dataclass(frozen=True)
-class _Accepted:
-    """The accepted neighborhoods of one or more passes, (M, ...) arrays: neighborhood
-    centers, handle points on the axes, handle axes, smaller transverse semi-axes, quadric
-    coefficients (a plate's: its two faces) and the points they are expressed about, kinds
-    (``QuadricKind``, or ``"plate"`` for the plate test's)."""
-
-    centers: NDArray[np.float64]
-    on_axis: NDArray[np.float64]
-    axes: NDArray[np.float64]
-    half_widths: NDArray[np.float64]
-    coefficients: NDArray[np.float64]
-    centroids: NDArray[np.float64]
-    kinds: NDArray[np.object_]
-
-    @classmethod
-    def none(cls) -> _Accepted:
-        vectors = np.zeros((0, 3))
-        return cls(
-            vectors, vectors, vectors, np.zeros(0), np.zeros((0, 10)), vectors, np.zeros(0, object)
-        )
-
-    @classmethod
-    def joined(cls, parts: list[_Accepted]) -> _Accepted:
-        return cls(*(_joined([getattr(p, f.name) for p in parts]) for f in fields(cls)))
-
-    @classmethod
-    def of(
-        cls,
-        centers: NDArray[np.float64],
-        analysis: QuadricAnalysis,
-        on_axis: NDArray[np.float64],
-        fit: QuadricFit,
-    ) -> _Accepted:
-        """Every fitted neighborhood as a row (copies: the plate test overwrites rows)."""
-        return cls(
-            centers,
-            on_axis.copy(),
-            analysis.handle_axes.copy(),
-            analysis.transverse_semi_axes[:, 0].copy(),
-            fit.coefficients.copy(),
-            fit.centroids.copy(),
-            analysis.kinds.astype(object),
-        )
-
-    def rows(self, index: NDArray[np.int64]) -> _Accepted:
-        return type(self)(*(getattr(self, f.name)[index] for f in fields(self)))
-
-
-@dataclass(frozen=True)
-class _Pass:
-    """One pass's accepted neighborhoods, all its sampled centers (m) and whether it had
-    any neighborhood to fit."""
-
-    accepted: _Accepted
-    sampled_centers: NDArray[np.float64]
-    fitted: bool
-
-
 def _run_pass(
     pts: NDArray[np.float64],
     nrm: NDArray[np.float64],
@@ -173,7 +115,7 @@ def _run_pass(
     view: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None],
     config: QuadricDetectorConfig,
     timings: dict[str, float],
-) -> _Pass:
+) -> Pass:
     """Sample neighborhoods, fit and test them with ``config``'s settings; with the plate
     test, plates among the centers no quadric passed (``view``: see :func:`_with_plates`)."""
     with timed(timings, "sample"):
@@ -181,15 +123,15 @@ def _run_pass(
         hoods = _gather(pts, nrm, pts[center_index], tree, rng, config)
     sampled_centers = pts[center_index[np.unique(hoods.source)]]
     if len(hoods.centers) == 0:
-        return _Pass(_Accepted.none(), sampled_centers, fitted=False)
+        return Pass(Accepted.none(), sampled_centers, fitted=False)
     with timed(timings, "fit"):
         fit, hoods = _fit(hoods, config)
     with timed(timings, "test"):
         accepted, on_axis, analysis = _test(fit, hoods.centers, tree, nrm, config)
         accepted = _first_per_center(accepted, hoods.source)
-        found = _Accepted.of(hoods.centers, analysis, on_axis, fit)
+        found = Accepted.of(hoods.centers, analysis, on_axis, fit)
         accepted = _with_plates(found, pts, tree, hoods, accepted, view, config)
-    return _Pass(found.rows(np.flatnonzero(accepted)), sampled_centers, fitted=True)
+    return Pass(found.rows(np.flatnonzero(accepted)), sampled_centers, fitted=True)
 
 
 def _sample(
@@ -242,11 +184,11 @@ def _gather(
         for scale in config.neighborhood_scales
     ]
     return _Neighborhoods(
-        points=_joined([h.points for h in scales]),
-        normals=_joined([h.normals for h in scales]),
-        mask=_joined([h.mask for h in scales]),
-        centers=_joined([h.centers for h in scales]),
-        source=_joined([h.source for h in scales]),
+        points=joined([h.points for h in scales]),
+        normals=joined([h.normals for h in scales]),
+        mask=joined([h.mask for h in scales]),
+        centers=joined([h.centers for h in scales]),
+        source=joined([h.source for h in scales]),
     )
 
 
@@ -286,7 +228,7 @@ def _first_per_center(accepted: NDArray[np.bool_], source: NDArray[np.int64]) ->
 
 
 def _with_plates(
-    found: _Accepted,
+    found: Accepted,
     pts: NDArray[np.float64],
     tree: cKDTree,
     hoods: _Neighborhoods,
@@ -341,96 +283,6 @@ def _plate_faces(
     return rows
 
 
-def _cluster(
-    pts: NDArray[np.float64], passes: list[_Pass], config: QuadricDetectorConfig
-) -> tuple[tuple[Handle, ...], tuple[Candidate, ...]]:
-    """Handles clustered from each pass's accepted candidates on their own (single linkage
-    would chain a dense fine pass's candidates with the first pass's into one blob over a
-    handle and the body next to it), ranked together by score, and the candidates
-    supporting the handles kept. A later pass's handle counts only where the earlier passes
-    found none (:func:`_elsewhere`). A handle's score is its support share of all passes'
-    accepted candidates, as one pass's is of its own (:func:`_pass_weights`)."""
-    centroid = pts.mean(axis=0)
-    rms_radius = float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean()))
-    joined = _Accepted.joined([p.accepted for p in passes])
-    found: list[tuple[Handle, NDArray[np.int64]]] = []
-    offset = 0
-    for weight, accepted in zip(_pass_weights(passes), (p.accepted for p in passes), strict=True):
-        handles, members = cluster_handles(
-            accepted.on_axis,
-            accepted.axes,
-            2 * accepted.half_widths,
-            distance=config.cluster_distance,
-            min_support=config.min_support,
-            object_center=centroid if config.prefer_central else None,
-            centrality_length=max(
-                config.centrality_min_length, config.centrality_scale * rms_radius
-            ),
-            max_opening=config.gripper_max_opening if config.prefer_clearance else None,
-            min_relative_score=config.min_relative_score,
-            anchors=accepted.centers if config.handle_anchor == "surface" else None,
-        )
-        pass_found = [
-            (replace(h, score=h.score * weight), m + offset)
-            for h, m in zip(handles, members, strict=True)
-        ]
-        found += _elsewhere(pass_found, found, joined.on_axis, config.cluster_distance)
-        offset += len(accepted.centers)
-    handles, members = best_first(found, config.min_relative_score)
-    return handles, _candidates(joined, members, config)
-
-
-def _pass_weights(passes: list[_Pass]) -> list[float]:
-    """Each pass's share of all passes' accepted candidates (1 for a single pass): the factor
-    from a handle's support share within its pass to its share of all candidates. Within its
-    pass, a fine handle of two candidates on a chips can, the fine pass's only ones, had the
-    score of a sole handle and outranked the first pass's handle of 27."""
-    counts = [len(p.accepted.centers) for p in passes]
-    total = sum(counts)
-    return [count / total if total > 0 else 1.0 for count in counts]
-
-
-def _elsewhere(
-    new: list[tuple[Handle, NDArray[np.int64]]],
-    earlier: list[tuple[Handle, NDArray[np.int64]]],
-    on_axis: NDArray[np.float64],
-    distance: float,
-) -> list[tuple[Handle, NDArray[np.int64]]]:
-    """The ``new`` handles none of whose candidates' handle points (rows of ``on_axis``)
-    lies within ``distance`` (m) of an ``earlier`` handle's: a part the first pass holds
-    keeps the first pass's handle, and so its grasp (a fork's or spatula's handle, found by
-    the fine pass too, narrower and placed elsewhere along it)."""
-    if not earlier or not new:
-        return new
-    tree = cKDTree(on_axis[np.concatenate([m for _, m in earlier])])
-    return [
-        (h, m)
-        for h, m in new
-        if np.isinf(tree.query(on_axis[m], distance_upper_bound=distance)[0]).all()
-    ]
-
-
-def _candidates(
-    accepted: _Accepted, members: tuple[NDArray[np.int64], ...], config: QuadricDetectorConfig
-) -> tuple[Candidate, ...]:
-    """The accepted neighborhoods in ``members`` (row indices) as candidates, in row order."""
-    supporting = np.sort(np.concatenate(list(members) or [np.zeros(0, int)]))
-    quadrics = Quadric.batch(
-        accepted.coefficients[supporting], config.kind_rtol, accepted.centroids[supporting]
-    )
-    return tuple(
-        Candidate(
-            center=accepted.centers[i],
-            quadric=quadric,
-            kind=str(accepted.kinds[i]),
-            axis=accepted.axes[i],
-            width=float(2 * accepted.half_widths[i]),
-            handle_point=accepted.on_axis[i],
-        )
-        for i, quadric in zip(supporting, quadrics, strict=True)
-    )
-
-
 def _estimate_normals(
     pts: NDArray[np.float64],
     config: QuadricDetectorConfig,
@@ -442,11 +294,6 @@ def _estimate_normals(
     return estimate_normals(
         pts, radius=config.normal_radius, orient="viewpoint", viewpoint=np.asarray(viewpoint)
     )
-
-
-def _joined(arrays: list[NDArray]) -> NDArray:
-    """The per-scale batches concatenated along the batch axis (a single scale: not copied)."""
-    return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
 
 
 def _test(

@@ -22,8 +22,8 @@ from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import TIMING_STEPS, Detection
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception.scene_cloud import read_scene
-from simgrasp.perception.segment import Segmentation, segment_scene
-from simgrasp.perception.segment_config import SegmentConfig
+from simgrasp.perception.segmentation.segment import Segmentation, segment_scene
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 
 @dataclass(frozen=True)

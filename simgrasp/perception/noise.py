@@ -14,10 +14,12 @@ reconstruction and tracking", 3DIMPVT 2012), in the camera frame (OpenCV: +z for
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.config.checks import Checked, NonNegative, Range
 from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import as_points
 
@@ -43,29 +45,19 @@ def multiplicative_noise(
 
 
 @dataclass(frozen=True)
-class DepthNoiseConfig:
+class DepthNoiseConfig(Checked):
     """Parameters of :func:`depth_camera_noise` (meters; defaults: module docstring)."""
 
-    axial_a: float = 0.0012
+    axial_a: NonNegative = 0.0012
     """Constant term of the axial standard deviation (m)."""
-    axial_b: float = 0.0019
+    axial_b: NonNegative = 0.0019
     """Quadratic coefficient of the axial standard deviation (1/m)."""
-    axial_c: float = 0.4
+    axial_c: NonNegative = 0.4
     """Depth of the minimum axial noise (m)."""
-    lateral_per_meter: float = 0.8 / 585.0
+    lateral_per_meter: NonNegative = 0.8 / 585.0
     """Lateral standard deviation per meter of depth (unitless)."""
-    dropout: float = 0.0
+    dropout: Annotated[float, Range(ge=0, lt=1)] = 0.0
     """Fraction of points removed, in [0, 1)."""
-
-    def __post_init__(self) -> None:
-        for name in ("axial_a", "axial_b", "axial_c", "lateral_per_meter"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and np.isfinite(value) and value >= 0):
-                raise SimgraspError(
-                    f"DepthNoiseConfig.{name} must be finite and >= 0, got {value!r}"
-                )
-        if not (isinstance(self.dropout, int | float) and 0 <= self.dropout < 1):
-            raise SimgraspError(f"DepthNoiseConfig.dropout must be in [0, 1), got {self.dropout!r}")
 
     def axial_sigma(self, z: ArrayLike) -> NDArray[np.float64]:
         """Axial standard deviation (m) at depth ``z`` (m)."""

@@ -224,11 +224,6 @@ class Quadric:
         return self._analysis.eigenvalues[0].copy()
 
     @property
-    def is_handle_kind(self) -> bool:
-        """True for a real ellipsoid, one-sheet hyperboloid or real elliptic cylinder."""
-        return self.kind in HANDLE_KINDS
-
-    @property
     def handle_axis(self) -> NDArray[np.float64]:
         """(3,) unit handle direction: cylinder axis, hyperboloid conjugate axis, ellipsoid
         longest axis. ValueError for other kinds."""

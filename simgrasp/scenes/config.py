@@ -6,17 +6,18 @@ Free of MuJoCo imports, so settings trees and command lines can use it.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated
 
-from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement, check_placement
+from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
 from simgrasp.config import setting
-from simgrasp.errors import SimgraspError
+from simgrasp.config.checks import Checked, NonNegative, Positive, Range
 from simgrasp.scenes.camera_spec import CameraSpec
 from simgrasp.scenes.clutter_sets import DEFAULT_CLUTTER_SET, MAX_CLUTTER, check_clutter
-from simgrasp.scenes.views import MAX_VIEWS, check_views
+from simgrasp.scenes.views import MAX_VIEWS
 
 
 @dataclass(frozen=True)
-class SceneConfig:
+class SceneConfig(Checked):
     """Scene layout (meters, seconds).
 
     Attributes:
@@ -39,9 +40,9 @@ class SceneConfig:
     """
 
     table_top_z: float = 0.0
-    table_half_size: tuple[float, float, float] = (0.5, 0.5, 0.025)
-    table_friction: float = 0.6
-    park_height: float = 1.2
+    table_half_size: tuple[Positive, Positive, Positive] = (0.5, 0.5, 0.025)
+    table_friction: NonNegative = 0.6
+    park_height: Annotated[float, Range(gt=0.3)] = 1.2
     cameras: tuple[CameraSpec, ...] = ()
     num_views: int = setting(1, flag="--views", choices=tuple(range(1, MAX_VIEWS + 1)))
     random_yaw: bool = True
@@ -51,11 +52,5 @@ class SceneConfig:
         DEFAULT_CLUTTER_SET, flag="--clutter-objects", metavar="all|generated|ycb|NAMES"
     )
 
-    def __post_init__(self) -> None:
-        check_placement(self.placement)
-        check_views(self.num_views)
+    def _check(self) -> None:
         check_clutter(self.clutter, self.clutter_objects)
-        if not all(h > 0 for h in self.table_half_size):
-            raise SimgraspError(f"table_half_size must be positive, got {self.table_half_size}")
-        if not self.park_height > 0.3:
-            raise SimgraspError(f"park_height must exceed 0.3 m, got {self.park_height}")

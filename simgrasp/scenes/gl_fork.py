@@ -1,6 +1,8 @@
 """A GL context must not cross a ``fork``: a child forked from a process that made one hangs
-in its first GL call (EGL and OSMesa alike). Such a child fails at once instead, saying what to
-do. This module never imports mujoco."""
+in its first GL call (EGL and OSMesa alike). Such a child renders depth with the GL-free ray
+caster instead (:func:`simgrasp.scenes.render.select_backend`), so gymnasium's default
+``fork`` vector envs work after the parent used an env; only a forced GL backend or an RGB
+picture there fails, at once and saying what to do. This module never imports mujoco."""
 
 from __future__ import annotations
 
@@ -30,6 +32,11 @@ def _after_fork_in_child() -> None:
 
 
 os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
+def forked_from_gl() -> bool:
+    """Whether this process was forked from one that had made a GL context."""
+    return _forked_from_gl
 
 
 def check_gl_allowed() -> None:

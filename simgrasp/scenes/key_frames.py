@@ -3,7 +3,6 @@ phase callback with the process's kept renderer, written as a PNG grid or an mp4
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 from pathlib import Path
 from typing import Any
@@ -25,11 +24,6 @@ def check_frames_target(path: Path) -> None:
     suffix = path.suffix.lower()
     if suffix not in (".png", ".mp4"):
         raise SimgraspError(f"--render must end in .png or .mp4, got {path}")
-    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
-        raise SimgraspError(
-            f"--render {path}: writing mp4 needs the ffmpeg encoder, which is not installed; "
-            "use a .png path for a grid of the key frames"
-        )
 
 
 class FrameRecorder:
@@ -74,10 +68,17 @@ def write_frames(frames: list[np.ndarray], path: Path) -> str | None:
     return str(path)
 
 
+def ffmpeg_binary() -> str:
+    """The ffmpeg executable shipped in the imageio-ffmpeg wheel (no system ffmpeg needed)."""
+    import imageio_ffmpeg
+
+    return str(imageio_ffmpeg.get_ffmpeg_exe())
+
+
 def _write_mp4(frames: list[np.ndarray], path: Path) -> None:
     height, width = frames[0].shape[:2]
     command = [
-        "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
+        ffmpeg_binary(), "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
         "-s", f"{width}x{height}", "-r", str(1.0 / FRAME_SECONDS), "-i", "-",
         "-pix_fmt", "yuv420p", "-vf", "fps=25", str(path),
     ]  # fmt: skip

@@ -2,7 +2,8 @@
 
 ``segment``: each camera's depth frame (as the sensor returns it) becomes an organized scene
 cloud in the world frame (640 x 480, NaN where the sensor returned nothing), which
-:func:`simgrasp.perception.segment.segment_scene` cuts into the table and the objects on it, as
+:func:`simgrasp.perception.segmentation.segment.segment_scene` cuts into the table and the
+objects on it, as
 ``simgrasp segment`` cuts a real Kinect frame; in each view the segment (with its side parts)
 holding most of the target's true pixels is taken, with any other segment mostly on the target
 (``MAJORITY``), as an object recognizer would hand it over, and the views' picks are fused
@@ -23,8 +24,8 @@ from scipy.spatial import cKDTree
 
 from simgrasp.perception.camera import depth_to_points_cam, transform_points
 from simgrasp.perception.scene_cloud import SceneCloud
-from simgrasp.perception.segment import segment_scene
-from simgrasp.perception.segment_config import FIRST_OBJECT, SegmentConfig
+from simgrasp.perception.segmentation.segment import segment_scene
+from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, SegmentConfig
 from simgrasp.perception.voxel import voxel_downsample
 from simgrasp.scenes.observe import CLOUD_VOXEL, ObjectCloud, SceneObservation, noisy_cloud
 from simgrasp.scenes.render import DepthFrame

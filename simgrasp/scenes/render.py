@@ -27,10 +27,11 @@ Agreement between backends: on pixels where all see a surface, depth differs by 
 quantization of the GL depth buffer (sub-millimeter at tabletop range) and, at silhouette
 edges, by rasterization versus exact ray hits; see ``tests/test_render_backends.py``.
 
-Processes: a GL context created before ``fork`` hangs forked children. Parallel workers that
-render must be started with the ``spawn`` or ``forkserver`` start method (e.g.
-``multiprocessing.get_context("spawn")``), and each worker creates its own
-:class:`SceneRenderer`.
+Processes: a GL context created before ``fork`` hangs forked children, so a process forked
+from one that made a GL context renders with ``"raycast"`` (:mod:`simgrasp.scenes.gl_fork`).
+Parallel workers that should render with GL must be started with the ``spawn`` or
+``forkserver`` start method (e.g. ``multiprocessing.get_context("spawn")``), and each worker
+creates its own :class:`SceneRenderer`.
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ from simgrasp.scenes.camera import (
     model_camera_intrinsics,
     world_T_cam,
 )
-from simgrasp.scenes.gl_fork import note_gl_context  # noqa: E402
+from simgrasp.scenes.gl_fork import check_gl_allowed, forked_from_gl, note_gl_context
 
 DEPTH_GEOM_GROUPS: tuple[int, ...] = (0, 1, 2)
 
@@ -64,9 +65,20 @@ def loaded_gl_platform() -> str | None:
     return context_cls.__module__.split(".")[1] if "." in context_cls.__module__ else None
 
 
-@functools.cache
 def select_backend() -> str:
-    """The backend this process renders with (cached; see the module docstring)."""
+    """The backend this process renders with (see the module docstring): ``"raycast"`` in a
+    process forked from one that had made a GL context (GL would hang there; a forced GL
+    backend is an error saying to use ``spawn``)."""
+    if forked_from_gl():
+        if forced_backend() in GL_BACKENDS:
+            check_gl_allowed()
+        return "raycast"
+    return _process_backend()
+
+
+@functools.cache
+def _process_backend() -> str:
+    """The backend of a process that may use GL (cached)."""
     platform = loaded_gl_platform()
     forced = forced_backend()
     if forced is not None:
@@ -237,6 +249,7 @@ class SceneRenderer:
         """
         if self._closed:
             raise RuntimeError("SceneRenderer is closed")
+        check_gl_allowed()  # in a child forked after GL: say to use spawn
         if self.backend not in GL_BACKENDS:
             raise RuntimeError(
                 "RGB pictures need a GL backend (egl or osmesa); this renderer uses "

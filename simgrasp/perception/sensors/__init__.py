@@ -16,23 +16,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import SimgraspError
-from simgrasp.perception.sensors.base import SensorConfig, checked_depth
+from simgrasp.perception.sensors.base import SensorConfig
 from simgrasp.perception.sensors.ideal import IdealConfig
-from simgrasp.perception.sensors.kinect import KinectConfig, kinect
-from simgrasp.perception.sensors.stereo import StereoConfig, stereo
+from simgrasp.perception.sensors.kinect import KinectConfig
+from simgrasp.perception.sensors.registry import SENSOR_MODELS, sensor_entry, sensor_names
+from simgrasp.perception.sensors.stereo import StereoConfig
 
 SENSORS: dict[str, type[SensorConfig]] = {
-    IdealConfig.name: IdealConfig,
-    KinectConfig.name: KinectConfig,
-    StereoConfig.name: StereoConfig,
+    name: entry.config_class() for name, entry in SENSOR_MODELS.items()
 }
+"""The built-in sensor models' config classes by name (the registry's, resolved)."""
 
 
 def sensor_config(name: str) -> SensorConfig:
-    """The default config of the sensor model ``name`` (a key of ``SENSORS``)."""
-    if name not in SENSORS:
-        raise SimgraspError(f"unknown sensor {name!r}; choose one of {', '.join(SENSORS)}")
-    return SENSORS[name]()
+    """The default config of the sensor model ``name`` (a registered one)."""
+    return sensor_entry(name).config_class()()
 
 
 def apply_sensor(
@@ -42,7 +40,8 @@ def apply_sensor(
     rng: np.random.Generator,
     intensity: ArrayLike | None = None,
 ) -> NDArray[np.floating]:
-    """The depth image the sensor of ``config`` returns for the true ``depth``.
+    """The depth image the sensor of ``config`` returns for the true ``depth``: the model
+    registered under ``config.name`` (:mod:`simgrasp.perception.sensors.registry`).
 
     Args:
         depth: (H, W) float meters along the optical axis; 0, NaN, inf or negative = no hit.
@@ -55,28 +54,13 @@ def apply_sensor(
         (H, W) depth of the input's dtype, meters, 0 where the sensor gives no return.
 
     Raises:
-        ValueError: bad shape, dtype or camera matrix, or an unknown config type.
+        ValueError: bad shape, dtype or camera matrix, or a config of no registered model.
     """
-    z, K = checked_depth(depth, K)
-    dtype = np.asarray(depth).dtype
-    if isinstance(config, IdealConfig):
-        return np.array(depth, dtype=dtype, copy=True)
-    if isinstance(config, KinectConfig):
-        return kinect(z, K, config, rng).astype(dtype)
-    if isinstance(config, StereoConfig):
-        return stereo(z, K, config, rng, _checked_intensity(intensity, z.shape)).astype(dtype)
-    raise SimgraspError(f"no sensor model for config {type(config).__name__}")
-
-
-def _checked_intensity(
-    intensity: ArrayLike | None, shape: tuple[int, ...]
-) -> NDArray[np.float64] | None:
-    if intensity is None:
-        return None
-    image = np.asarray(intensity, dtype=np.float64)
-    if image.shape != shape or not np.all(np.isfinite(image)):
-        raise SimgraspError(f"intensity must be a finite image of shape {shape}, got {image.shape}")
-    return image
+    entry = SENSOR_MODELS.get(config.name)
+    if entry is None or not isinstance(config, entry.config_class()):
+        raise SimgraspError(f"no sensor model for config {type(config).__name__}")
+    result: NDArray[np.floating] = entry.model_function()(depth, K, config, rng, intensity)
+    return result
 
 
 __all__ = [
@@ -87,4 +71,5 @@ __all__ = [
     "StereoConfig",
     "apply_sensor",
     "sensor_config",
+    "sensor_names",
 ]

@@ -7,45 +7,26 @@ it returns no depth for. Every random draw comes from the caller's ``np.random.G
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True)
-class SensorConfig:
-    """Base of every sensor model's frozen parameter set; ``name`` keys it in ``SENSORS``.
+class SensorConfig(Checked):
+    """Base of every sensor model's frozen parameter set; ``name`` keys it in the sensor
+    registry (:mod:`simgrasp.perception.sensors.registry`).
 
-    Subclasses declare float fields only; each must be finite and >= 0 (checked here), and a
-    subclass adds its own range checks in ``_check``.
+    Subclasses declare their fields' ranges in their types (:mod:`simgrasp.config.checks`)
+    and checks between fields in ``_check``.
     """
 
     name: ClassVar[str] = ""
-
-    def __post_init__(self) -> None:
-        for field in fields(self):
-            value = getattr(self, field.name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise SimgraspError(
-                    f"{type(self).__name__}.{field.name} must be a finite number >= 0, "
-                    f"got {value!r}"
-                )
-        self._check()
-
-    def _check(self) -> None:
-        """Extra range checks of a subclass (raise ``ValueError`` naming the field)."""
-
-
-def check_probability(config: SensorConfig, *names: str) -> None:
-    """Raise ``ValueError`` unless each named field of ``config`` lies in [0, 1]."""
-    for name in names:
-        if getattr(config, name) > 1.0:
-            raise SimgraspError(f"{type(config).__name__}.{name} is a probability, got > 1")
 
 
 def checked_depth(depth: ArrayLike, K: ArrayLike) -> tuple[NDArray[np.float32], NDArray]:

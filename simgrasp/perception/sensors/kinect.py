@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Annotated, ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from simgrasp.errors import SimgraspError
+from simgrasp.config.checks import Fraction, NonNegative, Positive, Range
 from simgrasp.perception.sensors.base import (
     SensorConfig,
-    check_probability,
+    checked_depth,
     drop,
     drop_at,
     in_range,
@@ -26,6 +26,9 @@ from simgrasp.perception.sensors.geometry import (
     incidence_angle,
     open_rows,
 )
+
+Degrees = Annotated[float, Range(ge=0, le=90)]
+"""An incidence angle in [0, 90] degrees."""
 
 
 @dataclass(frozen=True)
@@ -59,67 +62,64 @@ class KinectConfig(SensorConfig):
 
     name: ClassVar[str] = "kinect"
 
-    min_range: float = 0.4
+    min_range: NonNegative = 0.4
     """Nearest depth returned (m); nearer surfaces give no return."""
-    max_range: float = 4.5
+    max_range: Positive = 4.5
     """Farthest depth returned (m)."""
-    axial_a: float = 0.0008
+    axial_a: NonNegative = 0.0008
     """Constant term a of the axial standard deviation (m; fitted on osd-learn, Nguyen et
     al.'s 1.2 mm over-predicts the table residual)."""
-    axial_b: float = 0.0013
+    axial_b: NonNegative = 0.0013
     """Quadratic coefficient b of the axial standard deviation (m per m^2; fitted on
     osd-learn; Nguyen et al.: 1.9 mm/m^2)."""
-    axial_c: float = 0.4
+    axial_c: NonNegative = 0.4
     """Depth c of the least axial noise (m; Nguyen et al.)."""
-    axial_angle: float = 0.0001
+    axial_angle: NonNegative = 0.0001
     """Coefficient d of the incidence-angle term of the axial noise (m^1.5; Nguyen et al.)."""
-    lateral_rad: float = 0.8 / 585.0
+    lateral_rad: NonNegative = 0.8 / 585.0
     """Lateral standard deviation at normal incidence as an angle (rad): times fx gives pixels
     (Nguyen et al.: 0.8 px at 585 px)."""
-    lateral_angle_rad: float = 0.035 / 585.0
+    lateral_angle_rad: NonNegative = 0.035 / 585.0
     """Coefficient of theta / (pi/2 - theta) in the lateral standard deviation (rad)."""
-    inverse_depth_step: float = 2.85e-3
+    inverse_depth_step: NonNegative = 2.85e-3
     """Quantization step of 1/z (1/m): one 1/8-pixel disparity unit (Khoshelham & Elberink)."""
-    depth_resolution: float = 0.001
+    depth_resolution: NonNegative = 0.001
     """Unit the depth is returned in (m): OpenNI's millimeters; 0 keeps it continuous."""
-    projector_baseline: float = 0.075
+    projector_baseline: NonNegative = 0.075
     """Offset of the projector from the IR camera along +x (m; Khoshelham & Elberink):
     pixels it cannot light give no return."""
-    registration_offset: float = 0.025
+    registration_offset: NonNegative = 0.025
     """Offset of the IR camera from the camera the depth is returned in, along -x (m): 0 for
     depth in the IR camera's own frame; OpenNI registers depth to the RGB camera, 2.5 cm from
     the IR camera toward the projector (osd-learn's K is OpenNI's RGB default, fx = 525 px).
     Pixels the IR camera does not see give no return."""
-    min_shadow_px: float = 5.0
+    min_shadow_px: NonNegative = 5.0
     """Shadowed runs along an image row narrower than this are filled: the matching window
     bridges them (px; fitted on osd-learn, where the narrow shadows behind low steps hold
     depth: without it the simulated invalid share is +38 % at 0.8 - 1.0 m)."""
-    edge_jump: float = 0.02
+    edge_jump: NonNegative = 0.02
     """A depth step of more than this fraction of the nearer depth between neighboring pixels
     is a depth edge (unitless)."""
-    edge_jitter_px: float = 2.0
+    edge_jitter_px: NonNegative = 2.0
     """Pixels within this many pixels of a depth edge get the lateral noise (px); on smooth
     surfaces the sensor's lateral error is part of the axial one (Nguyen et al.)."""
-    flying_probability: float = 0.05
+    flying_probability: Fraction = 0.05
     """Probability that an edge pixel floats between foreground and background depth (a
     guess: Kinect v1 interpolates few; not measured by the calibration)."""
-    edge_dropout: float = 0.0
+    edge_dropout: Fraction = 0.0
     """Probability of no return for a pixel within ``edge_dropout_px`` of a depth edge
     (fitted on osd-learn: the shadows alone explain the invalid pixels around silhouettes;
     0.01 already gives +21 % at 0.8 - 1.0 m)."""
-    edge_dropout_px: float = 2.0
+    edge_dropout_px: NonNegative = 2.0
     """Width of the edge-dropout band (px)."""
-    grazing_start_deg: float = 70.0
+    grazing_start_deg: Degrees = 70.0
     """Incidence angle from which pixels start to give no return (degrees) ..."""
-    grazing_end_deg: float = 85.0
+    grazing_end_deg: Degrees = 85.0
     """... rising linearly to no return at all from this angle (degrees)."""
 
     def _check(self) -> None:
-        check_probability(self, "flying_probability", "edge_dropout")
-        if not self.min_range < self.max_range:
-            raise SimgraspError("KinectConfig.min_range must be below max_range")
-        if not self.grazing_start_deg < self.grazing_end_deg <= 90.0:
-            raise SimgraspError("KinectConfig needs grazing_start_deg < grazing_end_deg <= 90")
+        self.require_below("min_range", "max_range")
+        self.require_below("grazing_start_deg", "grazing_end_deg")
 
     def axial_sigma(self, z: NDArray[np.floating], theta: NDArray[np.floating]) -> NDArray:
         """Axial standard deviation (m) at depth ``z`` (m) and incidence angle ``theta``
@@ -202,3 +202,15 @@ def kinect(
         edge_band = band(edges, round(config.edge_dropout_px))
         drop(out, np.where(edge_band, np.float32(config.edge_dropout), np.float32(0.0)), rng)
     return out
+
+
+def apply_kinect(
+    depth: ArrayLike,
+    K: ArrayLike,
+    config: KinectConfig,
+    rng: np.random.Generator,
+    intensity: ArrayLike | None = None,
+) -> NDArray[np.floating]:
+    """:func:`kinect` on a checked depth image, in its dtype (``intensity`` is not used)."""
+    z, K = checked_depth(depth, K)
+    return kinect(z, K, config, rng).astype(np.asarray(depth).dtype)

@@ -7,18 +7,20 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 
+from simgrasp.config.checks import Fraction, NonNegative, Positive
 from simgrasp.errors import SimgraspError
 from simgrasp.perception.sensors.base import (
     SensorConfig,
-    check_probability,
+    checked_depth,
     drop,
     in_range,
     round_depth,
 )
 from simgrasp.perception.sensors.geometry import band, baseline_shadow, depth_edges, incidence_angle
+from simgrasp.perception.sensors.kinect import Degrees
 
 
 @dataclass(frozen=True)
@@ -46,45 +48,39 @@ class StereoConfig(SensorConfig):
 
     name: ClassVar[str] = "stereo"
 
-    min_range: float = 0.11
+    min_range: NonNegative = 0.11
     """Nearest depth returned (m; D435 min-Z at 640 x 480)."""
-    max_range: float = 6.0
+    max_range: Positive = 6.0
     """Farthest depth returned (m)."""
-    baseline: float = 0.05
+    baseline: Positive = 0.05
     """Offset of the right imager along +x (m): its occlusions give no return."""
-    focal_px: float = 382.0
+    focal_px: Positive = 382.0
     """The sensor's own focal length (px) that its disparity noise is measured in."""
-    subpixel_rms: float = 0.08
+    subpixel_rms: NonNegative = 0.08
     """Standard deviation of the matched disparity (px of ``focal_px``)."""
-    depth_resolution: float = 0.001
+    depth_resolution: NonNegative = 0.001
     """Unit the depth is returned in (m); 0 keeps it continuous."""
-    edge_jump: float = 0.02
+    edge_jump: NonNegative = 0.02
     """A depth step of more than this fraction of the nearer depth is a depth edge."""
-    fattening_px: float = 3.0
+    fattening_px: NonNegative = 3.0
     """Foreground depth spreads this many pixels onto the background at a depth edge (px)."""
-    edge_dropout: float = 0.2
+    edge_dropout: Fraction = 0.2
     """Probability of no return for a pixel within one pixel of a depth edge."""
-    oblique_start_deg: float = 65.0
+    oblique_start_deg: Degrees = 65.0
     """Incidence angle from which pixels start to give no return (degrees) ..."""
-    oblique_end_deg: float = 82.0
+    oblique_end_deg: Degrees = 82.0
     """... rising linearly to no return at all from this angle (degrees)."""
-    texture_window_px: float = 7.0
+    texture_window_px: NonNegative = 7.0
     """Side of the window the intensity texture is measured in (px; the matching window)."""
-    texture_min: float = 0.01
+    texture_min: NonNegative = 0.01
     """Intensity standard deviation (intensity in [0, 1]) below which matching fails ..."""
-    texture_full: float = 0.03
+    texture_full: Positive = 0.03
     """... rising linearly to always matching at this standard deviation."""
 
     def _check(self) -> None:
-        check_probability(self, "edge_dropout")
-        if not self.min_range < self.max_range:
-            raise SimgraspError("StereoConfig.min_range must be below max_range")
-        if not self.oblique_start_deg < self.oblique_end_deg <= 90.0:
-            raise SimgraspError("StereoConfig needs oblique_start_deg < oblique_end_deg <= 90")
-        if not self.texture_min < self.texture_full:
-            raise SimgraspError("StereoConfig.texture_min must be below texture_full")
-        if self.focal_px <= 0 or self.baseline <= 0:
-            raise SimgraspError("StereoConfig.focal_px and baseline must be positive")
+        self.require_below("min_range", "max_range")
+        self.require_below("oblique_start_deg", "oblique_end_deg")
+        self.require_below("texture_min", "texture_full")
 
     def axial_sigma(self, z: NDArray[np.floating]) -> NDArray[np.floating]:
         """Axial standard deviation (m) at depth ``z`` (m): Intel's RMS error formula."""
@@ -156,3 +152,27 @@ def stereo(
     if intensity is not None:
         drop(out, config.texture_failure(intensity), rng)
     return out
+
+
+def apply_stereo(
+    depth: ArrayLike,
+    K: ArrayLike,
+    config: StereoConfig,
+    rng: np.random.Generator,
+    intensity: ArrayLike | None = None,
+) -> NDArray[np.floating]:
+    """:func:`stereo` on a checked depth image (and ``intensity``), in its dtype."""
+    z, K = checked_depth(depth, K)
+    texture = _checked_intensity(intensity, z.shape)
+    return stereo(z, K, config, rng, texture).astype(np.asarray(depth).dtype)
+
+
+def _checked_intensity(
+    intensity: ArrayLike | None, shape: tuple[int, ...]
+) -> NDArray[np.float64] | None:
+    if intensity is None:
+        return None
+    image = np.asarray(intensity, dtype=np.float64)
+    if image.shape != shape or not np.all(np.isfinite(image)):
+        raise SimgraspError(f"intensity must be a finite image of shape {shape}, got {image.shape}")
+    return image

@@ -1,0 +1,108 @@
+"""Compare two runs' records field by field, wall-clock timings aside.
+
+    python scripts/compare_records.py docs/results/evaluate out/evaluate
+    python scripts/compare_records.py docs/results/grasp-sets/048_hammer/fast out/hammer-fast
+
+Each file the first folder holds of ``trials.jsonl``, ``labels.jsonl``, ``labels.npz``,
+``detect_eval.csv`` and ``summary.json`` is compared with the same file of the second:
+JSONL records matched by their identity (all fields but timings), CSV rows likewise, NPZ
+arrays exactly. Timing fields (``timings_s``, ``t_*`` columns, wall-clock and rate keys) are
+dropped first. Prints one line per file and exits 1 when any differs, so a refactor that
+must keep records identical can be checked after rerunning the committed commands.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+TIMING_KEYS = {
+    "timings_s",
+    "wall_s_this_run",
+    "grasps_per_s",
+    "trial_wall_s",
+    "grasps_per_core_s",
+    "labeled_this_run",
+    "workers",
+}
+"""Record and summary keys that hold wall-clock time or depend on how a run was split up."""
+
+
+def _strip(record: dict[str, Any]) -> dict[str, Any]:
+    return {k: v for k, v in record.items() if k not in TIMING_KEYS}
+
+
+def _canonical(rows: list[dict[str, Any]]) -> list[str]:
+    return sorted(json.dumps(row, sort_keys=True) for row in rows)
+
+
+def _jsonl(path: Path) -> list[str]:
+    lines = path.read_text(encoding="utf-8").splitlines()
+    return _canonical([_strip(json.loads(line)) for line in lines if line.strip()])
+
+
+def _csv(path: Path) -> list[str]:
+    with path.open(newline="", encoding="utf-8") as handle:
+        rows = [
+            {k: v for k, v in row.items() if not k.startswith("t_")}
+            for row in csv.DictReader(handle)
+        ]
+    return _canonical(rows)
+
+
+def _json(path: Path) -> list[str]:
+    return [json.dumps(_strip(json.loads(path.read_text(encoding="utf-8"))), sort_keys=True)]
+
+
+def _npz_differs(first: Path, second: Path) -> str | None:
+    with np.load(first) as a, np.load(second) as b:
+        if sorted(a.files) != sorted(b.files):
+            return f"arrays {sorted(a.files)} against {sorted(b.files)}"
+        for name in a.files:
+            if not np.array_equal(a[name], b[name]):
+                count = int(np.sum(a[name] != b[name])) if a[name].shape == b[name].shape else -1
+                return f"array {name!r} differs ({count} entries)"
+    return None
+
+
+READERS = {"trials.jsonl": _jsonl, "labels.jsonl": _jsonl, "detect_eval.csv": _csv}
+READERS["summary.json"] = _json
+
+
+def compare(first: Path, second: Path, name: str) -> str | None:
+    """None when ``first/name`` and ``second/name`` hold the same records, else why not."""
+    if not (second / name).exists():
+        return f"{second / name} is missing"
+    if name.endswith(".npz"):
+        return _npz_differs(first / name, second / name)
+    a, b = READERS[name](first / name), READERS[name](second / name)
+    if a == b:
+        return None
+    only_a, only_b = len(set(a) - set(b)), len(set(b) - set(a))
+    return f"{len(a)} against {len(b)} records; {only_a} only in the first, {only_b} in the second"
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) != 2:
+        print("usage: compare_records.py FIRST_DIR SECOND_DIR", file=sys.stderr)
+        return 2
+    first, second = Path(argv[0]), Path(argv[1])
+    names = [n for n in (*READERS, "labels.npz") if (first / n).exists()]
+    if not names:
+        print(f"{first} holds no records to compare", file=sys.stderr)
+        return 2
+    failed = False
+    for name in names:
+        problem = compare(first, second, name)
+        failed |= problem is not None
+        print(f"{name}: {'identical' if problem is None else problem}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,95 @@
+"""``simgrasp label-handles MESH --out handles.json``: find the handle of any mesh.
+
+The mesh (.obj .stl .ply .off .glb ...) is scaled to meters (``--scale`` times ``--units``),
+scanned from many directions, our quadric detector runs on every scan and its candidates are
+clustered into the oriented boxes of ``models/handles/ycb_handles.json``
+(:mod:`simgrasp.handles.auto_label`), in the scaled mesh's own frame. ``--plot`` draws the
+label on the scanned surface for review. Read the result with
+``simgrasp.assets.labels.load_handle_label``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+from simgrasp.config import setting
+from simgrasp.errors import SimgraspError
+from simgrasp.handles.auto_label import AutoLabelConfig
+
+if TYPE_CHECKING:
+    import trimesh
+
+MeshUnits = Literal["m", "cm", "mm"]
+METERS_PER_UNIT: dict[str, float] = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options:
+    mesh: Path = setting(positional=True, metavar="MESH")
+    """Mesh file (.obj .stl .ply .off .glb .gltf), in --units times --scale."""
+    scale: float = 1.0
+    """Multiply the mesh by this (e.g. an ACRONYM file's object/scale) ..."""
+    units: MeshUnits = "m"
+    """... and by the meters per unit of these units."""
+    name: str | None = None
+    """Object name in the output file (default: the mesh file's stem)."""
+    out: Path = Path("handles.json")
+    """Output label file (the format of models/handles/ycb_handles.json)."""
+    plot: Path | None = setting(None, metavar="OUT.png")
+    """Also write a picture of the label on the scanned surface."""
+    label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
+
+
+def run(options: Options) -> int:
+    from simgrasp.assets.labels import write_label_file
+    from simgrasp.handles.auto_label import auto_handle_label
+    from simgrasp.stdout_guard import stdout_to_stderr
+
+    name = options.name or options.mesh.stem
+    mesh = load_scaled_mesh(options.mesh, options.scale, options.units, name)
+    with stdout_to_stderr():
+        result = auto_handle_label(mesh, name, options.label)
+    description = (
+        f"Automatic handle label of {options.mesh.name} (scale {options.scale:g}, units "
+        f"{options.units}) by simgrasp label-handles, in the scaled mesh's frame, meters."
+    )
+    options.out.parent.mkdir(parents=True, exist_ok=True)
+    write_label_file(options.out, {name: result.label}, description)
+    regions = len(result.label.regions)
+    print(f"{name}: {len(result.parts)} handle part(s), {regions} box(es) -> {options.out}")
+    if options.plot:
+        from simgrasp.plots.auto_label import draw_auto_label
+
+        options.plot.parent.mkdir(parents=True, exist_ok=True)
+        print(f"  plot written to {draw_auto_label(result, options.plot)}")
+    return 0
+
+
+def load_scaled_mesh(path: Path, scale: float, units: str, name: str) -> trimesh.Trimesh:
+    """The mesh at ``path`` times ``scale`` and the meters per ``units``, checked
+    (:func:`simgrasp.assets.mesh_check.validate_mesh`: faces, finite, plausible size)."""
+    import numpy as np
+    import trimesh
+
+    from simgrasp.assets.mesh_check import MeshError, validate_mesh
+
+    if not scale > 0 or not np.isfinite(scale):
+        raise SimgraspError(f"--scale must be a positive number, got {scale}")
+    if units not in METERS_PER_UNIT:
+        raise SimgraspError(f"unknown --units {units!r}; use one of m, cm, mm")
+    if not path.is_file():
+        raise SimgraspError(f"mesh file {path} does not exist")
+    try:
+        loaded = trimesh.load(path, force="mesh", skip_materials=True)
+    except Exception as exc:  # trimesh raises many types for unreadable files
+        raise SimgraspError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from exc
+    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
+        raise SimgraspError(f"mesh {path} is empty (no faces)")
+    loaded.apply_scale(scale * METERS_PER_UNIT[units])
+    try:
+        validate_mesh(loaded, name, path)
+    except MeshError as exc:
+        raise SimgraspError(f"{exc} (check --scale / --units)") from exc
+    return loaded

@@ -1,0 +1,126 @@
+"""Label a whole data set of grasp files in one run: each file into ``OUT/<file stem>/``, one
+``OUT/summary.json`` over all of them.
+
+Each file is a :func:`~simgrasp.grasping.label_run.label_grasp_set` run of its own directory,
+so a killed run resumes file by file and grasp by grasp (rerun the same command); a file whose
+labels are complete costs only reading them. Files that name their object (ACRONYM, GraspGen)
+are labeled on it; others on OBJECT. Where a file carries reference labels (FleX's), the
+summary adds their agreement (:mod:`simgrasp.grasping.labeling.agreement`).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from simgrasp.errors import SimgraspError
+from simgrasp.grasping.labeling.labeling import LabelConfig
+
+SUMMARY_FILE = "summary.json"
+
+
+def object_for(options: Any, grasp_file: Path) -> LabelConfig:
+    """The label settings of one grasp file: its own object (ACRONYM, GraspGen) unless OBJECT
+    was given, with the mesh options folded in."""
+    from simgrasp.grasping.labeling.grasp_files import carried_object
+
+    config: LabelConfig = options.label
+    name = config.object or carried_object(grasp_file, options.mesh_root)
+    if not name:
+        raise SimgraspError(f"{grasp_file} names no object: give OBJECT")
+    return replace(config, object=options.object_name(name))
+
+
+def label_files(files: list[Path], options: Any, command: list[str]) -> int:
+    """Label every file of a data set (module docstring; ``command``: the invocation recorded
+    with the output directory); prints one line per file."""
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
+    from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
+
+    if options.out is None:
+        raise SimgraspError("--grasps with several files needs --out DIR")
+    rows = []
+    with claim_out_dir(options.out, command):
+        for grasp_file in files:
+            config = object_for(options, grasp_file)
+            grasps = read_grasp_set(grasp_file).first(options.max_grasps)
+            out = options.out / grasp_file.stem
+            summary, _ = label_grasp_set(
+                grasps,
+                config,
+                out,
+                grasp_file=grasp_file,
+                ycb_dir=options.ycb_dir,
+                workers=options.workers,
+                backend=options.backend,
+                address=options.address,
+                progress=False,
+            )
+            rows.append(_row(grasp_file, out, summary))
+            if options.export:
+                export_run(grasp_file, out, options.export, options.out)
+            print(f"{grasp_file.name}: {_line(rows[-1])}", file=sys.stderr)
+    total = _totals(rows)
+    (options.out / SUMMARY_FILE).write_text(json.dumps({"files": rows, **total}, indent=2) + "\n")
+    sys.stdout.write(f"{len(rows)} files: {_line(total)}\noutput       {options.out}\n")
+    return 0
+
+
+def _row(grasp_file: Path, out: Path, summary: dict[str, Any]) -> dict[str, Any]:
+    """One file's summary line: counts, speed and, with reference labels, agreement."""
+    from simgrasp.grasping.labeling.agreement import agreement
+    from simgrasp.grasping.labeling.grasp_files import reference_labels
+
+    keys = ("grasps", "invalid", "sim_unstable", "scored", "success", "trial_wall_s")
+    row: dict[str, Any] = {"file": grasp_file.name, "dir": out.name}
+    row.update({k: summary[k] for k in keys})
+    reference = reference_labels(grasp_file)
+    if reference is not None:
+        ours, score, scored = _our_labels(out)
+        row["agreement"] = agreement(reference[0][: len(ours)][scored], ours[scored], score[scored])
+    return row
+
+
+def _our_labels(out: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(success, score, scored) of a label directory's ``labels.npz``; without a ``score``
+    the success itself (0/1) ranks."""
+    with np.load(out / "labels.npz") as labels:
+        success = labels["success"]
+        scored = ~np.isin(labels["failure"], ("invalid", "sim_unstable"))
+        score = labels["score"] if "score" in labels.files else success.astype(float)
+    return success, score, scored
+
+
+def _totals(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Counts over all files and the speed per core (executed grasps over their wall time)."""
+    keys = ("grasps", "invalid", "sim_unstable", "scored", "success", "trial_wall_s")
+    total: dict[str, Any] = {k: sum(r[k] for r in rows) for k in keys}
+    executed = total["grasps"] - total["invalid"]
+    total["grasps_per_core_s"] = executed / total["trial_wall_s"] if total["trial_wall_s"] else None
+    return total
+
+
+def _line(row: dict[str, Any]) -> str:
+    text = f"{row['success']} of {row['scored']} scored held ({row['grasps']} grasps)"
+    if "agreement" in row:
+        a = row["agreement"]
+        text += f", agreement {a['accuracy']:.3f} (balanced {a['balanced_accuracy']:.3f})"
+    return text
+
+
+def export_run(grasp_file: Path, out: Path, fmt: str, top: Path) -> Path:
+    """Write ``grasp_file`` with the labels of directory ``out`` added (``top/export/``)."""
+    from simgrasp.grasping.labeling.grasp_files import EXPORT_DIR, export_labels, is_graspgen
+
+    wanted = "acronym" if grasp_file.suffix.lower() in (".h5", ".hdf5") else None
+    wanted = "graspgen" if is_graspgen(grasp_file) else wanted
+    if wanted != fmt:
+        raise SimgraspError(f"--export {fmt} needs {fmt} grasp files, not {grasp_file}")
+    success, score, _ = _our_labels(out)
+    return export_labels(grasp_file, top / EXPORT_DIR, success, score)

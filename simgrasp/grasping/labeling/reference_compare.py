@@ -1,0 +1,112 @@
+"""``compare-labels OURS --reference FILE.h5|GLOB|DIR``: our labels against a grasp file's own
+(FleX's ``object_in_gripper`` in ACRONYM files, GraspGen's), per object and overall.
+
+``OURS`` is a ``label-grasps`` output directory: of one file (its ``labels.npz``), or of a data
+set (``OURS/<file stem>/labels.npz``). Grasps we could not score (``invalid``,
+``sim_unstable``) are left out; a run of a file's first N grasps is compared on those N. The
+metrics are :func:`simgrasp.grasping.agreement.agreement`'s; the plot shows each object's
+accuracy and balanced accuracy and the overall ROC curve of our ``score``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.grasping.labeling.agreement import agreement
+
+
+def _labels_dir(ours: Path, reference: Path) -> Path:
+    """Where the labels of ``reference`` are under ``ours``."""
+    for candidate in (ours / reference.stem, ours):
+        if (candidate / "labels.npz").is_file():
+            return candidate
+    raise DataNotFoundError(f"no labels of {reference.name} in {ours} (label-grasps it first)")
+
+
+def compare_with_reference(ours: Path, references: list[Path]) -> dict[str, Any]:
+    """Per-file and overall agreement (also per category: the file name's part before the
+    first ``_``, as ACRONYM names files ``Category_id_scale.h5``)."""
+    from simgrasp.grasping.labeling.dataset_run import _our_labels
+    from simgrasp.grasping.labeling.grasp_files import reference_labels
+
+    rows: list[dict[str, Any]] = []
+    pooled: dict[str, tuple[list, list, list]] = {}
+    for reference in references:
+        labels = reference_labels(reference)
+        if labels is None:
+            raise SimgraspError(f"{reference} has no reference labels (object_in_gripper)")
+        success, score, scored = _our_labels(_labels_dir(ours, reference))
+        truth = labels[0][: len(success)][scored]
+        row = {"file": reference.name, **agreement(truth, success[scored], score[scored])}
+        rows.append(row)
+        category = reference.name.split("_", 1)[0]
+        for key in (category, "overall"):
+            parts = pooled.setdefault(key, ([], [], []))
+            parts[0].append(truth)
+            parts[1].append(success[scored])
+            parts[2].append(score[scored])
+    groups = {k: agreement(*(np.concatenate(p) for p in parts)) for k, parts in pooled.items()}
+    return {"files": rows, "groups": groups}
+
+
+def comparison_text(comparison: dict[str, Any]) -> str:
+    """A table: one line per file, then per category and overall."""
+
+    def line(name: str, a: dict[str, Any]) -> str:
+        auroc = "  -  " if a["auroc"] is None else f"{a['auroc']:.3f}"
+        return (
+            f"{name[:44]:44s} {a['grasps']:6d} {a['accuracy']:.3f} {a['balanced_accuracy']:.3f} "
+            f"{auroc}  {a['ref_success_ours_success']:5d} {a['ref_success_ours_failure']:5d} "
+            f"{a['ref_failure_ours_success']:5d} {a['ref_failure_ours_failure']:5d}"
+        )
+
+    head = f"{'file':44s} {'grasps':>6s} {'acc':>5s} {'bal':>5s} {'auroc':>5s}  {'SS':>5s} "
+    head += f"{'SF':>5s} {'FS':>5s} {'FF':>5s}   (reference x ours: S success, F failure)"
+    body = [line(r["file"], r) for r in comparison["files"]]
+    body += [line(f"[{k}]", a) for k, a in comparison["groups"].items()]
+    return "\n".join([head, *body])
+
+
+def plot_comparison(comparison: dict[str, Any], ours: Path, path: Path) -> None:
+    """Per-file accuracy / balanced accuracy bars and the overall ROC curve of ``score``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = comparison["files"]
+    figure, (bars, roc) = plt.subplots(1, 2, figsize=(13, 4.5), width_ratios=(2.2, 1))
+    x = np.arange(len(rows))
+    bars.bar(x - 0.2, [r["accuracy"] for r in rows], 0.4, label="accuracy")
+    bars.bar(x + 0.2, [r["balanced_accuracy"] or 0 for r in rows], 0.4, label="balanced")
+    bars.axhline(0.9, color="k", lw=0.8, ls="--")
+    bars.set_xticks(x, [r["file"].split("_")[0] + "_" + r["file"].split("_")[1][:6] for r in rows])
+    bars.tick_params(axis="x", rotation=70, labelsize=7)
+    bars.set_ylim(0, 1)
+    bars.legend(loc="lower right")
+    bars.set_title("agreement with the reference labels, per file")
+    _roc_curve(roc, comparison, ours)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+
+
+def _roc_curve(axes: Any, comparison: dict[str, Any], ours: Path) -> None:
+    overall = comparison["groups"]["overall"]
+    axes.plot([0, 1], [0, 1], color="0.6", lw=0.8)
+    axes.scatter(
+        [1 - (overall["true_negative_rate"] or 0)],
+        [overall["true_positive_rate"] or 0],
+        color="C3",
+        zorder=3,
+        label=f"our verdicts (acc {overall['accuracy']:.3f})",
+    )
+    axes.set_xlabel("reference failures we call held")
+    axes.set_ylabel("reference successes we call held")
+    auroc = overall["auroc"]
+    axes.set_title(f"overall, AUROC of score {auroc:.3f}" if auroc is not None else "overall")
+    axes.legend(loc="lower right")

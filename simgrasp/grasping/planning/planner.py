@@ -1,0 +1,384 @@
+"""From handle hypotheses (or baselines) to ranked parallel-jaw grasp poses.
+
+Grasp convention (see README): ``world_T_tcp`` with the TCP midway between the finger pads,
++z the approach direction (palm toward object) and +y the direction in which the jaws open and
+close. For a handle, the jaws close across it: +x lies along the handle axis, and approaches
+are sampled around that axis.
+
+Candidates whose open fingers or palm would collide with the observed cloud, or reach below
+the table top, are rejected. All inputs are in the world frame, meters.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
+
+from simgrasp.grasping.grasp import Grasp, tcp_pose
+from simgrasp.grasping.planning.planner_config import PlannerConfig
+from simgrasp.grippers.geometry import GripperGeometry
+from simgrasp.handles.detection import Handle
+
+
+def _orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(axis, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)
+
+
+def _downward_basis(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Unit vectors ``u, v`` perpendicular to ``axis`` with ``u`` the steepest downward
+    direction (world -z projected off the axis); any perpendicular pair for a vertical axis."""
+    down = np.array([0.0, 0.0, -1.0]) - axis * -axis[2]
+    if np.linalg.norm(down) < 1e-6:
+        return _orthonormal(axis)
+    u = down / np.linalg.norm(down)
+    return u, np.cross(axis, u)
+
+
+def _gripper_boxes(
+    geometry: GripperGeometry, opening: float, reach: float | None = None
+) -> list[tuple[NDArray, NDArray]]:
+    """(center, half extents) of the fingers and palm in the TCP frame; the fingertips reach
+    ``reach`` (m, default ``geometry.pad_reach``) past the TCP."""
+    reach = geometry.pad_reach if reach is None else reach
+    half_len = (geometry.finger_length + reach) / 2
+    z_finger = reach - half_len
+    y_finger = opening / 2 + geometry.finger_thickness / 2
+    finger_half = np.array([geometry.finger_width / 2, geometry.finger_thickness / 2, half_len])
+    palm_half = np.asarray(geometry.palm_size) / 2
+    palm_center = np.array([0.0, 0.0, -geometry.finger_length - palm_half[2]])
+    return [
+        (np.array([0.0, y_finger, z_finger]), finger_half),
+        (np.array([0.0, -y_finger, z_finger]), finger_half),
+        (palm_center, palm_half),
+    ]
+
+
+def gripper_distances(
+    world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry
+) -> NDArray[np.float64]:
+    """(N,) distance (m) from each cloud point to the nearest box of the open gripper at
+    ``world_T_tcp`` (0 inside one)."""
+    tcp_T_world = np.linalg.inv(world_T_tcp)
+    points_tcp = points_world @ tcp_T_world[:3, :3].T + tcp_T_world[:3, 3]
+    distances = np.full(len(points_tcp), np.inf)
+    for center, half in _gripper_boxes(geometry, geometry.max_opening):
+        outside = np.maximum(np.abs(points_tcp - center) - half, 0.0)
+        np.minimum(distances, np.linalg.norm(outside, axis=1), out=distances)
+    return distances
+
+
+def collides(
+    world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry, limit: int
+) -> bool:
+    """Whether more than ``limit`` cloud points fall inside the open gripper's boxes."""
+    return _inside_count(gripper_distances(world_T_tcp, points_world, geometry)) > limit
+
+
+def obstacle_points(
+    points_world: NDArray[np.float64], config: PlannerConfig
+) -> NDArray[np.float64]:
+    """The cloud points the gripper must keep clear of: those with at least
+    ``config.obstacle_min_neighbors`` other points within ``config.obstacle_radius`` (isolated
+    points are flying pixels, not surfaces)."""
+    if config.obstacle_radius <= 0 or len(points_world) == 0:
+        return points_world
+    counts = cKDTree(points_world).query_ball_point(
+        points_world, config.obstacle_radius, return_length=True
+    )
+    return points_world[counts > config.obstacle_min_neighbors]
+
+
+def planning_obstacles(
+    points_world: NDArray[np.float64],
+    config: PlannerConfig,
+    scene_world: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
+    """:func:`obstacle_points` of the object cloud and, in clutter, of the rest of the scene
+    (``scene_world``, (M, 3) world frame, m)."""
+    if scene_world is None or len(scene_world) == 0:
+        return obstacle_points(points_world, config)
+    return obstacle_points(np.concatenate([points_world, scene_world]), config)
+
+
+def _inside_count(distances: NDArray[np.float64]) -> int:
+    return int(np.count_nonzero(distances == 0.0))
+
+
+def table_margin(
+    world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
+) -> float:
+    """Least height (m) of the gripper boxes above the table beyond the required clearance:
+    the open gripper at the pre-grasp keeps ``table_clearance``; at the grasp the gripper with
+    its fingertips at their closed reach (which contains the open fingers) keeps
+    ``grasp_table_clearance``. Negative when one would be too low."""
+    signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
+    closed_reach = max(geometry.pad_reach, geometry.closed_pad_reach)
+    checks = (
+        (0.0, closed_reach, config.grasp_table_clearance),
+        (config.pregrasp_distance, geometry.pad_reach, config.table_clearance),
+    )
+    margin = np.inf
+    for back, reach, clearance in checks:
+        for center, half in _gripper_boxes(geometry, geometry.max_opening, reach):
+            corners_tcp = center + signs * half - np.array([0.0, 0.0, back])
+            corners_world = corners_tcp @ world_T_tcp[:3, :3].T + world_T_tcp[:3, 3]
+            margin = min(margin, float(corners_world[:, 2].min()) - table_z - clearance)
+    return margin
+
+
+def above_table(
+    world_T_tcp: NDArray, geometry: GripperGeometry, table_z: float, config: PlannerConfig
+) -> NDArray | None:
+    """``world_T_tcp`` if it clears the table, else backed off along its approach by at most
+    ``config.max_tcp_shift`` until it does, else None."""
+    margin = table_margin(world_T_tcp, geometry, table_z, config)
+    if margin >= 0:
+        return world_T_tcp
+    rise_per_meter = -world_T_tcp[2, 2]
+    if rise_per_meter <= 1e-6 or -margin / rise_per_meter > config.max_tcp_shift:
+        return None
+    shifted = world_T_tcp.copy()
+    shifted[:3, 3] -= world_T_tcp[:3, 2] * (-margin / rise_per_meter + 1e-4)
+    return shifted
+
+
+def _pitched(
+    approach: NDArray[np.float64], axis: NDArray[np.float64], config: PlannerConfig
+) -> list[NDArray[np.float64]]:
+    """``approach`` (perpendicular to the handle ``axis``) turned about the closing direction
+    by each of ``config.approach_pitches`` (rad) so that it descends: toward the axis's lower
+    end. Not tilted around an axis sloping less than ``config.pitch_min_slope``."""
+    if abs(axis[2]) < np.sin(config.pitch_min_slope):
+        return [approach]
+    down_axis = -np.sign(axis[2]) * axis
+    pitches = config.approach_pitches
+    return [np.cos(pitch) * approach + np.sin(pitch) * down_axis for pitch in pitches]
+
+
+def _rank(approach: NDArray, position: NDArray, cameras: NDArray, config: PlannerConfig) -> float:
+    view = position - cameras
+    view /= np.linalg.norm(view, axis=1, keepdims=True)
+    return config.view_weight * float(np.max(view @ approach)) + config.top_weight * float(
+        -approach[2]
+    )
+
+
+def _grasp_offsets(
+    handle: Handle, centroid: NDArray[np.float64] | None, geometry: GripperGeometry
+) -> list[tuple[float, float]]:
+    """``(offset, lever)`` pairs: grasp points as offsets (m) along the handle axis from its
+    center, with their distance (m) along the axis from the centroid's projection. The center,
+    and the point of the handle nearest the centroid that keeps the pads on the stretch the
+    candidates cover, with a pad width to spare (the stretch's ends are its least certain
+    part)."""
+    if centroid is None:
+        return [(0.0, 0.0)]
+    target = float((centroid - handle.center) @ handle.axis)
+    margin = geometry.finger_width
+    low, high = handle.span[0] + margin, handle.span[1] - margin
+    nearest = float(np.clip(target, low, high)) if low <= high else 0.5 * sum(handle.span)
+    offsets = [(0.0, abs(target))]
+    if abs(nearest) > 0.005:
+        offsets.append((nearest, abs(target - nearest)))
+    return offsets
+
+
+def grasps_from_handles(
+    handles: Sequence[Handle],
+    points_world: NDArray[np.float64],
+    cameras_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    rng: np.random.Generator,
+    config: PlannerConfig = PlannerConfig(),
+    source: str = "quadric",
+    scene_obstacles_world: NDArray[np.float64] | None = None,
+) -> list[Grasp]:
+    """Grasps closing across each handle, best first.
+
+    Grasp points are the handle's center and the point of the handle nearest the cloud's
+    centroid (pads kept a pad width inside the detected stretch). Approaches are sampled
+    around the axis: the steepest downward approach first (exactly, so a handle lying flat on
+    the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
+    seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
+    a sloping axis. A grasp's score is the handle's score relative to the best handle's (1 for
+    the best) plus bonuses for approaching from the camera's side, from above and with the
+    open gripper clear of the cloud, less penalties for backing off the handle to clear the
+    table and for the lever arm to the centroid along the handle.
+    """
+    cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
+    handles = list(handles)[: config.max_handles]
+    best_score = max((h.score for h in handles), default=1.0) or 1.0
+    centroid = points_world.mean(axis=0) if len(points_world) else None
+    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
+    grasps = []
+    for handle in handles:
+        u, v = _downward_basis(handle.axis)
+        angles = _approach_angles(rng, config)
+        for offset, lever in _grasp_offsets(handle, centroid, geometry):
+            position = handle.center + offset * handle.axis
+            for angle in angles:
+                around = np.cos(angle) * u + np.sin(angle) * v
+                closing = np.cross(around, handle.axis)
+                for approach in _pitched(around, handle.axis, config):
+                    grasp = _scored_grasp(
+                        (position, closing, approach),
+                        handle.score / best_score,
+                        lever,
+                        obstacles,
+                        cameras,
+                        geometry,
+                        table_z,
+                        config,
+                        source,
+                    )
+                    if grasp is not None:
+                        grasps.append(grasp)
+    return sorted(grasps, key=lambda g: -g.score)
+
+
+def _approach_angles(rng: np.random.Generator, config: PlannerConfig) -> NDArray[np.floating]:
+    """Approach angles around a handle's axis (rad): 0 (the steepest downward approach) and
+    evenly spaced ones turned by one seeded jitter."""
+    step = 2 * np.pi / config.approaches_per_handle
+    angles = np.arange(config.approaches_per_handle) * step
+    angles[1:] += rng.uniform(-step / 2, step / 2)
+    return angles
+
+
+def _scored_grasp(
+    position_closing_approach: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    handle_score: float,
+    lever: float,
+    obstacles_world: NDArray[np.float64],
+    cameras: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig,
+    source: str,
+) -> Grasp | None:
+    """The grasp at a TCP ``position`` with jaws ``closing`` and ``approach`` directions
+    (world frame; backed off to clear the table) with its rank score
+    (:func:`grasps_from_handles`), or None when it cannot clear the table or the open
+    gripper holds cloud points; ``handle_score`` is relative to the best handle's."""
+    position, closing, approach = position_closing_approach
+    pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
+    if pose is None:
+        return None
+    distances = gripper_distances(pose, obstacles_world, geometry)
+    if _inside_count(distances) > config.max_colliding_points:
+        return None
+    clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
+    shift = float(np.linalg.norm(pose[:3, 3] - position))
+    score = (
+        handle_score
+        + _rank(approach, position, cameras, config)
+        + config.clearance_weight * clearance / config.clearance_cap
+        - config.shift_weight * shift / config.max_tcp_shift
+        - config.lever_weight * lever / 0.1
+    )
+    return Grasp(world_T_tcp=pose, width=geometry.max_opening, score=score, source=source)
+
+
+def top_down_above_table(
+    position_world: ArrayLike,
+    closing_world: ArrayLike,
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig,
+) -> NDArray[np.float64]:
+    """``world_T_tcp`` approaching straight down (world -z) at ``position_world``, jaws along
+    ``closing_world``, raised (never lowered) until the open gripper clears the table."""
+    pose = tcp_pose(position_world, closing_world, (0.0, 0.0, -1.0))
+    pose[2, 3] -= min(table_margin(pose, geometry, table_z, config), 0.0)
+    return pose
+
+
+def centroid_grasps(
+    points_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    config: PlannerConfig = PlannerConfig(),
+    scene_obstacles_world: NDArray[np.float64] | None = None,
+) -> list[Grasp]:
+    """Baseline: top-down grasps at the cloud centroid, jaws across the narrower horizontal
+    extent first, then rotated in 30 degree steps."""
+    centroid = points_world.mean(axis=0)
+    spread = np.cov((points_world[:, :2] - centroid[:2]).T)
+    _, vectors = np.linalg.eigh(spread)
+    narrow = np.append(vectors[:, 0], 0.0)
+    down = np.array([0.0, 0.0, -1.0])
+    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
+    grasps = []
+    for step in range(6):
+        angle = np.radians(30 * step)
+        closing = np.cos(angle) * narrow + np.sin(angle) * np.cross(down, narrow)
+        pose = top_down_above_table(centroid, closing, geometry, table_z, config)
+        if collides(pose, obstacles, geometry, config.max_colliding_points):
+            continue
+        grasps.append(
+            Grasp(
+                world_T_tcp=pose,
+                width=geometry.max_opening,
+                score=1.0 - step / 6,
+                source="centroid",
+            )
+        )
+    return grasps
+
+
+def antipodal_grasps(
+    points_world: NDArray[np.float64],
+    normals_world: NDArray[np.float64],
+    geometry: GripperGeometry,
+    table_z: float,
+    rng: np.random.Generator,
+    config: PlannerConfig = PlannerConfig(),
+    scene_obstacles_world: NDArray[np.float64] | None = None,
+) -> list[Grasp]:
+    """Baseline: random antipodal point pairs (normals opposed along the line joining them,
+    closer than the opening), approached from a random direction perpendicular to the jaws."""
+    count = len(points_world)
+    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
+    first = rng.integers(0, count, config.antipodal_samples)
+    second = rng.integers(0, count, config.antipodal_samples)
+    grasps = []
+    for i, j in zip(first, second, strict=True):
+        line = points_world[j] - points_world[i]
+        distance = float(np.linalg.norm(line))
+        if not 0.005 < distance < geometry.max_opening * 0.9:
+            continue
+        line /= distance
+        if (
+            normals_world[i] @ -line < config.antipodal_cos
+            or normals_world[j] @ line < config.antipodal_cos
+        ):
+            continue
+        u, v = _orthonormal(line)
+        angle = rng.uniform(0, 2 * np.pi)
+        approach = np.cos(angle) * u + np.sin(angle) * v
+        pose = above_table(
+            tcp_pose((points_world[i] + points_world[j]) / 2, line, approach),
+            geometry,
+            table_z,
+            config,
+        )
+        if pose is None:
+            continue
+        if collides(pose, obstacles, geometry, config.max_colliding_points):
+            continue
+        grasps.append(
+            Grasp(
+                world_T_tcp=pose,
+                width=geometry.max_opening,
+                score=float(-approach[2]),
+                source="random",
+            )
+        )
+    return sorted(grasps, key=lambda g: -g.score)

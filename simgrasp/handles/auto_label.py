@@ -1,0 +1,206 @@
+"""Handle labels found automatically on any mesh: our detector on virtual scans, clustered.
+
+The mesh is scanned from many directions (:mod:`simgrasp.handles.virtual_scan`); the quadric
+detector runs on every view; its accepted neighborhoods (candidates) from all views are pooled
+in the mesh frame and kept when they look like a handle's cross-section: narrow enough to be a
+handle rather than the object's body (``max_width``) and round rather than flat
+(``max_flatness``: a blade's or a wall's fits are flat). The kept candidates are clustered by
+single linkage; clusters seen from enough views, with enough support against the best one,
+become handle parts. Each part's scanned surface points, split into ``segments`` along their
+main axis, give one oriented box per segment (the way ``models/handles/ycb_handles.json`` was
+made by hand), grown by ``margin``. The result is a :class:`~simgrasp.assets.labels.HandleLabel`
+in the mesh frame, meters; no part found means an empty label (no handle).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+from scipy.cluster.hierarchy import fcluster, linkage
+from scipy.spatial import cKDTree
+
+from simgrasp.assets.labels import Box, HandleLabel
+from simgrasp.errors import SimgraspError
+from simgrasp.handles import detect
+from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.detection import Detection
+from simgrasp.handles.virtual_scan import ScanConfig, View, scan_mesh
+from simgrasp.quadric import analyze_quadrics
+
+
+def _label_detector() -> QuadricDetectorConfig:
+    """The detector for labeling: both passes, a Franka-class 8 cm opening, every handle
+    hypothesis kept (the choice between parts is made across views, not per view)."""
+    return QuadricDetectorConfig.two_scales(gripper_max_opening=0.08, min_relative_score=0.0)
+
+
+@dataclass(frozen=True)
+class AutoLabelConfig:
+    """Settings of :func:`auto_handle_label` (lengths in meters)."""
+
+    scan: ScanConfig = field(default_factory=ScanConfig)
+    detector: QuadricDetectorConfig = field(default_factory=_label_detector)
+    max_width: float = 0.04
+    """Candidates wider than this (the detector's grasp width) are the object's body."""
+    max_flatness: float = 2.0
+    """Candidates whose larger transverse semi-axis exceeds this many times the smaller are
+    flat (a blade, a wall) and are dropped."""
+    cluster_distance: float = 0.006
+    """Single-linkage distance joining kept candidate centers into one part."""
+    min_views: int = 3
+    """A part must be found in at least this many views."""
+    min_candidates: int = 10
+    """A part needs at least this many candidates ..."""
+    min_relative_support: float = 0.5
+    """... and at least this share of the best part's candidates."""
+    region_radius: float = 0.01
+    """Scanned surface points within this distance of a part's candidates are its surface."""
+    segments: int = 3
+    """Boxes per part: its surface split into this many slabs along its main axis."""
+    margin: float = 0.002
+    """Each box is grown by this much."""
+    seed: int = 0
+    """Seeds the detector's neighborhood sampling (view k uses seed + k)."""
+
+    def __post_init__(self) -> None:
+        positive = ("max_width", "max_flatness", "cluster_distance", "region_radius")
+        for name in positive:
+            if not getattr(self, name) > 0:
+                raise SimgraspError(f"auto label: {name} must be positive")
+        if self.min_views < 1 or self.min_candidates < 1 or self.segments < 1:
+            raise SimgraspError("auto label: min_views, min_candidates, segments must be >= 1")
+        if not 0 <= self.min_relative_support <= 1 or self.margin < 0:
+            raise SimgraspError("auto label: need 0 <= min_relative_support <= 1, margin >= 0")
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """The detector's candidates of all views, pooled (mesh frame): ``centers`` (M, 3),
+    ``widths`` (M,), ``flatness`` (M,) (larger / smaller transverse semi-axis), ``views``
+    (M,) the index of the view each came from."""
+
+    centers: NDArray[np.float64]
+    widths: NDArray[np.float64]
+    flatness: NDArray[np.float64]
+    views: NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class AutoLabel:
+    """An automatic label with what it was made from (for plots and reports)."""
+
+    label: HandleLabel
+    candidates: Candidates
+    kept: NDArray[np.bool_]
+    """Which candidates passed the width and flatness tests."""
+    parts: tuple[NDArray[np.int64], ...]
+    """Candidate indices of each accepted part."""
+    surface: NDArray[np.float64]
+    """All scanned points (mesh frame, m)."""
+
+
+def auto_handle_label(
+    mesh: trimesh.Trimesh, name: str, config: AutoLabelConfig | None = None
+) -> AutoLabel:
+    """The automatic handle label of ``mesh`` (its own frame, meters) for object ``name``."""
+    config = config or AutoLabelConfig()
+    views = scan_mesh(mesh, config.scan)
+    if not views:
+        raise SimgraspError(f"object {name!r}: no scan saw the mesh")
+    candidates = pooled_candidates(views, config)
+    kept = (candidates.widths <= config.max_width) & (candidates.flatness <= config.max_flatness)
+    parts = handle_parts(candidates, kept, config)
+    surface = np.concatenate([v.points for v in views])
+    regions = tuple(box for part in parts for box in part_boxes(candidates, part, surface, config))
+    return AutoLabel(HandleLabel(name, regions), candidates, kept, parts, surface)
+
+
+def pooled_candidates(views: list[View], config: AutoLabelConfig) -> Candidates:
+    """Run the detector on every view and pool its candidates."""
+    rows: list[NDArray[np.float64]] = []
+    for k, view in enumerate(views):
+        detection = detect(
+            view.points, view.normals, config.detector, config.seed + k, viewpoint=view.viewpoint
+        )
+        rows.append(_candidate_rows(detection, k, config.detector.kind_rtol))
+    table = np.concatenate(rows) if rows else np.zeros((0, 6))
+    return Candidates(table[:, :3], table[:, 3], table[:, 4], table[:, 5].astype(np.int64))
+
+
+def _candidate_rows(detection: Detection, view: int, rtol: float) -> NDArray[np.float64]:
+    """(M, 6) rows ``[center xyz, width, flatness, view]`` of one detection's candidates."""
+    if not detection.candidates:
+        return np.zeros((0, 6))
+    centers = detection.candidate_centers
+    coefficients = np.stack([c.quadric.coefficients for c in detection.candidates])
+    semi = analyze_quadrics(coefficients, rtol, centers).transverse_semi_axes
+    with np.errstate(invalid="ignore", divide="ignore"):
+        flatness = np.where(semi[:, 0] > 0, semi[:, 1] / semi[:, 0], np.inf)
+    flatness = np.nan_to_num(flatness, nan=np.inf)
+    widths = np.array([c.width for c in detection.candidates])
+    return np.column_stack([centers, widths, flatness, np.full(len(centers), view)])
+
+
+def handle_parts(
+    candidates: Candidates, kept: NDArray[np.bool_], config: AutoLabelConfig
+) -> tuple[NDArray[np.int64], ...]:
+    """Clusters of the kept candidates that count as handle parts, best supported first."""
+    index = np.flatnonzero(kept)
+    if len(index) < config.min_candidates:
+        return ()
+    if len(index) == 1:
+        groups = np.ones(1, dtype=np.int64)
+    else:
+        tree = linkage(candidates.centers[index], method="single")
+        groups = fcluster(tree, t=config.cluster_distance, criterion="distance")
+    clusters = [index[groups == g] for g in np.unique(groups)]
+    clusters = [
+        c
+        for c in clusters
+        if len(c) >= config.min_candidates
+        and len(np.unique(candidates.views[c])) >= config.min_views
+    ]
+    if not clusters:
+        return ()
+    best = max(len(c) for c in clusters)
+    chosen = [c for c in clusters if len(c) >= config.min_relative_support * best]
+    return tuple(sorted(chosen, key=len, reverse=True))
+
+
+def part_boxes(
+    candidates: Candidates,
+    part: NDArray[np.int64],
+    surface: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> list[Box]:
+    """Oriented boxes around the scanned surface of one part, one per slab along its axis."""
+    near, _ = cKDTree(candidates.centers[part]).query(surface)
+    points = surface[near <= config.region_radius]
+    if len(points) < 4:
+        return []
+    centered = points - points.mean(axis=0)
+    main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
+    along = centered @ main_axis
+    edges = np.quantile(along, np.linspace(0.0, 1.0, config.segments + 1))
+    slab = np.clip(np.searchsorted(edges, along, side="right") - 1, 0, config.segments - 1)
+    boxes = [_box(points[slab == s], config.margin) for s in range(config.segments)]
+    return [b for b in boxes if b is not None]
+
+
+def _box(points: NDArray[np.float64], margin: float) -> Box | None:
+    """The oriented bounding box (trimesh) of ``points``, grown by ``margin``."""
+    if len(points) < 4:
+        return None
+    try:
+        box_T_points, extents = trimesh.bounds.oriented_bounds(points)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    points_T_box = np.linalg.inv(box_T_points)
+    rotation = points_T_box[:3, :3]
+    if np.linalg.det(rotation) < 0:
+        rotation = rotation * np.array([1.0, 1.0, -1.0])
+    half = np.maximum(np.asarray(extents, float) / 2.0, 1e-4) + margin
+    return Box(points_T_box[:3, 3].copy(), rotation, half)

@@ -1,0 +1,227 @@
+"""Objects on an organized (image-grid) cloud: connected components of the above-table pixels,
+cut at depth discontinuities and at sharp concave creases.
+
+In the spirit of PCL's organized connected-component segmentation and of LCCP's convexity
+criterion (Stein et al., CVPR 2014): two touching objects meet either at a depth step (one
+occludes the other) or at a concave crease (a box standing on a box, a can against a box),
+while the faces of one object meet at convex edges. Normals come from central differences of
+a box-filtered position image, so every step is a few whole-image numpy / scipy.ndimage passes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
+
+Grid = NDArray[np.float32]
+
+
+def grid_components(
+    points: Grid,
+    candidates: NDArray[np.bool_],
+    viewpoint: NDArray[np.float64],
+    config: SegmentConfig,
+) -> NDArray[np.int32]:
+    """Segment ids (H, W) of the ``candidates`` pixels (0 elsewhere), in no particular order.
+
+    ``points`` is the (H, W, 3) position image (m, NaN where invalid).
+    """
+    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
+    rows, cols = _bounding_slices(candidates, margin)
+    segments = np.zeros(candidates.shape, dtype=np.int32)
+    segments[rows, cols] = _crop_components(
+        points[rows, cols], candidates[rows, cols], viewpoint, config
+    )
+    return segments
+
+
+def inner_floors(
+    table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig
+) -> NDArray[np.int32]:
+    """Patch ids (H, W; 0 elsewhere) of the plane inliers ``table`` that are an object's
+    floor instead (the inner bottom of a bowl or pot, level with the table): connected patches
+    smaller than ``floor_share`` of the largest patch whose one-pixel ring lies at least
+    ``floor_enclosed`` above the table (``above``)."""
+    patches, count = ndimage.label(table)
+    if count < 2:
+        return np.zeros(table.shape, dtype=np.int32)
+    sizes = np.bincount(patches.reshape(-1), minlength=count + 1)
+    sizes[0] = 0
+    small = (sizes < config.floor_share * sizes.max()) & (sizes >= config.min_object_points)
+    small[0] = False
+    if not small.any():
+        return np.zeros(table.shape, dtype=np.int32)
+    floors = np.where(small[patches], patches, 0).astype(np.int32)
+    grown = ndimage.maximum_filter(floors, size=3)
+    ring = (grown > 0) & (floors == 0)
+    ring_size = np.bincount(grown[ring], minlength=count + 1)
+    ring_above = np.bincount(grown[ring & above], minlength=count + 1)
+    enclosed = small & (ring_above >= config.floor_enclosed * np.maximum(ring_size, 1))
+    return np.where(enclosed[floors], floors, 0).astype(np.int32)
+
+
+def _bounding_slices(mask: NDArray[np.bool_], margin: int) -> tuple[slice, slice]:
+    """Row and column slices of the bounding box of ``mask`` grown by ``margin`` pixels."""
+    rows = np.flatnonzero(mask.any(axis=1))
+    cols = np.flatnonzero(mask.any(axis=0))
+    if len(rows) == 0:
+        return slice(0, 0), slice(0, 0)
+    return (
+        slice(max(rows[0] - margin, 0), rows[-1] + margin + 1),
+        slice(max(cols[0] - margin, 0), cols[-1] + margin + 1),
+    )
+
+
+def _crop_components(
+    points: Grid,
+    candidates: NDArray[np.bool_],
+    viewpoint: NDArray[np.float64],
+    config: SegmentConfig,
+) -> NDArray[np.int32]:
+    if candidates.size == 0:
+        return np.zeros(candidates.shape, dtype=np.int32)
+    eye = viewpoint.astype(np.float32)
+    binned, binned_mask = _binned(points, candidates, config.normal_bin_px)
+    smooth = _box_mean(binned, binned_mask, config.normal_window_px)
+    normals = _grid_normals(smooth, eye, config.normal_step_px)
+    concave = _concave_cuts(smooth, normals, config.concave_step_px, config.concave_threshold)
+    cut = _depth_cuts(points, candidates, eye, config.depth_jump)
+    cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
+    interior = candidates & ~cut
+    segments, _ = ndimage.label(interior)
+    segments = segments.astype(np.int32)
+    for _ in range(config.attach_passes):
+        segments = _attach_edges(segments, points, candidates, config)
+    return segments
+
+
+def _binned(points: Grid, mask: NDArray[np.bool_], size: int) -> tuple[Grid, NDArray[np.bool_]]:
+    """Mean position of the masked pixels in each ``size`` x ``size`` block (NaN if none), and
+    the mask of blocks holding any."""
+    if size == 1:
+        return points, mask
+    height, width = -(-mask.shape[0] // size) * size, -(-mask.shape[1] // size) * size
+    padded = np.zeros((height, width, 3), dtype=np.float32)
+    padded[: mask.shape[0], : mask.shape[1]] = np.where(mask[..., None], points, 0.0)
+    counts = np.zeros((height, width), dtype=np.float32)
+    counts[: mask.shape[0], : mask.shape[1]] = mask
+    shape = (height // size, size, width // size, size)
+    sums = padded.reshape(*shape, 3).sum(axis=(1, 3))
+    count = counts.reshape(shape).sum(axis=(1, 3))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return sums / count[..., None], count > 0
+
+
+def _unbinned(blocks: NDArray[np.bool_], size: int, shape: tuple[int, ...]) -> NDArray[np.bool_]:
+    """A block mask blown up to pixels and cut to ``shape``."""
+    if size == 1:
+        return blocks
+    return np.repeat(np.repeat(blocks, size, axis=0), size, axis=1)[: shape[0], : shape[1]]
+
+
+def _box_mean(points: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
+    """Mean position over each ``size`` x ``size`` window of the masked pixels (NaN if none)."""
+    weight = mask.astype(np.float32)
+    summed = np.where(mask[..., None], points, 0.0).astype(np.float32)
+    count = ndimage.uniform_filter(weight, size, mode="constant")
+    mean = ndimage.uniform_filter1d(summed, size, axis=0, mode="constant")
+    mean = ndimage.uniform_filter1d(mean, size, axis=1, mode="constant")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean /= count[..., None]
+    mean[count < 0.5 / (size * size)] = np.nan
+    return mean
+
+
+def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
+    """Unit normals (H, W, 3) from central differences over ``step`` pixels, turned toward
+    ``eye``; NaN where a neighbour is missing."""
+    du = np.full_like(smooth, np.nan)
+    dv = np.full_like(smooth, np.nan)
+    du[:, step:-step] = smooth[:, 2 * step :] - smooth[:, : -2 * step]
+    dv[step:-step] = smooth[2 * step :] - smooth[: -2 * step]
+    normals = np.stack(
+        [
+            du[..., 1] * dv[..., 2] - du[..., 2] * dv[..., 1],
+            du[..., 2] * dv[..., 0] - du[..., 0] * dv[..., 2],
+            du[..., 0] * dv[..., 1] - du[..., 1] * dv[..., 0],
+        ],
+        axis=2,
+    )
+    with np.errstate(invalid="ignore", divide="ignore"):
+        normals /= np.sqrt(np.einsum("hwk,hwk->hw", normals, normals))[..., None]
+    toward = np.einsum("hwk,hwk->hw", normals, eye - smooth)
+    normals[toward < 0] *= -1.0
+    return normals
+
+
+def _depth_cuts(
+    points: Grid, mask: NDArray[np.bool_], eye: NDArray[np.float32], jump: float
+) -> NDArray[np.bool_]:
+    """Pixels with a 4-neighbour whose range differs by more than ``jump`` x range^2 (m)."""
+    offset = points - eye
+    ranges = np.sqrt(np.einsum("hwk,hwk->hw", offset, offset))
+    ranges[~mask] = np.nan
+    limit = jump * ranges * ranges
+    cut = np.zeros(mask.shape, dtype=bool)
+    for axis in (0, 1):
+        lo = [slice(None), slice(None)]
+        hi = [slice(None), slice(None)]
+        lo[axis], hi[axis] = slice(None, -1), slice(1, None)
+        step = np.abs(ranges[tuple(hi)] - ranges[tuple(lo)])
+        broken = mask[tuple(lo)] & mask[tuple(hi)] & ~(step <= limit[tuple(lo)])
+        cut[tuple(lo)] |= broken
+        cut[tuple(hi)] |= broken
+    return cut
+
+
+def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> NDArray[np.bool_]:
+    """Pixels spanned by a ``step``-pixel pair whose normals fold concavely:
+    ``(n_j - n_i) . u_ij < -threshold``, ``u_ij`` the unit direction from i to j."""
+    cut = np.zeros(smooth.shape[:2], dtype=bool)
+    for axis in (0, 1):
+        lo = [slice(None), slice(None)]
+        hi = [slice(None), slice(None)]
+        lo[axis], hi[axis] = slice(None, -step), slice(step, None)
+        offset = smooth[tuple(hi)] - smooth[tuple(lo)]
+        fold = np.einsum("hwk,hwk->hw", normals[tuple(hi)] - normals[tuple(lo)], offset)
+        with np.errstate(invalid="ignore"):
+            concave = fold < -threshold * np.sqrt(np.einsum("hwk,hwk->hw", offset, offset))
+        for shift in range(step + 1):
+            span = [slice(None), slice(None)]
+            span[axis] = slice(shift, shift + concave.shape[axis])
+            cut[tuple(span)] |= concave
+    return cut
+
+
+def _attach_edges(
+    segments: NDArray[np.int32], points: Grid, candidates: NDArray[np.bool_], config: SegmentConfig
+) -> NDArray[np.int32]:
+    """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
+    those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
+    0), when within ``attach_distance`` (m): a mixed pixel at an occluding edge joins the side
+    whose depth it is nearer."""
+    reach = config.attach_radius_px
+    labels = np.pad(segments, reach)
+    if not labels.any() or not (candidates & (segments == 0)).any():
+        return segments
+    width = labels.shape[1]
+    flat_points = np.pad(points, ((reach, reach), (reach, reach), (0, 0))).reshape(-1, 3)
+    flat_labels = labels.reshape(-1)
+    loose = np.flatnonzero(np.pad(candidates & (segments == 0), reach))
+    here = flat_points[loose]
+    best_gap = np.full(len(loose), np.inf, dtype=np.float32)
+    best = np.zeros(len(loose), dtype=np.int32)
+    steps = [0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)]
+    for shift in (dr * width + dc for dr in steps for dc in steps):
+        label = flat_labels[loose + shift]
+        offset = flat_points[loose + shift] - here
+        gap = np.einsum("ij,ij->i", offset, offset)
+        better = (label > 0) & (gap < best_gap)
+        best_gap[better] = gap[better]
+        best[better] = label[better]
+    near = best_gap <= config.attach_distance**2
+    flat_labels[loose[near]] = best[near]
+    return labels[reach:-reach, reach:-reach]

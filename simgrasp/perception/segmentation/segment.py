@@ -1,0 +1,331 @@
+"""Split a whole scene cloud into its supporting plane (the table) and the objects on it.
+
+The table is the dominant plane (RANSAC on a seeded subsample, refined by least squares on
+all its inliers). Above it, an organized cloud is cut into objects on its image grid
+(:mod:`simgrasp.perception.segmentation.organized_segments`: depth steps and concave creases
+separate stacked and touching objects); an unorganized one, or ``method="dbscan"``, is clustered
+with Open3D's DBSCAN on a voxel grid (the plain baseline).
+
+Labels, one int32 per input point in the input's order: 0 invalid or unassigned (NaN,
+beyond range, below the table, too small a segment), 1 table, 2.. objects by increasing
+distance of their centroid to the sensor.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.errors import SimgraspError
+from simgrasp.perception._arrays import import_open3d
+from simgrasp.perception.scene_cloud import SceneCloud
+from simgrasp.perception.segmentation.organized_segments import grid_components, inner_floors
+from simgrasp.perception.segmentation.segment_config import (
+    FIRST_OBJECT,
+    INVALID,
+    TABLE,
+    SegmentConfig,
+)
+from simgrasp.perception.segmentation.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segmentation.segment_rims import rim_parents
+from simgrasp.seeding import rng_for
+
+Method = Literal["auto", "grid", "dbscan"]
+
+
+@dataclass(frozen=True)
+class SegmentedObject:
+    """One object on the table.
+
+    Attributes:
+        label: its label in :attr:`Segmentation.labels` (2, 3, ...).
+        points: its number of points.
+        center: (3,) centroid (m, cloud frame).
+        extent: (3,) edge lengths of its axis-aligned bounding box (m, cloud frame).
+        part_of: the label of the object this one is a thin side part of (a pot's tab:
+            :mod:`simgrasp.perception.segmentation.segment_parts`), its own label otherwise.
+    """
+
+    label: int
+    points: int
+    center: NDArray[np.float64]
+    extent: NDArray[np.float64]
+    part_of: int = 0
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "label": self.label,
+            "points": self.points,
+            "center": self.center.tolist(),
+            "extent": self.extent.tolist(),
+            "part_of": self.part_of,
+        }
+
+
+@dataclass(frozen=True)
+class Segmentation:
+    """What :func:`segment_scene` returns.
+
+    Attributes:
+        labels: (N,) int32 per input point (module docstring).
+        plane: (4,) table plane ``[a, b, c, d]``, unit normal toward the sensor:
+            ``a x + b y + c z + d`` is the height above the table (m).
+        table_points: number of points labeled table.
+        objects: the objects, label 2 first (nearest the sensor).
+        timings_s: wall seconds per step, and ``total`` for the whole call.
+    """
+
+    labels: NDArray[np.int32]
+    plane: NDArray[np.float64]
+    table_points: int
+    objects: tuple[SegmentedObject, ...]
+    timings_s: dict[str, float]
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "table": {"plane": self.plane.tolist(), "points": self.table_points},
+            "objects": [obj.to_json() for obj in self.objects],
+            "timings_s": dict(self.timings_s),
+        }
+
+    def whole_objects(self) -> tuple[int, ...]:
+        """Labels of the objects that are not a side part of another."""
+        return tuple(obj.label for obj in self.objects if obj.part_of == obj.label)
+
+    def object_mask(self, label: int) -> NDArray[np.bool_]:
+        """(N,) the points of object ``label`` and of its side parts."""
+        members = [obj.label for obj in self.objects if label in (obj.label, obj.part_of)]
+        return np.isin(self.labels, members or [label])
+
+
+def segment_scene(
+    scene: SceneCloud, config: SegmentConfig | None = None, method: Method = "auto"
+) -> Segmentation:
+    """Segment ``scene`` (module docstring); ``ValueError`` naming the scene when it has no
+    valid point, no table plane, or coordinates that are not meters."""
+    config = config or SegmentConfig()
+    if method == "auto":
+        method = "grid" if scene.organized else "dbscan"
+    if method == "grid" and not scene.organized:
+        raise SimgraspError(f"{scene.source or 'scene'}: method 'grid' needs an organized cloud")
+    timings: dict[str, float] = {}
+    start = time.perf_counter()
+    points = scene.points
+    valid = _timed(timings, "valid", lambda: _valid_points(scene, config))
+    plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, config))
+    height = points @ plane[:3].astype(np.float32) + np.float32(plane[3])
+    table = valid & (np.abs(height) <= config.table_distance)
+    above = valid & (height > config.table_distance) & (height < config.max_object_height)
+    cluster = _grid_segments if method == "grid" else _dbscan_segments
+    raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
+    if method == "grid":
+        floors = _timed(timings, "floors", lambda: _floor_segments(scene, table, above, config))
+        raw = np.where(floors > 0, floors + raw.max(), raw)
+        table &= floors == 0
+    labels, objects = _timed(
+        timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
+    )
+    if method == "grid":
+        labels, objects = _timed(
+            timings, "parts", lambda: _parts(scene, labels, height, plane, objects, config)
+        )
+        table = labels == TABLE
+    timings["total"] = time.perf_counter() - start
+    return Segmentation(labels, plane, int(table.sum()), objects, timings)
+
+
+def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any:
+    start = time.perf_counter()
+    result = work()
+    timings[step] = time.perf_counter() - start
+    return result
+
+
+def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
+    name = scene.source or "scene"
+    points, eye = scene.points, scene.viewpoint.astype(np.float32)
+    squared = np.einsum("ij,ij->i", points, points)
+    if eye.any():
+        squared += eye @ eye - 2.0 * (points @ eye)
+    finite = np.isfinite(squared)
+    if not finite.any():
+        raise SimgraspError(f"{name}: no valid point (every point is NaN or inf)")
+    median = float(np.sqrt(np.median(squared[finite][::97])))
+    if median > config.max_range:
+        raise SimgraspError(
+            f"{name}: points lie a median {median:.4g} units from the sensor, beyond "
+            f"max_range {config.max_range} m: coordinates must be meters (millimetres?)"
+        )
+    return finite & (squared <= config.max_range**2) & (squared > 0)
+
+
+def fit_table_plane(
+    points: NDArray[np.float32], valid: NDArray[np.bool_], scene: SceneCloud, config: SegmentConfig
+) -> NDArray[np.float64]:
+    """The dominant plane of the ``valid`` ``points`` (m), unit normal turned toward the sensor:
+    RANSAC on ``plane_samples`` seeded points, then least squares on the inliers among
+    ``refine_samples`` seeded points."""
+    name = scene.source or "scene"
+    index = np.flatnonzero(valid)
+    if len(index) < 3:
+        raise SimgraspError(f"{name}: too few valid points ({len(index)}) to find a table plane")
+    rng = rng_for(config.seed, "segment", "plane")
+    sample = points[index[rng.integers(0, len(index), config.plane_samples)]]
+    plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
+    refine = points[index[rng.integers(0, len(index), config.refine_samples)]]
+    plane = _refined_plane(refine, plane, config)
+    _check_table(np.abs(refine @ plane[:3] + plane[3]), config, name)
+    if plane[:3] @ scene.viewpoint + plane[3] < 0:
+        plane = -plane
+    return plane
+
+
+def _check_table(distance: NDArray[np.float64], config: SegmentConfig, name: str) -> None:
+    """``ValueError`` unless the plane, at ``distance`` (m) from sampled points, is a table:
+    enough inliers (``min_plane_share``) and flat (``min_plane_flatness``)."""
+    inliers = distance <= config.plane_distance
+    share = float(np.mean(inliers))
+    if share < config.min_plane_share:
+        raise SimgraspError(
+            f"{name}: no table plane (the best plane holds {share:.1%} of the valid points, "
+            f"min_plane_share is {config.min_plane_share:.0%})"
+        )
+    flatness = float(np.mean(distance[inliers] <= config.table_distance))
+    if flatness < config.min_plane_flatness:
+        raise SimgraspError(
+            f"{name}: no table plane (the best plane is curved: {flatness:.0%} of its inliers "
+            f"lie within table_distance, min_plane_flatness is {config.min_plane_flatness:.0%})"
+        )
+
+
+def _ransac_plane(
+    sample: NDArray[np.float64], rng: np.random.Generator, config: SegmentConfig, name: str
+) -> NDArray[np.float64]:
+    """The plane through three ``sample`` points with the most inliers (m)."""
+    triples = sample[rng.integers(0, len(sample), (config.plane_iterations, 3))]
+    normals = np.cross(triples[:, 1] - triples[:, 0], triples[:, 2] - triples[:, 0])
+    length = np.linalg.norm(normals, axis=1)
+    good = length > 1e-12
+    if not good.any():
+        raise SimgraspError(f"{name}: no table plane (the valid points are collinear)")
+    normals = normals[good] / length[good, None]
+    offsets = -np.einsum("kj,kj->k", normals, triples[good, 0])
+    votes = (np.abs(sample @ normals.T + offsets) <= config.plane_distance).sum(axis=0)
+    best = int(np.argmax(votes))
+    return np.append(normals[best], offsets[best])
+
+
+def _refined_plane(
+    points: NDArray[np.float32], plane: NDArray[np.float64], config: SegmentConfig
+) -> NDArray[np.float64]:
+    """Least-squares plane through the inliers of ``plane`` among ``points`` (m)."""
+    inliers = points[np.abs(points @ plane[:3] + plane[3]) <= config.plane_distance]
+    if len(inliers) < 3:
+        return plane
+    center = inliers.mean(axis=0, dtype=np.float64)
+    centered = inliers - center
+    _, vectors = np.linalg.eigh(centered.T @ centered)
+    normal = vectors[:, 0]
+    return np.append(normal, -normal @ center)
+
+
+def _parts(
+    scene: SceneCloud,
+    labels: NDArray[np.int32],
+    height: NDArray[np.float32],
+    plane: NDArray[np.float64],
+    objects: tuple[SegmentedObject, ...],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
+    """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
+    set (:mod:`simgrasp.perception.segmentation.segment_parts`, on the image grid; with
+    ``rim_band``, a round container's inside joined to its outside, :mod:`.segment_rims`)."""
+    shape = (scene.height, scene.width)
+    grid, height_grid = scene.grid(), height.reshape(shape)
+    parents = part_parents(labels.reshape(shape), grid, height_grid, config)
+    claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
+    claimed = claimed.reshape(-1)
+    parents = rim_parents(claimed, scene.points, height, plane, parents, config)
+    changed = set(np.unique(claimed[claimed != labels]).tolist())
+    return claimed, tuple(
+        replace(
+            _object(obj.label, scene.points[claimed == obj.label]) if obj.label in changed else obj,
+            part_of=int(parents[obj.label]),
+        )
+        for obj in objects
+    )
+
+
+def _floor_segments(
+    scene: SceneCloud, table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig
+) -> NDArray[np.int32]:
+    shape = (scene.height, scene.width)
+    return inner_floors(table.reshape(shape), above.reshape(shape), config).reshape(-1)
+
+
+def _grid_segments(
+    scene: SceneCloud, above: NDArray[np.bool_], config: SegmentConfig
+) -> NDArray[np.int32]:
+    mask = above.reshape(scene.height, scene.width)
+    return grid_components(scene.grid(), mask, scene.viewpoint, config).reshape(-1)
+
+
+def _dbscan_segments(
+    scene: SceneCloud, above: NDArray[np.bool_], config: SegmentConfig
+) -> NDArray[np.int32]:
+    """Open3D DBSCAN on the ``cluster_voxel`` grid of the above-table points; each point gets
+    its voxel's cluster (1-based, 0 for noise)."""
+    segments = np.zeros(len(above), dtype=np.int32)
+    index = np.flatnonzero(above)
+    if len(index) == 0:
+        return segments
+    cells = np.floor(scene.points[index] / config.cluster_voxel).astype(np.int64)
+    cells -= cells.min(axis=0)
+    span = cells.max(axis=0) + 1
+    keys = (cells[:, 0] * span[1] + cells[:, 1]) * span[2] + cells[:, 2]
+    _, voxel_of, counts = np.unique(keys, return_inverse=True, return_counts=True)
+    centers = np.zeros((len(counts), 3))
+    np.add.at(centers, voxel_of.reshape(-1), scene.points[index])
+    o3d = import_open3d()
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(centers / counts[:, None]))
+    clusters = np.asarray(cloud.cluster_dbscan(config.cluster_eps, config.cluster_min_points))
+    segments[index] = clusters[voxel_of.reshape(-1)] + 1
+    return segments
+
+
+def _ordered_labels(
+    raw: NDArray[np.int32],
+    table: NDArray[np.bool_],
+    points: NDArray[np.float32],
+    viewpoint: NDArray[np.float64],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
+    """Final labels: table 1, segments of at least ``min_object_points`` 2.. by the distance
+    of their centroid to the sensor, the rest 0."""
+    labels = np.where(table, TABLE, INVALID).astype(np.int32)
+    index = np.flatnonzero(raw)
+    ids = raw[index]
+    counts = np.bincount(ids)
+    sums = np.stack([np.bincount(ids, points[index, k], len(counts)) for k in range(3)], axis=1)
+    kept = np.flatnonzero(counts >= config.min_object_points)
+    kept = kept[kept > 0]
+    centers = sums[kept] / counts[kept, None]
+    order = np.argsort(np.linalg.norm(centers - viewpoint, axis=1), kind="stable")
+    relabel = np.zeros(len(counts), dtype=np.int32)
+    relabel[kept[order]] = np.arange(FIRST_OBJECT, FIRST_OBJECT + len(kept), dtype=np.int32)
+    labels[index] = np.where(relabel[ids] > 0, relabel[ids], labels[index])
+    order_of = np.argsort(labels[index], kind="stable")
+    ends = np.cumsum(np.bincount(labels[index], minlength=FIRST_OBJECT + len(kept)))
+    members = np.split(index[order_of], ends[FIRST_OBJECT - 1 : -1])
+    objects = tuple(_object(FIRST_OBJECT + k, points[members[k + 1]]) for k in range(len(kept)))
+    return labels, objects
+
+
+def _object(label: int, points: NDArray[np.float32]) -> SegmentedObject:
+    pts = points.astype(np.float64)
+    return SegmentedObject(label, len(pts), pts.mean(axis=0), np.ptp(pts, axis=0), label)

@@ -1,0 +1,122 @@
+"""Every setting of the scene segmentation, in one frozen dataclass (meters, pixels)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from simgrasp.config.checks import (
+    Checked,
+    Fraction,
+    NonNegative,
+    NonNegativeInt,
+    Positive,
+    PositiveInt,
+)
+
+INVALID, TABLE, FIRST_OBJECT = 0, 1, 2
+"""Segmentation labels: no valid point, the table, the first object (objects count up)."""
+
+
+@dataclass(frozen=True)
+class SegmentConfig(Checked):
+    """Parameters of :func:`simgrasp.perception.segmentation.segment.segment_scene`.
+
+    Defaults suit a Kinect-class sensor 0.4 - 2 m from a tabletop. Lengths are meters,
+    ``*_px`` settings are image pixels of an organized cloud.
+    """
+
+    max_range: Positive = 4.0
+    """Points farther than this from the sensor (m) are ignored (label 0)."""
+    plane_distance: Positive = 0.012
+    """RANSAC inlier distance to the table plane (m)."""
+    table_distance: Positive = 0.005
+    """Points within this distance of the final, least-squares plane (m) are the table; points
+    higher are object candidates (a pan's handle lies 1 cm above the table)."""
+    plane_samples: PositiveInt = 2000
+    """Valid points drawn (seeded) for the plane RANSAC."""
+    plane_iterations: PositiveInt = 100
+    """RANSAC plane hypotheses."""
+    refine_samples: PositiveInt = 10000
+    """Valid points drawn (seeded) to refine the plane by least squares on its inliers."""
+    min_plane_share: Fraction = 0.2
+    """The plane must hold at least this share of the valid points, else the scene has no
+    table (``ValueError``)."""
+    min_plane_flatness: Fraction = 0.8
+    """At least this share of the plane's inliers (within ``plane_distance``) must lie within
+    ``table_distance``, else the best plane is a curved surface (an object filling the view),
+    not a table (``ValueError``). Real tables at 0.6 - 1.6 m measure 0.97 - 0.99."""
+    floor_share: Fraction = 0.05
+    """Organized clouds: a connected patch of table points smaller than this share of the
+    largest patch ..."""
+    floor_enclosed: Fraction = 0.5
+    """... with at least this share of its one-pixel ring on objects is an object's own
+    floor (the inner bottom of a bowl, labeled as a part of its own), not the table."""
+    max_object_height: Positive = 1.0
+    """Points higher than this above the table (m) are not objects (label 0)."""
+    depth_jump: Positive = 0.02
+    """Neighbouring pixels are disconnected when their ranges differ by more than this (m)
+    times the squared range in meters (Kinect depth steps grow with the square of range)."""
+    normal_bin_px: PositiveInt = 1
+    """Normals and concavity are computed on blocks of this many pixels a side (px), each
+    the mean of its object pixels: 2 (with window 3, step 1, concave step 2) computes them
+    on 4 x fewer blocks (osd-learn mean part IoU 0.913 instead of 0.915); for larger images."""
+    normal_window_px: PositiveInt = 5
+    """Edge of the window of blocks averaged before normals are taken (blocks)."""
+    normal_step_px: PositiveInt = 2
+    """Half baseline of the central differences that give the normals (blocks)."""
+    concave_step_px: PositiveInt = 3
+    """Baseline (blocks) over which neighbouring normals are compared for concavity."""
+    concave_threshold: NonNegative = 0.25
+    """Cut between pixels ``i`` and ``j`` when ``(n_j - n_i) . u_ij < -concave_threshold``
+    (unit normals toward the sensor, ``u_ij`` the unit direction i -> j): a concave crease
+    sharper than about 2 asin(threshold / 2) (0.35: 20 degrees) over ``concave_step_px``."""
+    attach_distance: Positive = 0.015
+    """A cut-edge pixel joins the segment of its 3-D nearest pixel within
+    ``attach_radius_px`` if that pixel is within this distance (m) ..."""
+    attach_radius_px: PositiveInt = 5
+    """... and this many pixels in the image (px)."""
+    attach_passes: NonNegativeInt = 2
+    """Attaching is repeated this many times, so a run of mixed pixels along an occluding edge
+    joins one pixel-step at a time."""
+    part_min_contact: NonNegativeInt = 10
+    """Organized clouds: a segment of at most ``part_max_points`` whose height above the table
+    spans at most ``part_max_thickness`` is a side part (a pot's tab, a pan's handle) of the
+    larger segment it touches with at least this many pixels (0: no parts). It keeps its own
+    label; :attr:`SegmentedObject.part_of` names that segment, and ``detect --segment`` detects
+    on the object with its parts."""
+    part_max_points: PositiveInt = 2500
+    """Largest side part (points)."""
+    part_max_thickness: Positive = 0.02
+    """Largest 5th-95th percentile span of a side part's height above the table (m): a
+    horizontal plate, not a box standing on another."""
+    part_contact_px: PositiveInt = 3
+    """A side part's pixel touches a larger segment when a pixel of it lies this many pixels
+    away (rows and columns at offsets -r, -1, 0, 1, r) ..."""
+    part_contact_distance: Positive = 0.01
+    """... and within this distance (m) in 3-D."""
+    part_edge_px: NonNegativeInt = 3
+    """A side part claims the table pixels within this many pixels of it (px; 0: none) ..."""
+    part_edge_height: NonNegative = 0.002
+    """... that lie more than this above the table (m) and within ``part_contact_distance``
+    of it: the sensor's depth ramp from a tab 1 cm above the table down to the table."""
+    rim_band: NonNegative = 0.0
+    """Organized clouds: join the inside of a round container seen over its rim (its back
+    wall's inside and its floor) to its outside
+    (:mod:`simgrasp.perception.segmentation.segment_rims`), taking each object's points
+    within this distance (m) below its top as its top edge (0: no joins)."""
+    rim_height_tolerance: Positive = 0.01
+    """The two objects' top heights (98th percentile above the table) agree within this (m)."""
+    rim_tolerance: Positive = 0.005
+    """Largest RMS distance (m) of both top edges from the circle fitted to them."""
+    rim_max_radius: Positive = 0.15
+    """Largest radius (m) of that circle: a container, not two straight edges in line."""
+    min_object_points: PositiveInt = 150
+    """Segments with fewer points are dropped (label 0)."""
+    cluster_voxel: Positive = 0.005
+    """Unorganized clouds: voxel edge (m) of the grid DBSCAN clusters."""
+    cluster_eps: Positive = 0.015
+    """Unorganized clouds: DBSCAN neighbour distance (m) between voxels of one object."""
+    cluster_min_points: PositiveInt = 10
+    """Unorganized clouds: DBSCAN core-point neighbour count (voxels)."""
+    seed: NonNegativeInt = 0
+    """Seed of the plane RANSAC sample."""

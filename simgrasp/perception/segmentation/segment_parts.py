@@ -1,0 +1,152 @@
+"""Thin side parts of an object (a pot's flat side tabs, a pan's handle): small, thin segments
+that touch a larger segment, found after the grid cuts.
+
+The grid cuts separate a pot's side tab from its wall at the concave crease between them, so
+the tab comes out as a segment of its own. Such a segment keeps its own label (OSD labels the
+tabs as parts of their own), and records the larger segment it belongs to, so a detector can be
+handed the whole object: the segment's points are at most ``part_max_points``, its height
+above the table spans at most ``part_max_thickness`` (a horizontal plate, not a box standing
+on another), and at least ``part_min_contact`` of its pixels lie within ``part_contact_px``
+pixels and ``part_contact_distance`` (3-D) of a pixel of a larger segment. A tab seen past
+the occluding rim of an upturned pot, whose joint with the wall is hidden, stays an object.
+
+A side part near the table (a tab 1 cm above it) also claims the table-band pixels of its
+edge, where the sensor's depth ramps from the tab down to the table: table pixels within
+``part_edge_px`` of a part pixel, within ``part_contact_distance`` of it in 3-D and more than
+``part_edge_height`` above the table.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, TABLE, SegmentConfig
+
+
+def part_parents(
+    labels: NDArray[np.int32],
+    points: NDArray[np.float32],
+    height: NDArray[np.float32],
+    config: SegmentConfig,
+) -> NDArray[np.int32]:
+    """The object each label belongs to, indexed by label (labels below 2 map to themselves).
+
+    ``labels`` is the (H, W) label image (objects >= 2), ``points`` the (H, W, 3) position
+    image (m) and ``height`` the (H, W) height above the table (m). A thin side part maps to
+    the root of the larger segment it touches most (module docstring), every other label to
+    itself.
+    """
+    count = max(int(labels.max()) + 1 if labels.size else 0, FIRST_OBJECT)
+    parents = np.arange(count, dtype=np.int32)
+    if count <= FIRST_OBJECT + 1 or config.part_min_contact <= 0:
+        return parents
+    flat = labels.reshape(-1)
+    sizes = np.bincount(flat, minlength=count)
+    small = sizes <= config.part_max_points
+    small[:FIRST_OBJECT] = False
+    pixels = np.flatnonzero(small[flat])
+    spread = _spread(flat[pixels], height.reshape(-1)[pixels], count)
+    thin = small & (spread <= config.part_max_thickness)
+    pixels = pixels[thin[flat[pixels]]]
+    if len(pixels) == 0:
+        return parents
+    pairs, contacts = _contacts(labels, points, sizes, pixels, config)
+    for part, whole in _best_pairs(pairs, contacts, count, config.part_min_contact):
+        parents[part] = whole
+    for _ in range(count):
+        roots = parents[parents]
+        if (roots == parents).all():
+            break
+        parents = roots
+    return parents
+
+
+def _spread(own: NDArray[np.int32], height: NDArray[np.float32], count: int) -> NDArray[np.float64]:
+    """Per label, the 5th-95th percentile span of the ``height`` (m) of its pixels, given the
+    label ``own`` of each; infinite for labels without pixels."""
+    order = np.lexsort((height, own))
+    sorted_height = height[order]
+    sizes = np.bincount(own, minlength=count)
+    starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
+    span = np.full(count, np.inf)
+    has = sizes > 0
+    low = sorted_height[starts[has] + ((sizes[has] - 1) * 0.05).astype(np.int64)]
+    high = sorted_height[starts[has] + ((sizes[has] - 1) * 0.95).astype(np.int64)]
+    span[has] = high - low
+    return span
+
+
+def _contacts(
+    labels: NDArray[np.int32],
+    points: NDArray[np.float32],
+    sizes: NDArray[np.int64],
+    pixels: NDArray[np.int64],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Codes ``part * count + whole`` of (thin segment, larger segment) pairs and, for each,
+    how many of the thin segment's ``pixels`` (flat indices) have a pixel of the larger one
+    within ``part_contact_px`` (rows and columns at offsets -r, -1, 0, 1, r) and
+    ``part_contact_distance`` (m)."""
+    count, (height, width) = len(sizes), labels.shape
+    flat_labels, flat_points = labels.reshape(-1), points.reshape(-1, 3)
+    rows, cols = np.divmod(pixels, width)
+    own = flat_labels[pixels]
+    steps = sorted({-config.part_contact_px, -1, 0, 1, config.part_contact_px})
+    codes = []
+    for dr, dc in ((dr, dc) for dr in steps for dc in steps if dr or dc):
+        inside = (rows + dr >= 0) & (rows + dr < height) & (cols + dc >= 0) & (cols + dc < width)
+        here, there = pixels[inside], pixels[inside] + dr * width + dc
+        other = flat_labels[there]
+        offset = flat_points[there] - flat_points[here]
+        near = np.einsum("ij,ij->i", offset, offset) <= config.part_contact_distance**2
+        touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own[inside]])
+        codes.append(here[touch].astype(np.int64) * count + other[touch])
+    pixel_pairs = np.unique(np.concatenate(codes))
+    parts = flat_labels[pixel_pairs // count].astype(np.int64)
+    return np.unique(parts * count + pixel_pairs % count, return_counts=True)
+
+
+def _best_pairs(
+    pairs: NDArray[np.int64], contacts: NDArray[np.int64], count: int, min_contact: int
+) -> list[tuple[int, int]]:
+    """For each thin segment, the larger segment it touches with the most contact pixels,
+    when at least ``min_contact``; ``pairs`` are codes ``small * count + large``."""
+    strong = contacts >= min_contact
+    pairs, contacts = pairs[strong], contacts[strong]
+    order = np.lexsort((-contacts, pairs // count))
+    small = pairs[order] // count
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = small[1:] != small[:-1]
+    chosen = pairs[order][first]
+    return [(int(c // count), int(c % count)) for c in chosen]
+
+
+def claim_table_edges(
+    labels: NDArray[np.int32],
+    points: NDArray[np.float32],
+    height: NDArray[np.float32],
+    parents: NDArray[np.int32],
+    config: SegmentConfig,
+) -> NDArray[np.int32]:
+    """``labels`` (H, W) with the table pixels at a side part's edge (module docstring) given
+    that part's label; ``parents`` as :func:`part_parents` returns them."""
+    is_part = parents != np.arange(len(parents))
+    reach = config.part_edge_px
+    if not is_part.any() or reach <= 0:
+        return labels
+    (rows_total, width), flat = labels.shape, labels.reshape(-1)
+    flat_points, flat_height = points.reshape(-1, 3), height.reshape(-1)
+    pixels = np.flatnonzero(is_part[np.minimum(flat, len(parents) - 1)] & (flat >= FIRST_OBJECT))
+    rows, cols = np.divmod(pixels, width)
+    claimed = flat.copy()
+    for dr in range(-reach, reach + 1):
+        for dc in range(-reach, reach + 1):
+            inside = (rows + dr >= 0) & (rows + dr < rows_total)
+            inside &= (cols + dc >= 0) & (cols + dc < width)
+            here, there = pixels[inside], pixels[inside] + dr * width + dc
+            offset = flat_points[there] - flat_points[here]
+            near = np.einsum("ij,ij->i", offset, offset) <= config.part_contact_distance**2
+            edge = near & (flat[there] == TABLE) & (flat_height[there] > config.part_edge_height)
+            claimed[there[edge]] = flat[here[edge]]
+    return claimed.reshape(labels.shape)

@@ -1,0 +1,1 @@
+"""Interactive 3D views of what simgrasp writes: grasp sets, trials, detections, reports."""

@@ -1,0 +1,206 @@
+"""Grasp files that carry their object (ACRONYM, GraspGen), the Franka hand and the ACRONYM
+protocol (issue 25). Real MuJoCo trials; the ACRONYM file tests need ``SIMGRASP_ACRONYM_DIR``."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+import trimesh
+from data_needs import require_data
+
+from simgrasp.assets.model import model_for
+from simgrasp.grasping.labeling.grasp_files import carried_object
+from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP, read_grasp_set
+from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
+
+EXAMPLE = "examples/grasps/Mug_10f6e09036350e92b3f21f1137c3c347_0.0002682457830986903.h5"
+ROOT = Path(__file__).parents[1]
+OBJECT_T_TCP = np.array([[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, -1, 0.03], [0, 0, 0, 1.0]])
+"""A top grasp of the box below: closing along its 4 cm side, the TCP 2 cm under its top."""
+
+
+def _cli(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    command = [sys.executable, "-m", "simgrasp", *args]
+    return subprocess.run(command, capture_output=True, text=True, env=env, cwd=cwd)
+
+
+def _graspgen_file(folder: Path, name: str, count: int) -> Path:
+    """A GraspGen file on a box mesh (``meshes/box.stl``), ``count`` copies of one grasp."""
+    (folder / "meshes").mkdir(parents=True, exist_ok=True)
+    trimesh.creation.box((0.04, 0.06, 0.10)).export(folder / "meshes" / "box.stl")
+    hand = OBJECT_T_TCP @ np.linalg.inv(FRANKA_T_TCP)
+    entries = {
+        "object": {"file": "meshes/box.stl", "scale": 1.0},
+        "grasps": {"transforms": [hand.tolist()] * count, "object_in_gripper": [1] * count},
+    }
+    (folder / "grasps").mkdir(exist_ok=True)
+    path = folder / "grasps" / name
+    path.write_text(json.dumps(entries))
+    return path
+
+
+def test_franka_hand_holds_a_box_on_the_table(tmp_path: Path) -> None:
+    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
+    name = f"{tmp_path / 'box.stl'}?mass=0.2"
+    labeler = GraspLabeler(model_for(name), LabelConfig(object=name, gripper="franka_panda"))
+    world_T_object = labeler.world_T_object
+    axis = world_T_object[:3, 0]  # the box's 4 cm side, horizontal in its rest pose
+    down = np.array([0.0, 0.0, -1.0])
+    y = axis - (axis @ down) * down
+    y /= np.linalg.norm(y)
+    world_T_tcp = np.eye(4)
+    world_T_tcp[:3, :3] = np.stack([np.cross(y, down), y, down], axis=1)
+    top = world_T_object[2, 3] + np.abs(world_T_object[:3, :3].T @ [0, 0, 1]) @ [0.02, 0.03, 0.05]
+    world_T_tcp[:3, 3] = [world_T_object[0, 3], world_T_object[1, 3], top - 0.02]
+    record = labeler.label(0, np.linalg.inv(world_T_object) @ world_T_tcp, np.nan)
+    assert record["success"] is True
+    assert record["lift_height"] > 0.15
+
+
+def test_graspgen_file_labels_without_object_and_exports(tmp_path: Path) -> None:
+    grasp_file = _graspgen_file(tmp_path, "box.json", 2)
+    assert read_grasp_set(grasp_file).fmt == "graspgen"
+    assert carried_object(grasp_file).endswith("box.stl?scale=1.0")
+    out = tmp_path / "out"
+    done = _cli(
+        "label-grasps",
+        "--grasps",
+        str(grasp_file),
+        "--gripper",
+        "franka_panda",
+        "--protocol",
+        "acronym",
+        "--density",
+        "500",
+        "--no-picture",
+        "--out",
+        str(out),
+        "--export",
+        "graspgen",
+        cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stderr
+    exported = json.loads((out / "export" / "box.json").read_text())
+    ours = exported["grasps"]["qualities"]["simgrasp"]
+    assert ours["object_in_gripper"] == [1.0, 1.0]
+    assert all(0 < s <= 1 for s in ours["score"])
+    with np.load(out / "labels.npz") as labels:
+        assert labels["score"].tolist() == ours["score"]
+
+
+def test_glob_of_files_resumes_after_sigkill(tmp_path: Path) -> None:
+    for name in ("a.json", "b.json"):
+        _graspgen_file(tmp_path, name, 12)
+    out = tmp_path / "out"
+    args = (
+        "label-grasps",
+        "--grasps",
+        str(tmp_path / "grasps" / "*.json"),
+        "--gripper",
+        "franka_panda",
+        "--protocol",
+        "acronym",
+        "--mass",
+        "0.1",
+        "--out",
+        str(out),
+    )
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    first = subprocess.Popen(
+        [sys.executable, "-m", "simgrasp", *args],
+        env=env,
+        cwd=tmp_path,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    log = out / "a" / "labels.jsonl"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not (log.exists() and log.read_text().count("\n") >= 2):
+        time.sleep(0.05)
+    first.send_signal(signal.SIGKILL)
+    first.wait()
+    assert not (out / "summary.json").exists()
+    done = _cli(*args, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    for stem in ("a", "b"):
+        indices = [json.loads(line)["index"] for line in (out / stem / "labels.jsonl").open()]
+        assert sorted(indices) == list(range(12))
+    summary = json.loads((out / "summary.json").read_text())
+    assert [row["file"] for row in summary["files"]] == ["a.json", "b.json"]
+
+
+@pytest.fixture(scope="module")
+def acronym_dir() -> Path:
+    return require_data("acronym")
+
+
+def test_acronym_file_mapped_success_and_failure(acronym_dir: Path) -> None:
+    """FleX's grasps 3 (success) and 0 (failure) of the official example mug: ours agree, and
+    the held grasp closes on the mug with both pads."""
+    grasp_file = acronym_dir / EXAMPLE
+    name = carried_object(grasp_file)
+    assert "scale=0.0002682458" in name and "mass=0.0130879738" in name
+    grasps = read_grasp_set(grasp_file)
+    with h5py.File(grasp_file) as handle:
+        flex = handle["grasps/qualities/flex/object_in_gripper"][()]
+        hand = handle["grasps/transforms"][3]
+    assert (flex[3], flex[0]) == (1, 0)
+    assert np.allclose(grasps.object_T_tcp[3] @ np.linalg.inv(FRANKA_T_TCP), hand)
+    labeler = GraspLabeler(
+        model_for(name), LabelConfig(object=name, gripper="franka_panda", protocol="acronym")
+    )
+    held = labeler.label(3, grasps.object_T_tcp[3], np.nan)
+    assert held["success"] is True and held["score"] > 0
+    points = np.asarray(held["contact_points_object"])
+    tcp_T_object = np.linalg.inv(grasps.object_T_tcp[3])
+    sides = (points @ tcp_T_object[:3, :3].T + tcp_T_object[:3, 3])[:, 1]
+    assert sides.min() < 0 < sides.max()  # contacts on both pads (TCP -y and +y)
+    failed = labeler.label(0, grasps.object_T_tcp[0], np.nan)
+    assert failed["success"] is False and failed["score"] == 0.0
+
+
+def test_export_acronym_read_back(acronym_dir: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    done = _cli(
+        "label-grasps",
+        "--grasps",
+        str(acronym_dir / EXAMPLE),
+        "--gripper",
+        "franka_panda",
+        "--protocol",
+        "acronym",
+        "--max-grasps",
+        "4",
+        "--no-picture",
+        "--out",
+        str(out),
+        "--export",
+        "acronym",
+        cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stderr
+    with h5py.File(out / "export" / Path(EXAMPLE).name) as handle:
+        ours = handle["grasps/qualities/simgrasp/object_in_gripper"][()]
+        assert "grasps/qualities/flex/object_in_gripper" in handle
+    with np.load(out / "labels.npz") as labels:
+        assert ours[:4].tolist() == labels["success"].astype(float).tolist()
+    assert (ours[4:] == -1).all() and len(ours) == 2000
+    compared = _cli(
+        "compare-labels",
+        str(out),
+        "--reference",
+        str(acronym_dir / EXAMPLE),
+        "--json",
+        cwd=tmp_path,
+    )
+    assert json.loads(compared.stdout)["groups"]["overall"]["grasps"] <= 4

@@ -1,0 +1,103 @@
+"""Automatic handle labels (``simgrasp label-handles``) on generated objects with exact labels,
+their file round trip, bad input, and one ACRONYM mug whose handle grasps are known."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from simgrasp.assets.generated import generate_tool
+from simgrasp.assets.labels import HandleLabel, load_handle_label, write_label_file
+from simgrasp.cli import main
+from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
+from simgrasp.handles.virtual_scan import ScanConfig
+from simgrasp.perception import sample_surface
+from tests.data_needs import require_data
+
+FAST = AutoLabelConfig(scan=ScanConfig(views=12))
+"""Fewer views than the default 24 keep the tests fast; the labels still match."""
+
+
+def _iou(found: HandleLabel, exact: HandleLabel, mesh: object) -> float:
+    """Intersection over union of the two labels on points sampled on the mesh."""
+    points, _ = sample_surface(mesh, 20000, np.random.default_rng(0))  # type: ignore[arg-type]
+    a, b = found.contains(points), exact.contains(points)
+    return float((a & b).sum() / max((a | b).sum(), 1))
+
+
+def test_cli_labels_a_generated_mug_and_the_file_round_trips(tmp_path: Path) -> None:
+    asset = generate_tool("mug", 0)
+    mesh_path = tmp_path / "mug.stl"
+    asset.mesh.export(mesh_path)
+    out, plot = tmp_path / "handles.json", tmp_path / "handles.png"
+    args = ["label-handles", str(mesh_path), "--out", str(out), "--plot", str(plot)]
+    assert main([*args, "--label.scan.views", "12"]) == 0
+    label = load_handle_label(out)
+    assert label.object_name == "mug" and label.regions
+    assert _iou(label, asset.handle, asset.mesh) >= 0.6
+    assert plot.stat().st_size > 10000
+    again = tmp_path / "again.json"
+    write_label_file(again, {"mug": label}, "copy")
+    points = asset.mesh.vertices
+    assert np.array_equal(load_handle_label(again, "mug").contains(points), label.contains(points))
+
+
+def test_mesh_in_millimetres_needs_units(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    asset = generate_tool("hammer", 0)
+    mesh_path = tmp_path / "hammer_mm.ply"
+    asset.mesh.copy().apply_scale(1000.0).export(mesh_path)
+    out = tmp_path / "h.json"
+    assert main(["label-handles", str(mesh_path), "--out", str(out)]) == 2
+    assert "--units" in capsys.readouterr().err
+    args = ["label-handles", str(mesh_path), "--units", "mm", "--out", str(out)]
+    assert main([*args, "--label.scan.views", "12"]) == 0
+    assert _iou(load_handle_label(out), asset.handle, asset.mesh) >= 0.6
+
+
+def test_handle_less_bodies_get_no_handle_region() -> None:
+    for kind in ("can", "fruit"):
+        asset = generate_tool(kind, 0)
+        assert auto_handle_label(asset.mesh, asset.name, FAST).label.regions == ()
+
+
+def test_bad_mesh_path_is_one_clear_line(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    missing = tmp_path / "nope.obj"
+    assert main(["label-handles", str(missing), "--out", str(tmp_path / "h.json")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "nope.obj" in err and len(err.splitlines()) == 1
+
+
+def test_loader_names_the_object_it_lacks(tmp_path: Path) -> None:
+    labels = {"a": HandleLabel("a"), "b": HandleLabel("b")}
+    path = write_label_file(tmp_path / "two.json", labels, "")
+    assert load_handle_label(path, "b").object_name == "b"
+    with pytest.raises(Exception, match="name one"):
+        load_handle_label(path)
+    with pytest.raises(Exception, match="'c'"):
+        load_handle_label(path, "c")
+
+
+MUG = "Mug_10f6e09036350e92b3f21f1137c3c347_0.0002682457830986903.h5"
+
+
+def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -> None:
+    from simgrasp.evaluation.acronym_handles import held_from_labels, read_acronym, subset_shares
+
+    root = require_data("acronym")
+    item = read_acronym(root / "affordance" / "grasps" / MUG)
+    label = auto_handle_label(item.mesh, item.name, replace(FAST, scan=ScanConfig())).label
+    shares = subset_shares(item, label)
+    handle = shares["good_grasp"]
+    assert handle["on_handle"] / handle["grasps"] >= 0.9
+    pour = shares["good_pour"]
+    assert pour["on_handle"] / pour["grasps"] <= 0.05
+    first = int(item.subsets["good_grasp"][0])
+    rows = [{"index": first, "success": True}, {"index": first + 1, "success": False}]
+    labels = tmp_path / "labels.jsonl"
+    labels.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    held = held_from_labels(labels, len(item.object_T_hands))
+    assert subset_shares(item, label, held=held)["good_grasp"]["grasps"] == 1

@@ -1,0 +1,114 @@
+"""Objects from any mesh file: units, bad meshes, the catalog, handle files (issue 25)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from simgrasp.assets.mesh_object import with_options
+from simgrasp.assets.registry import load_object
+from simgrasp.errors import SimgraspError
+
+BOX_M = (0.04, 0.06, 0.10)
+
+
+def _box_file(path: Path, factor: float = 1.0) -> Path:
+    box = trimesh.creation.box(BOX_M)
+    box.apply_scale(factor)
+    box.export(path)
+    return path
+
+
+def test_mesh_in_millimetres_fails_then_loads_with_units(tmp_path: Path) -> None:
+    path = _box_file(tmp_path / "box_mm.stl", 1000.0)
+    with pytest.raises(SimgraspError, match="--units mm"):
+        load_object(str(path))
+    asset = load_object(with_options(str(path), units="mm", mass=0.2))
+    assert np.allclose(asset.mesh.extents, BOX_M)
+    assert asset.mass == pytest.approx(0.2)
+    density = load_object(with_options(str(path), scale=0.001, density=1000.0))
+    assert density.mass == pytest.approx(1000.0 * np.prod(BOX_M), rel=1e-6)
+
+
+def test_mesh_in_millimetres_on_the_command_line(tmp_path: Path) -> None:
+    """One line, exit code 2, naming the file and the fix."""
+    path = _box_file(tmp_path / "box_mm.stl", 1000.0)
+    grasps = tmp_path / "g.npz"
+    np.savez(grasps, object_T_grasp=np.eye(4)[None])
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1])}
+    command = [sys.executable, "-m", "simgrasp", "label-grasps", str(path), "--grasps", str(grasps)]
+    done = subprocess.run(command, capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert done.returncode == 2
+    assert len(done.stderr.strip().splitlines()) == 1
+    assert "box_mm.stl" in done.stderr and "--units mm" in done.stderr
+
+
+def test_non_watertight_mesh_loads_with_hull_mass(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    box = trimesh.creation.box(BOX_M)
+    open_box = trimesh.Trimesh(box.vertices, box.faces[2:], process=False)
+    assert not open_box.is_watertight
+    open_box.export(tmp_path / "open.obj")
+    asset = load_object(str(tmp_path / "open.obj") + "?density=1000")
+    assert "not watertight" in capsys.readouterr().err
+    assert asset.mass == pytest.approx(1000.0 * np.prod(BOX_M), rel=1e-6)  # hull volume
+    assert not asset.mesh.is_watertight
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda p: p.write_text(""), "no triangles|cannot read"),
+        (
+            lambda p: trimesh.Trimesh(
+                [[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0]], [[0, 1, 2], [1, 3, 2]]
+            ).export(p),
+            "zero volume",
+        ),
+    ],
+    ids=["empty", "flat"],
+)
+def test_bad_meshes_fail_with_one_line(tmp_path: Path, make, message: str) -> None:
+    path = tmp_path / "bad.obj"
+    make(path)
+    with pytest.raises(SimgraspError, match=message):
+        load_object(str(path))
+
+
+def test_too_many_loose_parts(tmp_path: Path) -> None:
+    grid = np.stack(np.meshgrid(*[np.arange(11)] * 3), -1).reshape(-1, 3)[:1001] * 0.003
+    parts = [trimesh.creation.box((0.002, 0.002, 0.002)).apply_translation(p) for p in grid]
+    trimesh.util.concatenate(parts).export(tmp_path / "soup.stl")
+    with pytest.raises(SimgraspError, match="1001 loose parts"):
+        load_object(str(tmp_path / "soup.stl"))
+
+
+def test_catalog_and_handle_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    _box_file(tmp_path / "crate.stl", 100.0)  # in cm
+    handles = {
+        "objects": {
+            "crate": {
+                "regions": [
+                    {"type": "box", "center": [0, 0, 0.04], "half_extents": [0.03, 0.04, 0.02]}
+                ]
+            }
+        }
+    }
+    (tmp_path / "handles.json").write_text(json.dumps(handles))
+    (tmp_path / "objects.toml").write_text(
+        '[my_crate]\nmesh = "crate.stl"\nunits = "cm"\nmass = 0.5\nfriction = 0.6\n'
+        'handles = "handles.json"\n'
+    )
+    monkeypatch.setenv("SIMGRASP_OBJECTS", str(tmp_path / "objects.toml"))
+    asset = load_object("my_crate")
+    assert np.allclose(asset.mesh.extents, BOX_M)
+    assert (asset.mass, asset.friction) == (0.5, 0.6)
+    assert asset.handle.contains([[0, 0, 0.045], [0, 0, -0.045]]).tolist() == [True, False]
