@@ -23,6 +23,7 @@ from scipy.cluster.hierarchy import fcluster, linkage
 from scipy.spatial import cKDTree
 
 from simgrasp.assets.labels import Box, HandleLabel
+from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
@@ -38,42 +39,32 @@ def _label_detector() -> QuadricDetectorConfig:
 
 
 @dataclass(frozen=True)
-class AutoLabelConfig:
+class AutoLabelConfig(Checked):
     """Settings of :func:`auto_handle_label` (lengths in meters)."""
 
     scan: ScanConfig = field(default_factory=ScanConfig)
     detector: QuadricDetectorConfig = field(default_factory=_label_detector)
-    max_width: float = 0.04
+    max_width: Positive = 0.04
     """Candidates wider than this (the detector's grasp width) are the object's body."""
-    max_flatness: float = 2.0
+    max_flatness: Positive = 2.0
     """Candidates whose larger transverse semi-axis exceeds this many times the smaller are
     flat (a blade, a wall) and are dropped."""
-    cluster_distance: float = 0.006
+    cluster_distance: Positive = 0.006
     """Single-linkage distance joining kept candidate centers into one part."""
-    min_views: int = 3
+    min_views: PositiveInt = 3
     """A part must be found in at least this many views."""
-    min_candidates: int = 10
+    min_candidates: PositiveInt = 10
     """A part needs at least this many candidates ..."""
-    min_relative_support: float = 0.5
+    min_relative_support: Fraction = 0.5
     """... and at least this share of the best part's candidates."""
-    region_radius: float = 0.01
+    region_radius: Positive = 0.01
     """Scanned surface points within this distance of a part's candidates are its surface."""
-    segments: int = 3
+    segments: PositiveInt = 3
     """Boxes per part: its surface split into this many slabs along its main axis."""
-    margin: float = 0.002
+    margin: NonNegative = 0.002
     """Each box is grown by this much."""
     seed: int = 0
     """Seeds the detector's neighborhood sampling (view k uses seed + k)."""
-
-    def __post_init__(self) -> None:
-        positive = ("max_width", "max_flatness", "cluster_distance", "region_radius")
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise SimgraspError(f"auto label: {name} must be positive")
-        if self.min_views < 1 or self.min_candidates < 1 or self.segments < 1:
-            raise SimgraspError("auto label: min_views, min_candidates, segments must be >= 1")
-        if not 0 <= self.min_relative_support <= 1 or self.margin < 0:
-            raise SimgraspError("auto label: need 0 <= min_relative_support <= 1, margin >= 0")
 
 
 @dataclass(frozen=True)

@@ -9,32 +9,26 @@ toward the sensor. Everything is in the mesh's own frame, meters.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from simgrasp.config.checks import Checked, Positive, PositiveInt, Range
 from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True)
-class ScanConfig:
+class ScanConfig(Checked):
     """How the mesh is scanned."""
 
-    views: int = 24
+    views: PositiveInt = 24
     """Scan directions, spread evenly over the sphere (Fibonacci lattice)."""
-    resolution: float = 0.001
+    resolution: Positive = 0.001
     """Spacing of the ray grid (m) on the mesh ..."""
-    max_rays_per_side: int = 400
+    max_rays_per_side: Annotated[int, Range(ge=2)] = 400
     """... coarsened so a side of the grid has at most this many rays (large meshes)."""
-
-    def __post_init__(self) -> None:
-        if self.views < 1 or self.max_rays_per_side < 2 or not self.resolution > 0:
-            raise SimgraspError(
-                "scan config: need views >= 1, max_rays_per_side >= 2 and resolution > 0, got "
-                f"{self.views}, {self.max_rays_per_side}, {self.resolution}"
-            )
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.errors import SimgraspError
+from simgrasp.config.checks import Checked, NonNegative, Positive, PositiveInt
 from simgrasp.transforms import make_transform
 
 if TYPE_CHECKING:
@@ -32,26 +32,19 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True)
-class ShakeConfig:
+class ShakeConfig(Checked):
     """The shaking motion about the TCP after the close (m, rad, Hz, s)."""
 
-    linear_amplitude: float = 0.03
+    linear_amplitude: NonNegative = 0.03
     """Peak displacement along the approach (TCP z), m."""
-    angular_amplitude: float = 0.15
+    angular_amplitude: NonNegative = 0.15
     """Peak rotation about the closing axis (TCP y), rad."""
-    frequency: float = 2.0
+    frequency: Positive = 2.0
     """Shaking frequency (Hz) of both motions."""
-    cycles: int = 2
+    cycles: PositiveInt = 2
     """Sine cycles of each motion."""
-    score_scale: float = 0.01
+    score_scale: Positive = 0.01
     """Motion (m) at which the score is 1/2."""
-
-    def __post_init__(self) -> None:
-        for name in ("linear_amplitude", "angular_amplitude", "frequency", "score_scale"):
-            if not getattr(self, name) >= 0 or not math.isfinite(getattr(self, name)):
-                raise SimgraspError(f"ShakeConfig.{name} must be >= 0, got {getattr(self, name)}")
-        if self.frequency <= 0 or self.score_scale <= 0 or self.cycles < 1:
-            raise SimgraspError("ShakeConfig.frequency and score_scale > 0, cycles >= 1")
 
 
 def _axis_angle(axis: int, angle: float) -> NDArray[np.float64]:
