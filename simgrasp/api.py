@@ -69,7 +69,7 @@ def detect_handles(
 
 
 def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> ObjectModel:
-    from simgrasp.assets.model import ObjectModel, build_object_model
+    from simgrasp.assets.model import ObjectModel, build_object_model, model_for
     from simgrasp.assets.object import ObjectAsset
 
     if isinstance(obj, ObjectModel):
@@ -77,7 +77,7 @@ def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> Object
     if isinstance(obj, ObjectAsset):
         return build_object_model(obj)
     if isinstance(obj, str | os.PathLike):
-        return build_object_model(load_object(obj, ycb_dir=ycb_dir))
+        return model_for(os.fspath(obj), None if ycb_dir is None else os.fspath(ycb_dir))
     raise SimgraspError(
         f"object must be a name, a path, an ObjectAsset or an ObjectModel, got {type(obj)}"
     )
