@@ -1,6 +1,7 @@
-"""``simgrasp view PATH``: an interactive 3D view of a ``label-grasps`` output folder, served
-on localhost (``--port``) or written as one self-contained HTML file (``--export``) that opens
-offline: plotly.js is inlined, no request leaves the page.
+"""``simgrasp view PATH``: an interactive 3D view of what simgrasp wrote (the kinds of PATH:
+:mod:`simgrasp.viewer.kinds`), served on localhost (``--port``) or written as one
+self-contained HTML file (``--export``) that opens offline: plotly.js is inlined, no request
+leaves the page.
 """
 
 from __future__ import annotations
@@ -10,13 +11,13 @@ from pathlib import Path
 
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
-from simgrasp.errors import SimgraspError
 
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
     path: Path = setting(positional=True, metavar="PATH")
-    """A label-grasps output folder (run.json, labels.jsonl)."""
+    """A label-grasps output folder (run.json, labels.jsonl) or a trial record (trial
+    --record --json > t.json)."""
     port: int = 8000
     """Port of the local server (bound to 127.0.0.1 only)."""
     export: Path | None = None
@@ -24,18 +25,15 @@ class Options(YcbSource):
 
 
 def run(options: Options) -> int:
-    from simgrasp.viewer.grasp_page import grasp_page, is_label_dir
+    from simgrasp.viewer.kinds import kind_of
 
-    if not is_label_dir(options.path):
-        raise SimgraspError(
-            f"{options.path}: not a label-grasps output folder (run.json and labels.jsonl)"
-        )
+    page = kind_of(options.path).page(options.path, options.ycb_dir)  # bad input fails here
     if options.export is not None:
         options.export.parent.mkdir(parents=True, exist_ok=True)
-        options.export.write_text(grasp_page(options.path, options.ycb_dir))
+        options.export.write_text(page)
         print(f"{options.export} ({options.export.stat().st_size / 1e6:.1f} MB)")
         return 0
     from simgrasp.viewer.server import serve
 
-    serve(lambda: grasp_page(options.path, options.ycb_dir), options.port)
+    serve(lambda: page, options.port)
     return 0

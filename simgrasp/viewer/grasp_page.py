@@ -32,10 +32,6 @@ RECORD_FIELDS = (
 """The fields of a label record shown on click (contact points and timings left out)."""
 
 
-def is_label_dir(path: Path) -> bool:
-    return path.is_dir() and (path / "run.json").is_file() and (path / "labels.jsonl").is_file()
-
-
 def read_labels(path: Path) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     """``run.json`` and the drawable label records of a label-grasps folder."""
     run = json.loads((path / "run.json").read_text())

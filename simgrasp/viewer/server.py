@@ -8,7 +8,7 @@ from collections.abc import Callable
 
 
 def serve(page: Callable[[], str], port: int) -> None:
-    """Serve ``page()`` (built on each request to ``/``) at ``http://127.0.0.1:PORT/`` until
+    """Serve ``page()`` (called on each request to ``/``) at ``http://127.0.0.1:PORT/`` until
     interrupted."""
 
     class Handler(http.server.BaseHTTPRequestHandler):

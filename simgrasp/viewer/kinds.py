@@ -1,0 +1,67 @@
+"""What kind of PATH ``simgrasp view`` was given, and the page builder of each kind.
+
+One :class:`Kind` per page: a cheap test of the path (no plotly, no MuJoCo) and the function
+that builds the page's HTML. Adding a kind of page is one row of :data:`KINDS`.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from simgrasp.errors import SimgraspError
+
+
+@dataclass(frozen=True)
+class Kind:
+    """One kind of PATH: ``what`` it is (for the error listing the kinds), ``matches`` the
+    test of a path, ``page`` the builder (``page(path, ycb_dir) -> HTML``)."""
+
+    what: str
+    matches: Callable[[Path], bool]
+    page: Callable[[Path, str | None], str]
+
+
+def is_label_dir(path: Path) -> bool:
+    return path.is_dir() and (path / "run.json").is_file() and (path / "labels.jsonl").is_file()
+
+
+def is_trial_record(path: Path) -> bool:
+    """A ``trial --json`` output: one JSON object naming its object, gripper and failure."""
+    if not (path.is_file() and path.suffix.lower() == ".json"):
+        return False
+    try:
+        record = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError):
+        return False
+    return isinstance(record, dict) and {"object", "gripper", "failure"} <= record.keys()
+
+
+def _grasp_page(path: Path, ycb_dir: str | None) -> str:
+    from simgrasp.viewer.grasp_page import grasp_page
+
+    return grasp_page(path, ycb_dir)
+
+
+def _trial_page(path: Path, ycb_dir: str | None) -> str:
+    from simgrasp.viewer.trial_page import trial_page
+
+    return trial_page(path, ycb_dir)
+
+
+KINDS = (
+    Kind("a label-grasps output folder (run.json, labels.jsonl)", is_label_dir, _grasp_page),
+    Kind("a trial record (trial --record --json > t.json)", is_trial_record, _trial_page),
+)
+"""Every kind of PATH, tried in order."""
+
+
+def kind_of(path: Path) -> Kind:
+    """The kind of ``path``; a one-line error listing the kinds accepted when none matches."""
+    for kind in KINDS:
+        if kind.matches(path):
+            return kind
+    accepted = "; ".join(kind.what for kind in KINDS)
+    raise SimgraspError(f"{path}: not a path simgrasp view shows; it shows {accepted}")
