@@ -32,9 +32,9 @@ function placed(body, pose, shift) {
   }
   return [x, y, z];
 }
-function phaseAt(phases, t) {
+function phaseAt(phases, t, rate) {  // a phase starting within half a frame of t is on
   let name = phases.length ? phases[0].name : '';
-  phases.forEach(p => { if (t >= p.t) name = p.name; });
+  phases.forEach(p => { if (t + 0.5 / rate >= p.t) name = p.name; });
   return name;
 }
 whenDrawn(gd => {
@@ -60,7 +60,7 @@ whenDrawn(gd => {
       xs.push(x); ys.push(y); zs.push(z);
     });
     Plotly.restyle(gd, {x: xs, y: ys, z: zs}, bodies.map(b => b.index));
-    const t = replay.t[k], phase = phaseAt(replay.phases, t);
+    const t = replay.t[k], phase = phaseAt(replay.phases, t, data.rate_hz);
     slider.value = k;
     document.getElementById('time').textContent = 't = ' + t.toFixed(2) + ' s';
     document.getElementById('phase').textContent = phase;

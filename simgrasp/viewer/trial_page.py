@@ -80,10 +80,10 @@ def gripper_mesh(geometry: GripperGeometry) -> tuple[trimesh.Trimesh, NDArray[np
         )
         for side in (-1, 1)
     ]
-    sides = np.concatenate(
-        [np.zeros(len(palm.vertices)), -np.ones(8), np.ones(8)]
-    ).astype(np.int8)
-    return trimesh.util.concatenate([palm, *fingers]), sides
+    sides = np.concatenate([np.zeros(len(palm.vertices)), -np.ones(8), np.ones(8)]).astype(np.int8)
+    boxes = trimesh.util.concatenate([palm, *fingers])
+    assert isinstance(boxes, trimesh.Trimesh)
+    return boxes, sides
 
 
 def scene_ranges(record: dict[str, Any], radius: float) -> dict[str, list[float]]:
@@ -99,12 +99,12 @@ def scene_ranges(record: dict[str, Any], radius: float) -> dict[str, list[float]
 
 
 def table_trace(record: dict[str, Any]) -> go.Mesh3d:
-    """The piece of the table box under the object's start (world frame)."""
+    """The top 1 cm of the table box, the piece under the object's start (world frame)."""
     table = record["replay"]["table"]
     center, half = np.array(table["center"]), np.array(table["half_size"])
     start = np.array(record["replay"]["object_pose"][0][:3])
     cut = np.minimum(half[:2], TABLE_HALF)
-    low = np.array([*(start[:2] - cut), center[2] - half[2]])
+    low = np.array([*(start[:2] - cut), center[2] + half[2] - 0.01])
     high = np.array([*(start[:2] + cut), center[2] + half[2]])
     return mesh_trace(box_vertices(low, high), name="table", color="#c8b48c")
 
@@ -113,7 +113,9 @@ def trial_figure(record: dict[str, Any], asset: Any) -> tuple[go.Figure, NDArray
     """The figure (table, object, handle label, gripper, TCP path) and the gripper vertices'
     sides; the moving traces in their own frames (module docstring)."""
     replay = record["replay"]
-    geometry = GripperGeometry(**{**replay["gripper"], "palm_size": tuple(replay["gripper"]["palm_size"])})
+    geometry = GripperGeometry(
+        **{**replay["gripper"], "palm_size": tuple(replay["gripper"]["palm_size"])}
+    )
     gripper, sides = gripper_mesh(geometry)
     figure = go.Figure([table_trace(record)])
     figure.add_trace(mesh_trace(asset.mesh, name=asset.name, meta={"body": "object"}))
@@ -163,7 +165,9 @@ def _side_panel(record: dict[str, Any]) -> str:
         f'<div style="position:relative;height:14px">{markers}</div>'
         '<p>phase: <b id="phase"></b></p>'
         "<h4>phases</h4>"
-        + table_html(["phase", "from (s)"], [[p["name"], f"{p['t']:.2f}"] for p in replay["phases"]])
+        + table_html(
+            ["phase", "from (s)"], [[p["name"], f"{p['t']:.2f}"] for p in replay["phases"]]
+        )
         + "<h4>trial record</h4>"
         + table_html(["field", "value"], rows)
     )
