@@ -68,3 +68,20 @@ def test_trial_page_replays_with_slider_and_phases(browser, trial_page):  # noqa
     browser.execute_script("window.showFrame(Math.round(arguments[0] / 2))", last)
     time.sleep(0.5)
     assert browser.find_element("id", "phase").text in ("lift and hold", "perturb")
+
+
+def test_trial_page_of_a_ycb_object(browser, ycb_dir, tmp_path):  # noqa: F811
+    """A YCB object's trial page (built locally, never committed) loads and draws its mesh."""
+    record = _simgrasp("trial", "025_mug", "--ycb-dir", ycb_dir, "--record", "--json", cwd=tmp_path)
+    (tmp_path / "t.json").write_text(record)
+    _simgrasp("view", "t.json", "--ycb-dir", ycb_dir, "--export", "t.html", cwd=tmp_path)
+    image = _open(browser, tmp_path / "t.html")
+    assert [e for e in browser.get_log("browser") if e["level"] == "SEVERE"] == []
+    assert (~(image == 255).all(axis=2)).mean() > 0.05
+    vertices = browser.execute_script(
+        "return document.getElementById('scene').data.find(t => t.meta && "
+        "t.meta.body === 'object').x.length"
+    )
+    assert vertices > 1000  # the scanned mesh, not a stand-in
+    browser.execute_script("window.showFrame(1e9)")
+    assert browser.find_element("id", "phase").text == "done"
