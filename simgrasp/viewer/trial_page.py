@@ -7,7 +7,9 @@ object's in its mesh frame, the gripper's in its TCP frame, trace ``meta.body`` 
 replay sends per frame only the object's pose, the TCP's pose and the jaw opening, and the
 page's script (:mod:`simgrasp.viewer.replay_script`) places the vertices. The gripper is drawn
 as its planning geometry (:class:`~simgrasp.grippers.geometry.GripperGeometry`): a palm box and
-two finger boxes whose inner faces sit ``opening / 2`` either side of the TCP along its +y.
+two finger boxes whose inner faces sit ``opening / 2`` either side of the TCP along its +y:
+exactly the built-in gripper's model boxes (``tests/test_trial_page.py``), the boxes the
+planner checks for the Robotiq and the Franka hand (simplified, their meshes are not drawn).
 """
 
 from __future__ import annotations
