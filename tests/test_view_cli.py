@@ -76,4 +76,8 @@ def test_view_refuses_what_it_cannot_show(trial_record, tmp_path):
     plain = _simgrasp("view", "plain.json", "--export", "x.html", cwd=tmp_path, check=False)
     assert plain.returncode == 2 and len(plain.stderr.strip().splitlines()) == 1
     assert "rerun the trial with --record" in plain.stderr
+    record["replay"], record["failure"] = None, "no_grasp"  # the chain found no grasp
+    (tmp_path / "none.json").write_text(json.dumps(record))
+    none = _simgrasp("view", "none.json", "--export", "x.html", cwd=tmp_path, check=False)
+    assert none.returncode == 2 and "nothing to replay" in none.stderr
     assert not (tmp_path / "x.html").exists()
