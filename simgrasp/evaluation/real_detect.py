@@ -39,6 +39,7 @@ NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "standoff": SingleViewConfig,
     "standoff_axis": lambda: SingleViewConfig(anchor="axis"),
     "standoff_measured": lambda: SingleViewConfig(anchor="consistent", min_width_spacings=2.0),
+    "learned": lambda: SingleViewConfig(anchor="consistent", classifier=True),
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name."""
 

@@ -17,11 +17,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.handles.candidate_features import TreeClassifier, candidate_features
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection
 from simgrasp.handles.quadric_detector import detect_quadric_handles
 from simgrasp.handles.standoff import StandoffConfig, standoff_mask
+from simgrasp.resources import model_path
 
 
 def _single_view_quadric() -> QuadricDetectorConfig:
@@ -49,6 +51,12 @@ class SingleViewConfig:
     """Candidates fitted narrower than this many measured point spacings are dropped: a fit
     narrower than the sampling resolves (a rim's 2-5 mm edge in 3 mm voxels) is not a part a
     finger pair can be placed across. 0: no limit."""
+    classifier: bool = False
+    """Replace the standoff test by the shipped classifier over candidate features
+    (:mod:`simgrasp.handles.candidate_features`, ``models/handles/candidate_classifier.json``,
+    trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
+    classifier_threshold: float = 0.5
+    """With ``classifier``: the least probability of being on a handle a candidate needs."""
 
 
 def point_spacing(points: NDArray[np.float64]) -> float:
@@ -74,24 +82,48 @@ def _anchors(
     return np.where(consistent[:, None], axis, surface)
 
 
+def single_view_candidates(
+    points: ArrayLike, config: SingleViewConfig, seed: int, eye: NDArray[np.float64]
+) -> tuple[Detection, NDArray[np.float64], float]:
+    """The quadric detector's candidates before any standoff or classifier test, the
+    down-sampled cloud they were found in and its measured point spacing (m)."""
+    quadric = replace(config.quadric, min_relative_score=0.0)
+    raw = detect_quadric_handles(points, None, quadric, seed, viewpoint=eye)
+    cloud = raw.points if raw.points is not None else np.asarray(points, dtype=float)
+    return raw, cloud, point_spacing(cloud)
+
+
+def _keep(
+    candidates: tuple[Candidate, ...],
+    cloud: NDArray[np.float64],
+    eye: NDArray[np.float64],
+    spacing: float,
+    config: SingleViewConfig,
+) -> NDArray[np.bool_]:
+    """Which candidates pass: the standoff test, or with ``classifier`` the shipped model."""
+    standoff = config.standoff
+    if config.min_width_spacings > 0:
+        floor = max(standoff.min_width, config.min_width_spacings * spacing)
+        standoff = replace(standoff, min_width=floor)
+    opening = config.quadric.gripper_max_opening
+    if not config.classifier:
+        return standoff_mask(candidates, cloud, eye, opening, standoff)
+    model = TreeClassifier.read(model_path("handles", "candidate_classifier.json"))
+    features = candidate_features(candidates, cloud, eye, spacing, standoff)
+    fits = np.array([c.width <= opening - 2 * standoff.gap for c in candidates])
+    return fits & (model.probability(features) >= config.classifier_threshold)
+
+
 def detect_single_view(
     points: ArrayLike, config: SingleViewConfig, seed: int, viewpoint: ArrayLike
 ) -> Detection:
     """Handles in one object's single-view ``points`` (N, 3, m) seen from ``viewpoint``."""
     quadric = config.quadric
     eye = np.asarray(viewpoint, dtype=float)
-    raw = detect_quadric_handles(
-        points, None, replace(quadric, min_relative_score=0.0), seed, viewpoint=eye
-    )
+    raw, cloud, spacing = single_view_candidates(points, config, seed, eye)
     if not raw.candidates:
         return raw
-    cloud = raw.points if raw.points is not None else np.asarray(points, dtype=float)
-    spacing = point_spacing(cloud)
-    standoff = config.standoff
-    if config.min_width_spacings > 0:
-        floor = max(standoff.min_width, config.min_width_spacings * spacing)
-        standoff = replace(standoff, min_width=floor)
-    keep = standoff_mask(raw.candidates, cloud, eye, quadric.gripper_max_opening, standoff)
+    keep = _keep(raw.candidates, cloud, eye, spacing, config)
     kept = tuple(c for c, k in zip(raw.candidates, keep, strict=True) if k)
     if not kept:
         return replace(raw, candidates=(), handles=())
