@@ -39,7 +39,9 @@ NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "standoff": SingleViewConfig,
     "standoff_axis": lambda: SingleViewConfig(anchor="axis"),
     "standoff_measured": lambda: SingleViewConfig(anchor="consistent", min_width_spacings=2.0),
-    "learned": lambda: SingleViewConfig(anchor="consistent", classifier=True),
+    "learned": lambda: SingleViewConfig(
+        anchor="consistent", classifier=True, classifier_threshold=0.6
+    ),
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name."""
 
