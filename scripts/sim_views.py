@@ -25,6 +25,8 @@ CONFIGS = (
     "real_depth",
     "standoff",
     "standoff_axis",
+    "standoff_measured",
+    "learned",
 )
 VIEWS = {
     "gpd_table_mug": (

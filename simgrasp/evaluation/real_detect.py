@@ -37,7 +37,11 @@ NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "real_depth": QuadricDetectorConfig.real_depth,
     "tenpas": TenPasConfig,
     "standoff": SingleViewConfig,
-    "standoff_axis": lambda: SingleViewConfig(surface_anchor=False),
+    "standoff_axis": lambda: SingleViewConfig(anchor="axis"),
+    "standoff_measured": lambda: SingleViewConfig(anchor="consistent", min_width_spacings=2.0),
+    "learned": lambda: SingleViewConfig(
+        anchor="consistent", classifier=True, classifier_threshold=0.6
+    ),
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name."""
 

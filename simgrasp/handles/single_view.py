@@ -1,20 +1,29 @@
 """Handle detection on a single-view cloud with the standoff test
 (:mod:`simgrasp.handles.standoff`): the quadric detector's candidates, those without free
 space for the fingers on both sides (as the sensor sees them) dropped, the rest clustered and
-ranked as the detector does (support, centrality, jaw clearance)."""
+ranked as the detector does (support, centrality, jaw clearance).
+
+What differs between captures is measured from the cloud, not chosen: the point spacing
+(median nearest-neighbor distance after down-sampling) sets the narrowest fit the data
+resolve (``min_width_spacings``), and each candidate's own geometry says whether its fitted
+axis can be trusted as the handle's center (``anchor="consistent"``)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
 
+from simgrasp.handles.candidate_features import TreeClassifier, candidate_features
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.detection import Candidate, Detection
 from simgrasp.handles.quadric_detector import detect_quadric_handles
 from simgrasp.handles.standoff import StandoffConfig, standoff_mask
+from simgrasp.resources import model_path
 
 
 def _single_view_quadric() -> QuadricDetectorConfig:
@@ -29,10 +38,80 @@ class SingleViewConfig:
 
     quadric: QuadricDetectorConfig = field(default_factory=_single_view_quadric)
     standoff: StandoffConfig = field(default_factory=StandoffConfig)
-    surface_anchor: bool = True
-    """Take handle centers from the candidates' seen surface points, not their fitted axes:
-    a one-sided view leaves a thin part's fitted axis up to centimeters off the part (a
-    knife's handle seen from above)."""
+    anchor: Literal["surface", "axis", "consistent"] = "surface"
+    """Where handle centers are taken: ``"surface"``, the candidates' seen surface points (a
+    one-sided view leaves a thin part's fitted axis up to centimeters off the part, a
+    knife's handle seen from above); ``"axis"``, their fitted axes; ``"consistent"``, the
+    axis where it lies within ``axis_slack`` of half the fitted width (plus one point
+    spacing) from the seen surface point, else the surface point."""
+    axis_slack: float = 1.5
+    """With ``anchor="consistent"``: allowed ratio of the surface-to-axis distance to half the
+    fitted width."""
+    min_width_spacings: float = 0.0
+    """Candidates fitted narrower than this many measured point spacings are dropped: a fit
+    narrower than the sampling resolves (a rim's 2-5 mm edge in 3 mm voxels) is not a part a
+    finger pair can be placed across. 0: no limit."""
+    classifier: bool = False
+    """Replace the standoff test by the shipped classifier over candidate features
+    (:mod:`simgrasp.handles.candidate_features`, ``models/handles/candidate_classifier.json``,
+    trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
+    classifier_threshold: float = 0.5
+    """With ``classifier``: the least probability of being on a handle a candidate needs."""
+
+
+def point_spacing(points: NDArray[np.float64]) -> float:
+    """The cloud's median nearest-neighbor distance (m)."""
+    if len(points) < 2:
+        return 0.0
+    distances, _ = cKDTree(points).query(points, k=2)
+    return float(np.median(distances[:, 1]))
+
+
+def _anchors(
+    kept: tuple[Candidate, ...], config: SingleViewConfig, spacing: float
+) -> NDArray[np.float64] | None:
+    """(M, 3) handle-center anchors per :attr:`SingleViewConfig.anchor` (None: the axes)."""
+    if config.anchor == "axis":
+        return None
+    surface = np.stack([c.center for c in kept])
+    if config.anchor == "surface":
+        return surface
+    axis = np.stack([c.handle_point for c in kept])
+    reach = config.axis_slack * np.array([c.width / 2 for c in kept]) + spacing
+    consistent = np.linalg.norm(axis - surface, axis=1) <= reach
+    return np.where(consistent[:, None], axis, surface)
+
+
+def single_view_candidates(
+    points: ArrayLike, config: SingleViewConfig, seed: int, eye: NDArray[np.float64]
+) -> tuple[Detection, NDArray[np.float64], float]:
+    """The quadric detector's candidates before any standoff or classifier test, the
+    down-sampled cloud they were found in and its measured point spacing (m)."""
+    quadric = replace(config.quadric, min_relative_score=0.0)
+    raw = detect_quadric_handles(points, None, quadric, seed, viewpoint=eye)
+    cloud = raw.points if raw.points is not None else np.asarray(points, dtype=float)
+    return raw, cloud, point_spacing(cloud)
+
+
+def _keep(
+    candidates: tuple[Candidate, ...],
+    cloud: NDArray[np.float64],
+    eye: NDArray[np.float64],
+    spacing: float,
+    config: SingleViewConfig,
+) -> NDArray[np.bool_]:
+    """Which candidates pass: the standoff test, or with ``classifier`` the shipped model."""
+    standoff = config.standoff
+    if config.min_width_spacings > 0:
+        floor = max(standoff.min_width, config.min_width_spacings * spacing)
+        standoff = replace(standoff, min_width=floor)
+    opening = config.quadric.gripper_max_opening
+    if not config.classifier:
+        return standoff_mask(candidates, cloud, eye, opening, standoff)
+    model = TreeClassifier.read(model_path("handles", "candidate_classifier.json"))
+    features = candidate_features(candidates, cloud, eye, spacing, standoff)
+    fits = np.array([c.width <= opening - 2 * standoff.gap for c in candidates])
+    return fits & (model.probability(features) >= config.classifier_threshold)
 
 
 def detect_single_view(
@@ -41,13 +120,10 @@ def detect_single_view(
     """Handles in one object's single-view ``points`` (N, 3, m) seen from ``viewpoint``."""
     quadric = config.quadric
     eye = np.asarray(viewpoint, dtype=float)
-    raw = detect_quadric_handles(
-        points, None, replace(quadric, min_relative_score=0.0), seed, viewpoint=eye
-    )
+    raw, cloud, spacing = single_view_candidates(points, config, seed, eye)
     if not raw.candidates:
         return raw
-    cloud = raw.points if raw.points is not None else np.asarray(points, dtype=float)
-    keep = standoff_mask(raw.candidates, cloud, eye, quadric.gripper_max_opening, config.standoff)
+    keep = _keep(raw.candidates, cloud, eye, spacing, config)
     kept = tuple(c for c, k in zip(raw.candidates, keep, strict=True) if k)
     if not kept:
         return replace(raw, candidates=(), handles=())
@@ -63,7 +139,7 @@ def detect_single_view(
         centrality_length=max(quadric.centrality_min_length, quadric.centrality_scale * rms),
         max_opening=quadric.gripper_max_opening if quadric.prefer_clearance else None,
         min_relative_score=quadric.min_relative_score,
-        anchors=np.stack([c.center for c in kept]) if config.surface_anchor else None,
+        anchors=_anchors(kept, config, spacing),
     )
     supporting = sorted({int(i) for m in members for i in m})
     return replace(raw, candidates=tuple(kept[i] for i in supporting), handles=handles)

@@ -45,6 +45,39 @@ class StandoffConfig:
     """Candidates whose axis is this close to the ray (|cos|) are seen end-on: not tested."""
 
 
+def slot_shares(
+    near: NDArray[np.float64],
+    candidate: Candidate,
+    eye: NDArray[np.float64],
+    config: StandoffConfig,
+) -> tuple[float, float]:
+    """The shares of the strip's ``near`` points in the finger slot on each side of
+    ``candidate`` (0, 0 when the axis is seen end-on or the strip is empty)."""
+    center = candidate.handle_point
+    ray = center - eye
+    ray /= np.linalg.norm(ray)
+    axis = candidate.axis / np.linalg.norm(candidate.axis)
+    if abs(axis @ ray) > config.max_axis_cosine:
+        return 0.0, 0.0
+    across = np.cross(ray, axis)
+    across /= np.linalg.norm(across)
+    offset = near - center
+    strip = np.abs(offset @ axis) <= config.half_length
+    if not strip.any():
+        return 0.0, 0.0
+    side = offset[strip] @ across
+    depth = offset[strip] @ ray
+    inner = candidate.width / 2 + config.gap
+    in_reach = depth <= candidate.width / 2 + config.depth_margin
+    count = int(strip.sum())
+    low, high = (
+        float((in_reach & (sign * side >= inner) & (sign * side <= inner + config.finger)).sum())
+        / count
+        for sign in (-1.0, 1.0)
+    )
+    return low, high
+
+
 def _blocked(
     near: NDArray[np.float64],
     candidate: Candidate,
@@ -52,28 +85,7 @@ def _blocked(
     config: StandoffConfig,
 ) -> bool:
     """Whether a finger slot beside ``candidate`` holds too many of the ``near`` points."""
-    center = candidate.handle_point
-    ray = center - eye
-    ray /= np.linalg.norm(ray)
-    axis = candidate.axis / np.linalg.norm(candidate.axis)
-    if abs(axis @ ray) > config.max_axis_cosine:
-        return False
-    across = np.cross(ray, axis)
-    across /= np.linalg.norm(across)
-    offset = near - center
-    strip = np.abs(offset @ axis) <= config.half_length
-    if not strip.any():
-        return False
-    side = offset[strip] @ across
-    depth = offset[strip] @ ray
-    inner = candidate.width / 2 + config.gap
-    in_reach = depth <= candidate.width / 2 + config.depth_margin
-    count = int(strip.sum())
-    for sign in (-1.0, 1.0):
-        slot = in_reach & (sign * side >= inner) & (sign * side <= inner + config.finger)
-        if slot.sum() > config.max_blocked * count:
-            return True
-    return False
+    return max(slot_shares(near, candidate, eye, config)) > config.max_blocked
 
 
 def standoff_mask(

@@ -1,0 +1,91 @@
+"""Detection on the inputs the issue names: the default on a simulated single view (a
+generated hammer through the kinect model, no data needed), a real osd-learn scene through
+``detect --segment`` scored against our tab label (needs the real scenes), and the candidate
+features of the single-view classifier on synthetic geometry."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from simgrasp.assets.real import default_real_dir
+from simgrasp.assets.scene_labels import load_scene_labels
+from simgrasp.cli import main
+from simgrasp.evaluation.sim_views import SimView, score_view
+from simgrasp.handles.candidate_features import FEATURES, TreeClassifier, candidate_features
+from simgrasp.handles.detection import Candidate
+from simgrasp.quadric.quadric import Quadric
+from simgrasp.resources import model_path
+
+
+def test_the_default_on_a_simulated_single_view_holds_the_hammer_by_its_handle() -> None:
+    """One kinect view of the generated hammer from 0.6 m, 45 degrees up, with exact labels:
+    the default detector (no preset) puts its top handle and nearly all candidates on the
+    handle (measured 139 of 144 candidates, seed 0)."""
+    view = SimView("gen_hammer", "upright", 0.6, 45.0, "kinect")
+    row = score_view(view, "default", 0)
+    assert row.top_on_handle
+    assert row.on_handle >= 0.9 * row.candidates > 20
+
+
+@pytest.mark.real
+def test_detect_segment_on_a_real_pot_scene_puts_the_top_handle_on_a_labeled_tab(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """learn36 through ``detect --segment`` with the committed pot settings
+    (docs/results/real-pots/real_depth.toml): among the handles of the object whose segment
+    (or part) is nearest the labeled tab (the pot), the top one lies in our tab label."""
+    scene = default_real_dir() / "osd-learn" / "learn36.pcd"
+    config = "docs/results/real-pots/real_depth.toml"
+    assert main(["detect", str(scene), "--segment", "--config", config, "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    label = load_scene_labels()["learn36"].label
+    tab = label.regions[0].center
+    objects = report["segmentation"]["objects"]
+    nearest = min(objects, key=lambda o: float(np.linalg.norm(np.subtract(o["center"], tab))))
+    on_pot = [h for h in report["handles"] if h["object"] == nearest["part_of"]]
+    assert on_pot, "no handle on the pot"
+    assert label.contains(np.array(on_pot[0]["center"])[None]).all()
+
+
+def _bar(width: float) -> Candidate:
+    """A cylinder of diameter ``width`` along x, its axis 0.5 m in front of the eye."""
+    coefficients = [0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.5, 0.25 - (width / 2) ** 2]
+    return Candidate(
+        center=np.array([0.0, 0.0, 0.5 - width / 2]),
+        quadric=Quadric(np.array(coefficients)),
+        kind="real elliptic cylinder",
+        axis=np.array([1.0, 0.0, 0.0]),
+        width=width,
+        handle_point=np.array([0.0, 0.0, 0.5]),
+    )
+
+
+def _patch(half_width: float, step: float = 0.002) -> np.ndarray:
+    x, y = np.meshgrid(np.arange(-0.05, 0.05, step), np.arange(-half_width, half_width, step))
+    return np.column_stack([x.ravel(), y.ravel(), np.full(x.size, 0.5)])
+
+
+def test_candidate_features_tell_a_slim_bar_from_a_wide_patch_and_the_model_reads() -> None:
+    eye = np.zeros(3)
+    bar, wide = (candidate_features((_bar(0.012),), _patch(h), eye, 0.002) for h in (0.006, 0.04))
+    assert bar.shape == wide.shape == (1, len(FEATURES))
+    slot = FEATURES.index("slot_max")
+    assert bar[0, slot] == 0.0 and wide[0, slot] > 0.1
+    assert bar[0, FEATURES.index("width_spacings")] == pytest.approx(6.0)
+    model = TreeClassifier.read(model_path("handles", "candidate_classifier.json"))
+    assert model.probability(bar)[0] > model.probability(wide)[0]
+
+
+@pytest.mark.real
+def test_the_learned_setting_holds_the_real_table_mug_by_its_handle(real_dir) -> None:  # noqa: ANN001
+    """On the held-out GPD mug (docs/results/real-detect: 1.00, 5 of 5 seeds; the default
+    0.24, 0 of 5), seed 0: a record of a measured figure, not a tuned one."""
+    from simgrasp.evaluation.real_detect import score_cloud
+    from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
+
+    (cloud,) = [c for c in read_manifest(None, real_dir) if c.name == "gpd_table_mug"]
+    row = score_cloud(cloud, load_real_cloud(cloud), "learned", 0)
+    assert row.top_on_handle and row.on_handle == row.candidates > 0
