@@ -1,0 +1,170 @@
+"""Physics variants of the ``acronym`` protocol measured on a small tune subset (issue 25).
+
+For each named tune-half file (``docs/results/acronym/halves.json``) it draws ``--per-class``
+FleX successes and as many FleX failures among the file's first 500 grasps (seeded, so every
+variant sees the same grasps), labels them with ``--protocol acronym --gripper franka_panda``
+as ``label-grasps`` does (one scene per file, the file's hand poses mapped to our TCP), once
+per variant, and prints accuracy and balanced accuracy against FleX's ``object_in_gripper``
+per category, with the failures of the FleX successes we drop and the count of FleX failures
+we hold. A variant changes one thing on the compiled model or the trial settings:
+
+- ``base``: the committed protocol;
+- ``mu<F>``: the fingers' sliding friction (the pads take priority over the object's 1.0);
+- ``tors<T>`` / ``condim3``: the fingers' torsional friction (m), or no torsion at all;
+- ``force<N>``: the jaws' force limit (N; it also slows their opening);
+- ``shake_big``: twice the shake (6 cm, 0.3 rad);
+- ``fine_hulls``: CoACD at threshold 0.05, up to 32 hulls, preprocess resolution 50.
+
+    python scripts/acronym_variants.py --variants base,mu0.3,condim3 --per-class 20
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import h5py
+import mujoco
+import numpy as np
+
+from simgrasp.assets.decompose import DecompositionConfig
+from simgrasp.assets.model import ObjectModel, build_object_model, model_for
+from simgrasp.assets.registry import load_object
+from simgrasp.grasping.labeling.grasp_files import carried_object, reference_labels
+from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP
+from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
+
+FIRST = 500
+"""The committed run labels each affordance file's first 500 grasps: the subset is drawn there."""
+DEFAULT_FILES = (
+    "Mug_1ea9ea99ac8ed233bf355ac8109b9988_0.00016407252808445613.h5",
+    "Mug_40f9a6cc6b2c3b3a78060a3a3a55e18f_0.0006670441940038386.h5",
+    "Mug_b7841572364fd9ce1249ffc39a0c3c0b_0.0003944227048461527.h5",
+    "Mug_cf777e14ca2c7a19b4aad3cc5ce7ee8_0.0014629281758254072.h5",
+    "Knife_38c843d1075bd351e652fa812161367_0.016712266939760273.h5",
+    "Knife_89e8bae10847eb8a8721ead1444fbb07_0.01976018915084059.h5",
+)
+FINGERS = ("gripper/left_finger", "gripper/right_finger")
+FINE_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=32, preprocess_resolution=50)
+Variant = Callable[[GraspLabeler], None]
+Row = tuple[str, bool, bool, str | None]
+"""(category, FleX success, our success, our failure)."""
+
+
+def _fingers(labeler: GraspLabeler, column: int, value: float, condim: int | None = None) -> None:
+    model = labeler.scene.model
+    for name in FINGERS:
+        geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+        if geom < 0:
+            raise SystemExit(f"no geom {name!r} in the scene")
+        model.geom_friction[geom, column] = value
+        if condim is not None:
+            model.geom_condim[geom] = condim
+
+
+def _force(labeler: GraspLabeler, newtons: float) -> None:
+    model = labeler.scene.model
+    model.actuator_forcerange[labeler.scene.gripper.actuator] = (-newtons, newtons)
+
+
+def _shake_big(labeler: GraspLabeler) -> None:
+    trial = labeler.trial_config
+    assert trial.shake is not None
+    shake = replace(trial.shake, linear_amplitude=0.06, angular_amplitude=0.3)
+    labeler.trial_config = replace(trial, shake=shake)
+
+
+def variant(name: str) -> Variant:
+    """The change ``name`` makes to a freshly built labeler (module docstring)."""
+    if name in ("base", "fine_hulls"):
+        return lambda labeler: None
+    if name == "shake_big":
+        return _shake_big
+    if name == "condim3":
+        return lambda labeler: _fingers(labeler, 1, 0.0, condim=3)
+    for prefix, apply in (
+        ("mu", lambda lab, v: _fingers(lab, 0, v)),
+        ("tors", lambda lab, v: _fingers(lab, 1, v)),
+        ("force", _force),
+    ):
+        if name.startswith(prefix):
+            value = float(name[len(prefix) :])
+            return lambda labeler, v=value, f=apply: f(labeler, v)  # type: ignore[misc]
+    raise SystemExit(f"unknown variant {name!r}")
+
+
+def subset(path: Path, per_class: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(indices, hand poses, FleX labels) of the seeded balanced draw among the first grasps."""
+    labels = reference_labels(path)
+    if labels is None:
+        raise SystemExit(f"{path} has no FleX labels")
+    flex = labels[0][:FIRST]
+    rng = np.random.default_rng(0)
+    chosen: list[int] = []
+    for cls in (True, False):
+        pool = np.flatnonzero(flex == cls)
+        chosen += list(rng.choice(pool, min(per_class, len(pool)), replace=False))
+    with h5py.File(path) as handle:
+        poses = np.asarray(handle["grasps/transforms"][()])
+    return np.array(chosen), poses, flex
+
+
+def label_variant(name: str, files: list[Path], per_class: int) -> list[Row]:
+    """Every subset grasp of ``files`` labeled under variant ``name``."""
+    change, rows = variant(name), []
+    for path in files:
+        indices, poses, flex = subset(path, per_class)
+        config = LabelConfig(carried_object(path) or "", gripper="franka_panda", protocol="acronym")
+        if name == "fine_hulls":
+            model: ObjectModel = build_object_model(load_object(config.object), FINE_HULLS)
+        else:
+            model = model_for(config.object)
+        labeler = GraspLabeler(model, config)
+        change(labeler)
+        for i in indices:
+            record = labeler.label(int(i), poses[i] @ FRANKA_T_TCP, float("nan"))
+            rows.append(
+                (path.name.split("_")[0], bool(flex[i]), bool(record["success"]), record["failure"])
+            )
+    return rows
+
+
+def summary(name: str, rows: list[Row]) -> str:
+    """One line: accuracy / balanced accuracy per category and overall, what we get wrong."""
+    parts = [name]
+    for category in ("Mug", "Knife", ""):
+        chosen = [r for r in rows if r[0].startswith(category)]
+        if not chosen:
+            continue
+        ref, ours = np.array([r[1] for r in chosen]), np.array([r[2] for r in chosen])
+        balanced = (np.mean(ours[ref]) + np.mean(~ours[~ref])) / 2
+        parts.append(f"{category or 'all'} {np.mean(ref == ours):.3f}/{balanced:.3f}")
+    dropped: Counter[Any] = Counter(r[3] for r in rows if r[1] and not r[2])
+    held = sum(1 for r in rows if not r[1] and r[2])
+    parts.append(f"FleX successes we fail: {dict(dropped)}; FleX failures we hold: {held}")
+    return " | ".join(parts)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    root = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym"))
+    parser.add_argument("--grasps", type=Path, default=root / "affordance" / "grasps")
+    parser.add_argument("--files", default=",".join(DEFAULT_FILES))
+    parser.add_argument("--variants", default="base")
+    parser.add_argument("--per-class", type=int, default=20)
+    args = parser.parse_args()
+    files = [args.grasps / name for name in args.files.split(",")]
+    missing = [str(f) for f in files if not f.is_file()]
+    if missing:
+        raise SystemExit(f"no such grasp file: {missing[0]} (set SIMGRASP_ACRONYM_DIR)")
+    for name in args.variants.split(","):
+        print(summary(name, label_variant(name, files, args.per_class)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
