@@ -5,7 +5,7 @@ its units; a cloud moved together with its JSON is found beside it by name. With
 the input records the segmentation settings too, and the scene is segmented again here (the
 same deterministic call) to color its points per segment; the objects found are checked
 against the recorded ones. Cloud frame, meters. Layers: the points (at most
-:data:`MAX_POINTS`, a seeded subsample, said so in the panel), the candidates (neighborhood
+:data:`MAX_POINTS`, a seeded subsample, the objects' points kept first; said so in the panel), the candidates (neighborhood
 centers, one marker trace per quadric kind, and their axes as short segments), the handles
 (the axis over the stretch its candidates cover, and the center marked with the score), and the
 segments; each has a check box, and so has each quadric kind.
@@ -96,17 +96,24 @@ def _scene_points(cloud: Path, report: dict[str, Any]) -> tuple[NDArray[np.float
     return scene.points.astype(np.float64), segmentation.labels
 
 
-def _subsample(count: int, limit: int = MAX_POINTS) -> NDArray[np.int64]:
-    if count <= limit:
-        return np.arange(count)
-    return np.sort(np.random.default_rng(0).choice(count, limit, replace=False))
+def _subsample(first: NDArray[np.bool_], limit: int = MAX_POINTS) -> NDArray[np.int64]:
+    """Indices of at most ``limit`` points, sorted: the ``first`` ones (the objects of a
+    scene) before the rest (its table), each drawn by a seeded subsample when too many."""
+    rng = np.random.default_rng(0)
+    chosen = []
+    for group in (np.flatnonzero(first), np.flatnonzero(~first)):
+        room = limit - sum(len(c) for c in chosen)
+        chosen.append(group if len(group) <= room else rng.choice(group, room, replace=False))
+    return np.sort(np.concatenate(chosen))
 
 
-def _points_trace(points: NDArray[np.float64], name: str, color: str, **extra: Any) -> go.Scatter3d:
+def _points_trace(
+    points: NDArray[np.float64], name: str, color: str, size: float = 1.6, **extra: Any
+) -> go.Scatter3d:
     p = points.astype(np.float32)
     return go.Scatter3d(
         x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers", name=name, hoverinfo="skip",
-        marker={"size": 1.6, "color": color}, **extra,
+        marker={"size": size, "color": color}, **extra,
     )  # fmt: skip
 
 
@@ -120,7 +127,8 @@ def point_traces(points: NDArray[np.float64], labels: Any) -> list[go.Scatter3d]
         color = TABLE_COLOR if label == 1 else SEGMENT_COLORS[(label - 2) % len(SEGMENT_COLORS)]
         name = "table" if label == 1 else f"object {label}"
         meta = filters_meta(layer="segments", segment=label)
-        traces.append(_points_trace(points[labels == label], name, color, meta=meta))
+        size = 1.2 if label == 1 else 2.5
+        traces.append(_points_trace(points[labels == label], name, color, size, meta=meta))
     return traces
 
 
@@ -198,7 +206,8 @@ def detect_page(path: Path) -> str:
     cloud = input_cloud(path, report)
     points, labels = _scene_points(cloud, report)
     finite = np.isfinite(points).all(axis=1)
-    chosen = _subsample(int(finite.sum()))
+    objects = np.zeros(int(finite.sum()), bool) if labels is None else labels[finite] >= 2
+    chosen = _subsample(objects)
     kept = points[finite][chosen]
     figure = go.Figure(point_traces(kept, None if labels is None else labels[finite][chosen]))
     figure.add_traces(candidate_traces(report["candidates"]))
