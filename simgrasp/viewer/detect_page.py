@@ -5,10 +5,11 @@ its units; a cloud moved together with its JSON is found beside it by name. With
 the input records the segmentation settings too, and the scene is segmented again here (the
 same deterministic call) to color its points per segment; the objects found are checked
 against the recorded ones. Cloud frame, meters. Layers: the points (at most
-:data:`MAX_POINTS`, a seeded subsample, the objects' points kept first; said so in the panel), the candidates (neighborhood
-centers, one marker trace per quadric kind, and their axes as short segments), the handles
-(the axis over the stretch its candidates cover, and the center marked with the score), and the
-segments; each has a check box, and so has each quadric kind.
+:data:`MAX_POINTS`, a seeded subsample keeping a scene's object points first; the panel says
+so), the candidates (neighborhood centers, one marker trace per quadric kind, and their axes
+as short segments), the handles (the axis over the stretch its candidates cover, and the
+center marked with the score), and the segments; each has a check box, and so has each
+quadric kind.
 """
 
 from __future__ import annotations
@@ -100,9 +101,9 @@ def _subsample(first: NDArray[np.bool_], limit: int = MAX_POINTS) -> NDArray[np.
     """Indices of at most ``limit`` points, sorted: the ``first`` ones (the objects of a
     scene) before the rest (its table), each drawn by a seeded subsample when too many."""
     rng = np.random.default_rng(0)
-    chosen = []
+    chosen: list[NDArray[np.int64]] = []
     for group in (np.flatnonzero(first), np.flatnonzero(~first)):
-        room = limit - sum(len(c) for c in chosen)
+        room = limit - int(sum(len(c) for c in chosen))
         chosen.append(group if len(group) <= room else rng.choice(group, room, replace=False))
     return np.sort(np.concatenate(chosen))
 
