@@ -175,7 +175,7 @@ def test_a_path_the_viewer_cannot_draw_is_one_line(case, tmp_path, capsys):
         expected = "no such file or folder"
     elif case == "other_folder":
         path.mkdir()
-        expected = "not a label-grasps folder"
+        expected = "not a path simgrasp view shows"
     elif case in ("old_json", "gone_cloud"):
         report = {"detector": "quadric", "handles": [], "candidates": [], "neighborhoods": 0}
         if case == "gone_cloud":
