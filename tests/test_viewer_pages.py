@@ -126,6 +126,23 @@ def test_scene_page_colors_each_segment_with_a_toggle(browser, scene_page):
     assert plain == [True]
 
 
+@pytest.mark.real
+def test_real_scene_page_draws_each_segment(browser, tmp_path):
+    """``detect --segment`` on a real osd-learn scene (a pot with side tabs), drawn offline."""
+    from simgrasp.assets.real import default_real_dir
+    from simgrasp.viewer.detect_page import SEGMENT_COLORS
+
+    scene = default_real_dir() / "osd-learn" / "learn40.pcd"
+    with (tmp_path / "d.json").open("w") as out:
+        subprocess.run(
+            [sys.executable, "-m", "simgrasp", "detect", str(scene), "--segment", "--json"],
+            cwd=tmp_path, stdout=out, check=True,
+        )  # fmt: skip
+    _run("view", "d.json", "--export", "page.html", cwd=tmp_path)
+    shot = _clean_load(browser, tmp_path / "page.html")
+    assert _near(shot, _hex(SEGMENT_COLORS[0])) > 200 and _near(shot, _hex(SEGMENT_COLORS[1])) > 200
+
+
 @pytest.fixture(scope="module")
 def report_page(tmp_path_factory) -> Path:
     """The page of a 4-trial evaluate run (two generated tools, quadric and centroid)."""

@@ -40,8 +40,8 @@ KIND_COLORS = {
 any other kind is pink."""
 OTHER_KIND = "#e377c2"
 HANDLE_COLOR = "#d62728"
-SEGMENT_COLORS = ("#2ca02c", "#1f77b4", "#bcbd22", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2")
-"""Object segments, label 2 first (cycled)."""
+SEGMENT_COLORS = ("#2ca02c", "#1f77b4", "#bcbd22", "#98df8a", "#aec7e8", "#dbdb8d", "#ffbb78")
+"""Object segments, label 2 first (cycled): greens, blues and olives, none a kind's color."""
 TABLE_COLOR = "#c7c7c7"
 AXIS_HALF_M = 0.008
 """Half length of a drawn candidate axis (m)."""
