@@ -33,8 +33,6 @@ from simgrasp.viewer.page import page_html, scene_layout
 from simgrasp.viewer.report_script import REPORT_SCRIPT
 from simgrasp.viewer.shapes import COLORS
 
-HIDDEN_FIELDS = ("contact_points_object",)
-"""Record fields left out of the page (long and drawn nowhere)."""
 NO_GRASP_COLOR = "#7f7f7f"
 
 
@@ -168,7 +166,6 @@ def report_page(path: Path, ycb_dir: str | None = None) -> str:
         }
         for r in records
     ]
-    shown = [{k: v for k, v in r.items() if k not in HIDDEN_FIELDS} for r in records]
     header = "".join(
         f"<th>{h}</th>" for h in ("object", "setting", "seed", "outcome", "failure", "on handle")
     )
@@ -186,5 +183,5 @@ def report_page(path: Path, ycb_dir: str | None = None) -> str:
         + "</div>"
     )
     figure = scene_layout(go.Figure())
-    data = {"records": shown, "views": views, "meshes": meshes}
+    data = {"records": records, "views": views, "meshes": meshes}
     return page_html(f"{path.name}: {len(records)} trials", figure, side, data, REPORT_SCRIPT)
