@@ -351,6 +351,9 @@ def test_demo_prints_the_report_and_writes_it(tmp_path: Path) -> None:
     assert len(read_log(out)) == trials
     for name in REPORT_FILES:
         assert (out / name).exists(), name
+    assert "[view.html](view.html)" in report  # the report links its views
+    page = (out / "view.html").read_text(encoding="utf-8")
+    assert page.count('<tr class="trial"') == trials and page.count("<figure><img") == 2
 
 
 def test_placement_is_part_of_a_trials_identity(reference: Path) -> None:

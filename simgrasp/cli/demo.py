@@ -3,7 +3,8 @@
 The procedurally generated tools (and, with ``SIMGRASP_YCB_DIR`` set, the paper's eight YCB
 objects), the quadric detector against the centroid baseline, the built-in gripper, a few seeds
 at the noise-free and a noisy cloud: render -> detect -> plan -> execute in MuJoCo, then the
-report (detection accuracy, lift and on-handle success, failure modes, timings). Sized to finish
+report (detection accuracy, lift and on-handle success, failure modes, timings) and
+``view.html``, the report page of ``simgrasp view`` that report.md links. Sized to finish
 in about three minutes on two cores once the object decompositions are cached. It always starts
 afresh. Other chain settings (``--views``, ``--trial.*``, ...) apply to every trial.
 """
@@ -22,6 +23,12 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
 
 DETECTORS = ("quadric", "centroid")
+VIEW_PAGE = "view.html"
+VIEW_LINK = (
+    f"Every trial, its record and a 3D view of its grasp: [{VIEW_PAGE}]({VIEW_PAGE}) "
+    "(one offline page; `simgrasp view OUT` serves it)."
+)
+"""The last paragraph of the demo's report.md: the link to its views."""
 NOISE = (0.0, 0.02)
 
 
@@ -59,9 +66,19 @@ def run(options: Options) -> int:
         for name in (TRIALS_FILE, DEFAULTS_FILE):  # the demo always runs afresh
             (options.out / name).unlink(missing_ok=True)
         records = run_sweep(specs, options.out, ycb_dir=ycb_dir, workers=options.workers)
-    print(write_report(records, options.out, title="simgrasp demo"))
+    report = write_report(records, options.out, title="simgrasp demo") + "\n\n" + VIEW_LINK
+    (options.out / "report.md").write_text(report + "\n", encoding="utf-8")
+    _write_view(options.out, ycb_dir)
+    print(report)
     print(
         f"{len(records)} trials on {len(objects)} objects in "
         f"{time.perf_counter() - start:.0f} s; report in {options.out / 'report.md'}"
     )
     return 0
+
+
+def _write_view(out: Path, ycb_dir: str | None) -> None:
+    """The report page of ``out`` (``simgrasp view OUT --export OUT/view.html``)."""
+    from simgrasp.viewer.report_page import report_page
+
+    (out / VIEW_PAGE).write_text(report_page(out, ycb_dir), encoding="utf-8")

@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
@@ -69,7 +70,7 @@ def run(options: Options) -> int:
         detection = _detect(options)
     kind = options.detector.kind
     if options.json:
-        json.dump(detection.to_json(), sys.stdout)
+        json.dump({**detection.to_json(), "input": _input_record(options)}, sys.stdout)
         sys.stdout.write("\n")
         return 0
     print(
@@ -109,7 +110,7 @@ def _run_segmented(options: Options) -> int:
             only_object=parse_object_choice(options.object),
             segment_config=options.segmentation,
         )
-    report = result.to_json()
+    report = {**result.to_json(), "input": _input_record(options)}
     if options.json:
         json.dump(report, sys.stdout)
         sys.stdout.write("\n")
@@ -120,6 +121,15 @@ def _run_segmented(options: Options) -> int:
         center = ", ".join(f"{v:+.4f}" for v in handle["center"])
         print(f"  object {handle['object']}: center [{center}] m, score {handle['score']:.2f}")
     return 0
+
+
+def _input_record(options: Options) -> dict[str, Any]:
+    """What ``simgrasp view`` needs to draw the detection over its input: the cloud's resolved
+    path, its units, and with ``--segment`` the segmentation settings."""
+    record: dict[str, Any] = {"path": str(options.cloud.resolve()), "units": options.units}
+    if options.segment:
+        record["segmentation"] = asdict(options.segmentation)
+    return record
 
 
 def _detector_config(options: Options) -> QuadricDetectorConfig | TenPasConfig:

@@ -16,8 +16,9 @@ from simgrasp.config import setting
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
     path: Path = setting(positional=True, metavar="PATH")
-    """A label-grasps output folder (run.json, labels.jsonl) or a trial record (trial
-    --record --json > t.json)."""
+    """A label-grasps output folder (run.json, labels.jsonl), a trial record (trial
+    --record --json > t.json), a detection (detect --json > d.json, drawn over the input cloud
+    it records) or an evaluate or demo output folder (trials.jsonl, report.md)."""
     port: int = 8000
     """Port of the local server (bound to 127.0.0.1 only)."""
     export: Path | None = None

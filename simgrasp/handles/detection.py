@@ -80,6 +80,7 @@ class Handle:
             "width": self.width,
             "score": self.score,
             "support": self.support,
+            "span": list(self.span),
         }
 
 

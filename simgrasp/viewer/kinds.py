@@ -51,15 +51,46 @@ def _trial_page(path: Path, ycb_dir: str | None) -> str:
     return trial_page(path, ycb_dir)
 
 
+def is_detection_json(path: Path) -> bool:
+    """A ``detect --json`` output (``--segment`` too): its detector, handles and candidates."""
+    if not (path.is_file() and path.suffix.lower() == ".json"):
+        return False
+    try:
+        report = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError):
+        return False
+    return isinstance(report, dict) and {"detector", "handles", "candidates"} <= report.keys()
+
+
+def is_eval_dir(path: Path) -> bool:
+    return path.is_dir() and (path / "trials.jsonl").is_file() and (path / "report.md").is_file()
+
+
+def _detect_page(path: Path, ycb_dir: str | None) -> str:
+    from simgrasp.viewer.detect_page import detect_page
+
+    return detect_page(path)
+
+
+def _report_page(path: Path, ycb_dir: str | None) -> str:
+    from simgrasp.viewer.report_page import report_page
+
+    return report_page(path, ycb_dir)
+
+
 KINDS = (
     Kind("a label-grasps output folder (run.json, labels.jsonl)", is_label_dir, _grasp_page),
     Kind("a trial record (trial --record --json > t.json)", is_trial_record, _trial_page),
+    Kind("a detection (detect --json > d.json)", is_detection_json, _detect_page),
+    Kind("an evaluate or demo output folder (trials.jsonl, report.md)", is_eval_dir, _report_page),
 )
 """Every kind of PATH, tried in order."""
 
 
 def kind_of(path: Path) -> Kind:
     """The kind of ``path``; a one-line error listing the kinds accepted when none matches."""
+    if not path.exists():
+        raise SimgraspError(f"{path}: no such file or folder")
     for kind in KINDS:
         if kind.matches(path):
             return kind
