@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
@@ -26,10 +27,10 @@ from simgrasp.grasping.trials.chain_config import ChainConfig
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     object: str = setting(positional=True, metavar="OBJECT")
-    """YCB id (025_mug or mug) or generated tool: gen_hammer (= gen_hammer_s0), or
-    gen_hammer_s3 for the sizes drawn from seed 3."""
+    """YCB id (025_mug or mug), generated tool (gen_hammer = gen_hammer_s0, or gen_hammer_s3
+    for the sizes drawn from seed 3) or mesh file (read with --scale/--units/--mass/...)."""
     grasp: tuple[float, float, float, float, float, float, float] | None = setting(
         None, metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ")
     )
@@ -97,7 +98,7 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
 
     assert options.grasp is not None
     result = trial_of_grasp(
-        model_for(options.object, options.ycb_dir),
+        model_for(options.object_name(options.object), options.ycb_dir),
         make_gripper(options.chain.gripper),
         options.grasp,
         frame=options.grasp_frame,
@@ -115,7 +116,7 @@ def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain import run_chain
 
-    object_model = model_for(options.object, options.ycb_dir)
+    object_model = model_for(options.object_name(options.object), options.ycb_dir)
     return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
 
 
