@@ -24,6 +24,7 @@ from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.grasping.trials.protocol import Protocol
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -40,6 +41,9 @@ class Options(YcbSource, MeshObjectOptions):
     """Frame of --grasp: world, or the object's mesh frame (placed at its scene pose)."""
     width: float | None = None
     """Jaw opening before closing for --grasp (m; default the gripper's maximum)."""
+    protocol: Protocol | None = None
+    """Trial protocol of --grasp, as label-grasps' (full, fast, acronym), instead of the
+    --trial.* settings (default: those, whose defaults are the full protocol)."""
     seed: int = 0
     """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
     in an evaluate record: the same object and seed rerun that trial."""
@@ -58,6 +62,10 @@ def run(options: Options) -> int:
 
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
+    if options.protocol is not None and options.grasp is None:
+        raise SimgraspError("--protocol needs --grasp (the full chain runs the --trial.* settings)")
+    if options.protocol is not None and options.chain.trial != ChainConfig().trial:
+        raise SimgraspError("give --protocol or --trial.* settings, not both")
     if options.render is not None:
         from simgrasp.runs.out_dir import check_output_file
 
@@ -94,9 +102,13 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
+    from simgrasp.grasping.trials.trial_config import protocol_config
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
+    trial_config = options.chain.trial
+    if options.protocol is not None:
+        trial_config = protocol_config(options.protocol)
     result = trial_of_grasp(
         model_for(options.object_name(options.object), options.ycb_dir),
         make_gripper(options.chain.gripper),
@@ -104,7 +116,7 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
         frame=options.grasp_frame,
         width=options.width,
         scene_config=options.chain.scene,
-        trial_config=options.chain.trial,
+        trial_config=trial_config,
         seed=options.seed,
         on_phase=recorder,
     )
