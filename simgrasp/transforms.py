@@ -28,9 +28,31 @@ def invert_transform(a_T_b: NDArray[np.float64]) -> NDArray[np.float64]:
     return make_transform(rotation.T, -rotation.T @ a_T_b[:3, 3])
 
 
+_ORTHOGONAL_TOLERANCE = 1e-12 + 1e-5 * np.eye(3)
+"""SciPy's own test of a rotation matrix (``np.isclose(R @ R.T, I, atol=1e-12)``, default
+rtol 1e-5), elementwise."""
+
+
 def rotation_to_quat_wxyz(rotation: ArrayLike) -> NDArray[np.float64]:
-    """``[w, x, y, z]`` quaternion of a 3x3 rotation matrix (either sign)."""
-    return Rotation.from_matrix(rotation).as_quat(scalar_first=True)
+    """``[w, x, y, z]`` quaternion of a 3x3 rotation matrix (either sign).
+
+    SciPy's ``from_matrix`` checks the determinant and orthogonality with several NumPy calls
+    (about 3/4 of its time on one matrix); a matrix that passes the same test, done here in
+    one step, is converted with ``assume_valid``, the very conversion SciPy runs after its
+    check (same bits). Others (batches, matrices to orthonormalize, reflections) go the full
+    way."""
+    matrix = np.asarray(rotation, dtype=float)
+    valid = matrix.shape == (3, 3) and _is_rotation(matrix)
+    return Rotation.from_matrix(matrix, assume_valid=valid).as_quat(scalar_first=True)
+
+
+def _is_rotation(matrix: NDArray[np.float64]) -> bool:
+    """Whether a 3x3 ``matrix`` passes SciPy's rotation test: orthogonal to its tolerance and
+    a positive determinant (the sign of ``r0 . (r1 x r2)``, exact enough near +-1)."""
+    if not np.all(np.abs(matrix @ matrix.T - np.eye(3)) <= _ORTHOGONAL_TOLERANCE):
+        return False
+    (a, b, c), (d, e, f), (g, h, i) = matrix.tolist()
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) > 0
 
 
 def matrix_to_pos_quat(

@@ -95,17 +95,23 @@ def test_label_grasps_in_memory_equals_the_on_disk_run(known_set: Path, tmp_path
         label_grasps("gen_mug", matrices, config=config)
 
 
-def test_label_equals_trial_grasp(labeler: GraspLabeler, tmp_path: Path, capsys) -> None:
-    """The full protocol's label of a grasp is the record of `simgrasp trial --grasp`."""
+@pytest.mark.parametrize(("gripper", "protocol"), [("builtin", None), ("franka_panda", "acronym")])
+def test_label_equals_trial_grasp(
+    labeler: GraspLabeler, tmp_path: Path, capsys, gripper: str, protocol: str | None
+) -> None:
+    """A grasp's label is the record of `simgrasp trial --grasp` of the same object, gripper,
+    protocol and seed (the full protocol: trial's default; the acronym one: free-floating, the
+    object-frame grasp placed at the raised object in both)."""
     pose = matrix_to_pose7(in_object_frame(labeler, handle_grasp(labeler.scene))).tolist()
     width = 0.07
     path = tmp_path / "one.json"
     path.write_text(json.dumps({"poses": [pose], "width": [width]}))
-    config = LabelConfig(OBJECT, seed=SEED)
+    config = LabelConfig(OBJECT, gripper, protocol or "full", seed=SEED)
     _, (label,) = label_grasp_set(
         read_grasp_set(path), config, tmp_path / "out", grasp_file=path, progress=False
     )
-    argv = ["trial", OBJECT, "--seed", str(SEED), "--grasp-frame", "object"]
+    argv = ["trial", OBJECT, "--seed", str(SEED), "--grasp-frame", "object", "--gripper", gripper]
+    argv += ["--protocol", protocol] if protocol else []
     exact = [np.format_float_positional(v) for v in pose]  # round-trips; no exponent for argparse
     argv += ["--width", repr(width), "--json", "--grasp", *exact]
     capsys.readouterr()
@@ -116,6 +122,20 @@ def test_label_equals_trial_grasp(labeler: GraspLabeler, tmp_path: Path, capsys)
             record.pop(key, None)
     assert label == trial
     assert label["success"] is True
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--protocol", "fast"], "--protocol needs --grasp (the full chain runs the --trial.* "
+         "settings)"),
+        (["--protocol", "fast", "--trial.hold-time", "2", "--grasp", "0", "0", "0.1", "1", "0",
+          "0", "0"], "give --protocol or --trial.* settings, not both"),
+    ],
+)  # fmt: skip
+def test_trial_protocol_refusals(capsys, extra: list[str], message: str) -> None:
+    assert main(["trial", OBJECT, *extra]) == 2
+    assert capsys.readouterr().err.strip() == f"simgrasp trial: error: {message}"
 
 
 def test_another_run_into_the_same_directory_is_refused(known_set: Path, tmp_path: Path) -> None:

@@ -112,3 +112,46 @@ def test_catalog_and_handle_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     assert np.allclose(asset.mesh.extents, BOX_M)
     assert (asset.mass, asset.friction) == (0.5, 0.6)
     assert asset.handle.contains([[0, 0, 0.045], [0, 0, -0.045]]).tolist() == [True, False]
+
+
+def _simgrasp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1])}
+    command = [sys.executable, "-m", "simgrasp", *args]
+    return subprocess.run(command, capture_output=True, text=True, env=env, cwd=cwd)
+
+
+def test_trial_of_a_mesh_in_millimetres_needs_units_then_runs(tmp_path: Path) -> None:
+    """``trial`` takes the mesh flags of label-grasps: the millimetre box fails with one line
+    suggesting --units/--scale, then ``--units mm --mass 0.2`` runs its trial."""
+    path = _box_file(tmp_path / "box_mm.stl", 1000.0)
+    grasp = ["--grasp-frame", "object", "--grasp", "0", "0", "0.03", "0", "1", "0", "0"]
+    refused = _simgrasp("trial", str(path), *grasp, cwd=tmp_path)
+    assert refused.returncode == 2
+    assert len(refused.stderr.strip().splitlines()) == 1
+    assert "box_mm.stl" in refused.stderr and "--units mm" in refused.stderr
+    assert "--scale 0.001" in refused.stderr
+    done = _simgrasp("trial", str(path), "--units", "mm", "--mass", "0.2", "--json", *grasp,
+                     cwd=tmp_path)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    record = json.loads(done.stdout)
+    assert record["object"] == f"{path}?units=mm&mass=0.2"
+    assert record["failure"] != "no_grasp"
+
+
+@pytest.mark.parametrize(
+    ("flag", "args"),
+    [
+        ("--scale", ["trial", "gen_hammer", "--scale", "2"]),
+        ("--friction", ["evaluate", "--objects", "gen_hammer", "--friction", "0.5", "--out", "o"]),
+    ],
+)
+def test_mesh_flags_on_a_named_object_fail_with_one_line(
+    tmp_path: Path, flag: str, args: list[str]
+) -> None:
+    """A mesh flag on a generated tool (no mesh file to read): one line naming both, exit 2."""
+    done = _simgrasp(*args, cwd=tmp_path)
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines() == [
+        f"simgrasp {args[0]}: error: {flag} only apply to a mesh file object, not 'gen_hammer'"
+    ]
+    assert not (tmp_path / "o").exists()

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
 from simgrasp.cli import invocation
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.config.checks import PositiveInt
@@ -36,9 +37,10 @@ SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind", "perception")
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     objects: tuple[str, ...] = ("generated",)
-    """Object names and/or the sets generated, paper, ycb, all."""
+    """Object names, mesh files (read with --scale/--units/--mass/...) and/or the sets
+    generated, paper, ycb, all."""
     detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names)
     """Grasp proposers to sweep (:mod:`simgrasp.grasping.proposers`)."""
     gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names)
@@ -82,7 +84,8 @@ def run(options: Options) -> int:
         "sensor.kind": options.sensor,
         "perception": options.perception,
     }
-    specs = plan_trials(expand_objects(options.objects), axes, range(options.seeds), options.chain)
+    objects = [options.object_name(name) for name in expand_objects(options.objects)]
+    specs = plan_trials(objects, axes, range(options.seeds), options.chain)
     check_plan(specs, ycb_dir)
     with claim_out_dir(options.out, invocation()):  # checked and held before any trial runs
         return _run(options, specs, ycb_dir)

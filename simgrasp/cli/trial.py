@@ -19,17 +19,19 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.grasping.trials.protocol import Protocol
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     object: str = setting(positional=True, metavar="OBJECT")
-    """YCB id (025_mug or mug) or generated tool: gen_hammer (= gen_hammer_s0), or
-    gen_hammer_s3 for the sizes drawn from seed 3."""
+    """YCB id (025_mug or mug), generated tool (gen_hammer = gen_hammer_s0, or gen_hammer_s3
+    for the sizes drawn from seed 3) or mesh file (read with --scale/--units/--mass/...)."""
     grasp: tuple[float, float, float, float, float, float, float] | None = setting(
         None, metavar=("X", "Y", "Z", "QW", "QX", "QY", "QZ")
     )
@@ -39,6 +41,9 @@ class Options(YcbSource):
     """Frame of --grasp: world, or the object's mesh frame (placed at its scene pose)."""
     width: float | None = None
     """Jaw opening before closing for --grasp (m; default the gripper's maximum)."""
+    protocol: Protocol | None = None
+    """Trial protocol of --grasp, as label-grasps' (full, fast, acronym), instead of the
+    --trial.* settings (default: those, whose defaults are the full protocol)."""
     seed: int = 0
     """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
     in an evaluate record: the same object and seed rerun that trial."""
@@ -57,6 +62,10 @@ def run(options: Options) -> int:
 
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
+    if options.protocol is not None and options.grasp is None:
+        raise SimgraspError("--protocol needs --grasp (the full chain runs the --trial.* settings)")
+    if options.protocol is not None and options.chain.trial != ChainConfig().trial:
+        raise SimgraspError("give --protocol or --trial.* settings, not both")
     if options.render is not None:
         from simgrasp.runs.out_dir import check_output_file
 
@@ -93,17 +102,21 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
+    from simgrasp.grasping.trials.trial_config import protocol_config
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
+    trial_config = options.chain.trial
+    if options.protocol is not None:
+        trial_config = protocol_config(options.protocol)
     result = trial_of_grasp(
-        model_for(options.object, options.ycb_dir),
+        model_for(options.object_name(options.object), options.ycb_dir),
         make_gripper(options.chain.gripper),
         options.grasp,
         frame=options.grasp_frame,
         width=options.width,
         scene_config=options.chain.scene,
-        trial_config=options.chain.trial,
+        trial_config=trial_config,
         seed=options.seed,
         on_phase=recorder,
     )
@@ -115,7 +128,7 @@ def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain import run_chain
 
-    object_model = model_for(options.object, options.ycb_dir)
+    object_model = model_for(options.object_name(options.object), options.ycb_dir)
     return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
 
 

@@ -12,7 +12,7 @@ TCP convention (README): origin midway between the finger pads, +z the approach 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cache
+from functools import cache, cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -152,6 +152,12 @@ class BoundGripper:
     """Sum of the two pads' half thicknesses (m): pad center distance minus gap."""
     root_T_tcp: NDArray[np.float64] = field(repr=False)
 
+    @cached_property
+    def tcp_T_root(self) -> NDArray[np.float64]:
+        """``root_T_tcp``'s inverse (4x4), computed once: :meth:`command_tcp` runs every
+        control step."""
+        return np.asarray(np.linalg.inv(self.root_T_tcp), dtype=np.float64)
+
     def set_opening(self, data: mujoco.MjData, opening: float) -> None:
         """Command the jaws to hold the pads ``opening`` meters apart (clipped to the range)."""
         width = float(np.clip(opening, 0.0, self.gripper.max_opening))
@@ -174,7 +180,7 @@ class BoundGripper:
 
     def command_tcp(self, data: mujoco.MjData, world_T_tcp: NDArray[np.float64]) -> None:
         """Move the mocap target so the TCP is pulled toward ``world_T_tcp`` (world frame)."""
-        pos, quat = matrix_to_pos_quat(world_T_tcp @ np.linalg.inv(self.root_T_tcp))
+        pos, quat = matrix_to_pos_quat(world_T_tcp @ self.tcp_T_root)
         data.mocap_pos[self.mocap_id] = pos
         data.mocap_quat[self.mocap_id] = quat
 

@@ -12,7 +12,7 @@ from simgrasp.assets.model import ObjectModel
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.trials.result import Phase, TrialResult
-from simgrasp.grasping.trials.trial import run_trial
+from simgrasp.grasping.trials.trial import initial_object_pose, run_trial
 from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.base import Gripper
 from simgrasp.scenes.config import SceneConfig
@@ -35,8 +35,10 @@ def trial_of_grasp(
     on_phase: Callable[[Phase, Scene], None] | None = None,
 ) -> TrialResult:
     """Execute the TCP pose ``pose7`` (``[x, y, z, qw, qx, qy, qz]``, meters, in ``frame``:
-    the world, or the object's mesh frame placed at its seeded scene pose) with the jaws
-    opened to ``width`` (m; default the gripper's maximum) on the scene of ``seed``."""
+    the world, or the object's mesh frame placed where the trial starts it: its seeded scene
+    pose, raised when free-floating, as label-grasps places its grasps) with the jaws opened
+    to ``width`` (m; default the gripper's maximum) on the scene of ``seed``."""
+    trial_config = trial_config or TrialConfig()
     scene = build_scene(object_model, gripper, scene_config or SceneConfig(), seed)
     width = gripper.max_opening if width is None else width
     if not 0 < width <= gripper.max_opening:
@@ -46,7 +48,8 @@ def trial_of_grasp(
         )
     pose = pose7_to_matrix(np.asarray(pose7, dtype=float), "--grasp")
     if frame == "object":
-        grasp = Grasp.from_object_frame(pose, scene.world_T_object, width, source="cli")
+        world_T_object = initial_object_pose(scene, trial_config)
+        grasp = Grasp.from_object_frame(pose, world_T_object, width, source="cli")
     else:
         grasp = Grasp(pose, width, source="cli")
-    return run_trial(scene, grasp, trial_config or TrialConfig(), on_phase)
+    return run_trial(scene, grasp, trial_config, on_phase)
