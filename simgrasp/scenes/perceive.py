@@ -113,17 +113,21 @@ def _segmented_cut(
     the target holds at least ``MAJORITY`` (none when no segment holds a target pixel)."""
     segmentation = segment_scene(organized_cloud(frame, view), config)
     shape = frame.depth.shape
-    objects = segmentation.labels.reshape(shape) >= FIRST_OBJECT
-    cut, best_count = np.zeros(shape, dtype=bool), 0
-    best = cut
+    labels = segmentation.labels
+    objects = labels.reshape(shape) >= FIRST_OBJECT
+    sizes = np.bincount(labels, minlength=FIRST_OBJECT)
+    hits = np.bincount(labels[truth.reshape(-1)], minlength=len(sizes))
+    chosen: list[int] = []
+    best: list[int] = []
+    best_count = 0
     for label in segmentation.whole_objects():
-        members = segmentation.object_mask(label).reshape(shape)
-        count = int((members & truth).sum())
+        members = [o.label for o in segmentation.objects if label in (o.label, o.part_of)]
+        count = int(hits[members].sum())
         if count > best_count:
             best, best_count = members, count
-        if count >= MAJORITY * int(members.sum()):
-            cut = cut | members
-    cut = cut | best if best_count else cut
+        if count >= MAJORITY * int(sizes[members].sum()):
+            chosen += members
+    cut = np.isin(labels, chosen + best).reshape(shape)
     return cut, objects & ~cut
 
 
