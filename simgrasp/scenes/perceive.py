@@ -60,13 +60,15 @@ def perceive_target(
     :func:`simgrasp.scenes.observe.cloud_from_views` does."""
     frames = observation.frames
     distractors = [scene.model.body(d.body).id for d in scene.distractors]
-    targets, others, inter, union = [], [], 0, 0
+    targets, others, views, inter, union = [], [], [], 0, 0
     for frame in frames:
         truth = (frame.body_ids == scene.object_body) & (frame.depth > 0)
         if perception == "segment":
-            cut, rest = _segmented_cut(frame, truth, config or SegmentConfig())
+            views.append(world_pixels(frame))
+            cut, rest = _segmented_cut(frame, views[-1], truth, config or SegmentConfig())
         else:
             cut, rest = truth, np.isin(frame.body_ids, distractors) & (frame.depth > 0)
+            views.append(world_pixels(frame, rest))
         targets.append(cut)
         others.append(rest)
         inter += int((cut & truth).sum())
@@ -74,51 +76,72 @@ def perceive_target(
     if perception == "mask":
         cloud = observation.cloud  # exactly today's ground-truth cut
     else:
-        cloud = noisy_cloud(_fused(frames, targets), noise, seed)
-    obstacles = _fused(frames, others).points_world
+        cloud = noisy_cloud(_fused(frames, views, targets), noise, seed)
+    obstacles = _fused(frames, views, others).points_world
     return PerceivedTarget(cloud, obstacles, inter / union if union else 0.0)
 
 
-def organized_cloud(frame: DepthFrame) -> SceneCloud:
+def world_pixels(
+    frame: DepthFrame, mask: NDArray[np.bool_] | None = None
+) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """The world-frame points (N, 3; m) of ``frame``'s pixels with a depth (within ``mask``)
+    and their flat pixel indices (N,), ascending: computed once per frame, cut by each mask."""
+    points_cam, pixels = depth_to_points_cam(frame.depth, frame.intrinsics, mask)
+    return transform_points(frame.world_T_cam, points_cam), pixels
+
+
+def organized_cloud(
+    frame: DepthFrame, view: tuple[NDArray[np.float64], NDArray[np.intp]] | None = None
+) -> SceneCloud:
     """``frame`` as an organized scene cloud in the world frame (NaN where no depth), seen
-    from the camera's optical center."""
-    points_cam, pixels = depth_to_points_cam(frame.depth, frame.intrinsics)
+    from the camera's optical center; ``view`` is its :func:`world_pixels` when known."""
+    points_world, pixels = view or world_pixels(frame)
     grid = np.full((frame.depth.size, 3), np.nan, dtype=np.float32)
-    grid[pixels] = transform_points(frame.world_T_cam, points_cam)
+    grid[pixels] = points_world
     height, width = frame.depth.shape
     return SceneCloud(grid, width, height, frame.camera_position_world, None, frame.camera_name)
 
 
 def _segmented_cut(
-    frame: DepthFrame, truth: NDArray[np.bool_], config: SegmentConfig
+    frame: DepthFrame,
+    view: tuple[NDArray[np.float64], NDArray[np.intp]],
+    truth: NDArray[np.bool_],
+    config: SegmentConfig,
 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
     """(H, W) the target's segments, and every other object segment: the segment (with its
     side parts) holding most of ``truth``'s pixels, joined by every other segment of which
     the target holds at least ``MAJORITY`` (none when no segment holds a target pixel)."""
-    segmentation = segment_scene(organized_cloud(frame), config)
+    segmentation = segment_scene(organized_cloud(frame, view), config)
     shape = frame.depth.shape
-    objects = segmentation.labels.reshape(shape) >= FIRST_OBJECT
-    cut, best_count = np.zeros(shape, dtype=bool), 0
-    best = cut
+    labels = segmentation.labels
+    objects = labels.reshape(shape) >= FIRST_OBJECT
+    sizes = np.bincount(labels, minlength=FIRST_OBJECT)
+    hits = np.bincount(labels[truth.reshape(-1)], minlength=len(sizes))
+    chosen: list[int] = []
+    best: list[int] = []
+    best_count = 0
     for label in segmentation.whole_objects():
-        members = segmentation.object_mask(label).reshape(shape)
-        count = int((members & truth).sum())
+        members = [o.label for o in segmentation.objects if label in (o.label, o.part_of)]
+        count = int(hits[members].sum())
         if count > best_count:
             best, best_count = members, count
-        if count >= MAJORITY * int(members.sum()):
-            cut = cut | members
-    cut = cut | best if best_count else cut
+        if count >= MAJORITY * int(sizes[members].sum()):
+            chosen += members
+    cut = np.isin(labels, chosen + best).reshape(shape)
     return cut, objects & ~cut
 
 
-def _fused(frames: list[DepthFrame], masks: list[NDArray[np.bool_]]) -> ObjectCloud:
-    """The masked pixels of every frame fused into one world-frame cloud (``CLOUD_VOXEL``
-    voxels), each point keeping the viewpoint of its nearest input point."""
+def _fused(
+    frames: list[DepthFrame],
+    views: list[tuple[NDArray[np.float64], NDArray[np.intp]]],
+    masks: list[NDArray[np.bool_]],
+) -> ObjectCloud:
+    """The masked pixels of every frame (their :func:`world_pixels` ``views``) fused into one
+    world-frame cloud (``CLOUD_VOXEL`` voxels), each point keeping the viewpoint of its nearest
+    input point."""
     per_view = [
-        transform_points(
-            frame.world_T_cam, depth_to_points_cam(frame.depth, frame.intrinsics, m)[0]
-        )
-        for frame, m in zip(frames, masks, strict=True)
+        points[mask.reshape(-1)[pixels]]
+        for (points, pixels), mask in zip(views, masks, strict=True)
     ]
     points_world = np.concatenate(per_view, axis=0)
     view_index = np.repeat(np.arange(len(frames)), [len(p) for p in per_view])

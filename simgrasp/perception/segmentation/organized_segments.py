@@ -81,21 +81,35 @@ def _crop_components(
     viewpoint: NDArray[np.float64],
     config: SegmentConfig,
 ) -> NDArray[np.int32]:
+    """Segment ids of the ``candidates`` pixels of the (H, W, 3) crop ``points``. The steps
+    work on channel planes (3, H, W): each coordinate a contiguous image, sums of products
+    written out component by component (the same float32 operations as ``einsum``)."""
     if candidates.size == 0:
         return np.zeros(candidates.shape, dtype=np.int32)
-    eye = viewpoint.astype(np.float32)
+    eye = viewpoint.astype(np.float32)[:, None, None]
     binned, binned_mask = _binned(points, candidates, config.normal_bin_px)
-    smooth = _box_mean(binned, binned_mask, config.normal_window_px)
+    smooth = _box_mean(_planes(binned), binned_mask, config.normal_window_px)
     normals = _grid_normals(smooth, eye, config.normal_step_px)
     concave = _concave_cuts(smooth, normals, config.concave_step_px, config.concave_threshold)
-    cut = _depth_cuts(points, candidates, eye, config.depth_jump)
+    planes = _planes(points)
+    cut = _depth_cuts(planes, candidates, eye, config.depth_jump)
     cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
     interior = candidates & ~cut
     segments, _ = ndimage.label(interior)
     segments = segments.astype(np.int32)
     for _ in range(config.attach_passes):
-        segments = _attach_edges(segments, points, candidates, config)
+        segments = _attach_edges(segments, planes, candidates, config)
     return segments
+
+
+def _planes(points: Grid) -> Grid:
+    """(H, W, 3) positions as three contiguous (H, W) channel planes, (3, H, W)."""
+    return np.ascontiguousarray(np.moveaxis(points, 2, 0))
+
+
+def _dot(a: Grid, b: Grid) -> Grid:
+    """Per-pixel dot product of two (3, ...) channel stacks."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 def _binned(points: Grid, mask: NDArray[np.bool_], size: int) -> tuple[Grid, NDArray[np.bool_]]:
@@ -122,47 +136,48 @@ def _unbinned(blocks: NDArray[np.bool_], size: int, shape: tuple[int, ...]) -> N
     return np.repeat(np.repeat(blocks, size, axis=0), size, axis=1)[: shape[0], : shape[1]]
 
 
-def _box_mean(points: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
-    """Mean position over each ``size`` x ``size`` window of the masked pixels (NaN if none)."""
+def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
+    """Mean position (3, H, W) over each ``size`` x ``size`` window of the masked pixels of
+    ``planes`` (3, H, W; NaN if none)."""
     weight = mask.astype(np.float32)
-    summed = np.where(mask[..., None], points, 0.0).astype(np.float32)
+    summed = np.where(mask, planes, np.float32(0.0))
     count = ndimage.uniform_filter(weight, size, mode="constant")
-    mean = ndimage.uniform_filter1d(summed, size, axis=0, mode="constant")
-    mean = ndimage.uniform_filter1d(mean, size, axis=1, mode="constant")
+    mean = ndimage.uniform_filter1d(summed, size, axis=1, mode="constant")
+    mean = ndimage.uniform_filter1d(mean, size, axis=2, mode="constant")
     with np.errstate(invalid="ignore", divide="ignore"):
-        mean /= count[..., None]
-    mean[count < 0.5 / (size * size)] = np.nan
+        mean /= count
+    mean[:, count < 0.5 / (size * size)] = np.nan
     return mean
 
 
 def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
-    """Unit normals (H, W, 3) from central differences over ``step`` pixels, turned toward
-    ``eye``; NaN where a neighbour is missing."""
+    """Unit normals (3, H, W) from central differences over ``step`` pixels of ``smooth``
+    (3, H, W), turned toward ``eye`` (3, 1, 1); NaN where a neighbour is missing."""
     du = np.full_like(smooth, np.nan)
     dv = np.full_like(smooth, np.nan)
-    du[:, step:-step] = smooth[:, 2 * step :] - smooth[:, : -2 * step]
-    dv[step:-step] = smooth[2 * step :] - smooth[: -2 * step]
+    du[:, :, step:-step] = smooth[:, :, 2 * step :] - smooth[:, :, : -2 * step]
+    dv[:, step:-step] = smooth[:, 2 * step :] - smooth[:, : -2 * step]
     normals = np.stack(
         [
-            du[..., 1] * dv[..., 2] - du[..., 2] * dv[..., 1],
-            du[..., 2] * dv[..., 0] - du[..., 0] * dv[..., 2],
-            du[..., 0] * dv[..., 1] - du[..., 1] * dv[..., 0],
-        ],
-        axis=2,
+            du[1] * dv[2] - du[2] * dv[1],
+            du[2] * dv[0] - du[0] * dv[2],
+            du[0] * dv[1] - du[1] * dv[0],
+        ]
     )
     with np.errstate(invalid="ignore", divide="ignore"):
-        normals /= np.sqrt(np.einsum("hwk,hwk->hw", normals, normals))[..., None]
-    toward = np.einsum("hwk,hwk->hw", normals, eye - smooth)
-    normals[toward < 0] *= -1.0
+        normals /= np.sqrt(_dot(normals, normals))
+    toward = _dot(normals, eye - smooth)
+    normals[:, toward < 0] *= -1.0
     return normals
 
 
 def _depth_cuts(
-    points: Grid, mask: NDArray[np.bool_], eye: NDArray[np.float32], jump: float
+    planes: Grid, mask: NDArray[np.bool_], eye: NDArray[np.float32], jump: float
 ) -> NDArray[np.bool_]:
-    """Pixels with a 4-neighbour whose range differs by more than ``jump`` x range^2 (m)."""
-    offset = points - eye
-    ranges = np.sqrt(np.einsum("hwk,hwk->hw", offset, offset))
+    """Pixels with a 4-neighbour whose range differs by more than ``jump`` x range^2 (m);
+    ``planes`` (3, H, W), ``eye`` (3, 1, 1)."""
+    offset = planes - eye
+    ranges = np.sqrt(_dot(offset, offset))
     ranges[~mask] = np.nan
     limit = jump * ranges * ranges
     cut = np.zeros(mask.shape, dtype=bool)
@@ -179,46 +194,47 @@ def _depth_cuts(
 
 def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> NDArray[np.bool_]:
     """Pixels spanned by a ``step``-pixel pair whose normals fold concavely:
-    ``(n_j - n_i) . u_ij < -threshold``, ``u_ij`` the unit direction from i to j."""
-    cut = np.zeros(smooth.shape[:2], dtype=bool)
-    for axis in (0, 1):
-        lo = [slice(None), slice(None)]
-        hi = [slice(None), slice(None)]
+    ``(n_j - n_i) . u_ij < -threshold``, ``u_ij`` the unit direction from i to j (``smooth``
+    and ``normals`` (3, H, W))."""
+    cut = np.zeros(smooth.shape[1:], dtype=bool)
+    for axis in (1, 2):
+        lo = [slice(None)] * 3
+        hi = [slice(None)] * 3
         lo[axis], hi[axis] = slice(None, -step), slice(step, None)
         offset = smooth[tuple(hi)] - smooth[tuple(lo)]
-        fold = np.einsum("hwk,hwk->hw", normals[tuple(hi)] - normals[tuple(lo)], offset)
+        fold = _dot(normals[tuple(hi)] - normals[tuple(lo)], offset)
         with np.errstate(invalid="ignore"):
-            concave = fold < -threshold * np.sqrt(np.einsum("hwk,hwk->hw", offset, offset))
+            concave = fold < -threshold * np.sqrt(_dot(offset, offset))
         for shift in range(step + 1):
             span = [slice(None), slice(None)]
-            span[axis] = slice(shift, shift + concave.shape[axis])
+            span[axis - 1] = slice(shift, shift + concave.shape[axis - 1])
             cut[tuple(span)] |= concave
     return cut
 
 
 def _attach_edges(
-    segments: NDArray[np.int32], points: Grid, candidates: NDArray[np.bool_], config: SegmentConfig
+    segments: NDArray[np.int32], planes: Grid, candidates: NDArray[np.bool_], config: SegmentConfig
 ) -> NDArray[np.int32]:
     """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
     those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
     0), when within ``attach_distance`` (m): a mixed pixel at an occluding edge joins the side
-    whose depth it is nearer."""
+    whose depth it is nearer (``planes`` (3, H, W) positions)."""
     reach = config.attach_radius_px
     labels = np.pad(segments, reach)
     if not labels.any() or not (candidates & (segments == 0)).any():
         return segments
     width = labels.shape[1]
-    flat_points = np.pad(points, ((reach, reach), (reach, reach), (0, 0))).reshape(-1, 3)
+    flat_planes = np.pad(planes, ((0, 0), (reach, reach), (reach, reach))).reshape(3, -1)
     flat_labels = labels.reshape(-1)
     loose = np.flatnonzero(np.pad(candidates & (segments == 0), reach))
-    here = flat_points[loose]
+    here = flat_planes[:, loose]
     best_gap = np.full(len(loose), np.inf, dtype=np.float32)
     best = np.zeros(len(loose), dtype=np.int32)
     steps = [0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)]
     for shift in (dr * width + dc for dr in steps for dc in steps):
         label = flat_labels[loose + shift]
-        offset = flat_points[loose + shift] - here
-        gap = np.einsum("ij,ij->i", offset, offset)
+        offset = flat_planes[:, loose + shift] - here
+        gap = _dot(offset, offset)
         better = (label > 0) & (gap < best_gap)
         best_gap[better] = gap[better]
         best[better] = label[better]

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d
+from simgrasp.perception.camera import TRANSFORM_BLOCK
 from simgrasp.perception.scene_cloud import SceneCloud
 from simgrasp.perception.segmentation.organized_segments import grid_components, inner_floors
 from simgrasp.perception.segmentation.segment_config import (
@@ -118,7 +119,7 @@ def segment_scene(
     points = scene.points
     valid = _timed(timings, "valid", lambda: _valid_points(scene, config))
     plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, config))
-    height = points @ plane[:3].astype(np.float32) + np.float32(plane[3])
+    height = row_dot(points, plane[:3].astype(np.float32)) + np.float32(plane[3])
     table = valid & (np.abs(height) <= config.table_distance)
     above = valid & (height > config.table_distance) & (height < config.max_object_height)
     cluster = _grid_segments if method == "grid" else _dbscan_segments
@@ -139,6 +140,16 @@ def segment_scene(
     return Segmentation(labels, plane, int(table.sum()), objects, timings)
 
 
+def row_dot(points: NDArray[np.float32], vector: NDArray[np.float32]) -> NDArray[np.float32]:
+    """(N,) ``points @ vector`` in blocks of ``TRANSFORM_BLOCK`` rows (one BLAS thread's worth;
+    the same result per row)."""
+    out = np.empty(len(points), dtype=np.result_type(points, vector))
+    for start in range(0, len(points), TRANSFORM_BLOCK):
+        block = slice(start, start + TRANSFORM_BLOCK)
+        np.matmul(points[block], vector, out=out[block])
+    return out
+
+
 def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any:
     start = time.perf_counter()
     result = work()
@@ -151,7 +162,7 @@ def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]
     points, eye = scene.points, scene.viewpoint.astype(np.float32)
     squared = np.einsum("ij,ij->i", points, points)
     if eye.any():
-        squared += eye @ eye - 2.0 * (points @ eye)
+        squared += eye @ eye - 2.0 * row_dot(points, eye)
     finite = np.isfinite(squared)
     if not finite.any():
         raise SimgraspError(f"{name}: no valid point (every point is NaN or inf)")
