@@ -66,8 +66,9 @@ def _screenshot(driver) -> np.ndarray:
     return np.asarray(Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB"))
 
 
-def _near(image: np.ndarray, rgb: tuple[int, int, int]) -> int:
-    return int((np.abs(image.astype(int) - rgb).sum(axis=2) < 40).sum())
+def _near(image: np.ndarray, rgb: tuple[int, int, int], tolerance: int = 40) -> int:
+    """How many pixels are within ``tolerance`` (sum of channel differences) of ``rgb``."""
+    return int((np.abs(image.astype(int) - rgb).sum(axis=2) < tolerance).sum())
 
 
 def _open(driver, page: Path) -> np.ndarray:
@@ -111,3 +112,45 @@ def test_label_page_offline_colored_and_filtered(browser, label_page):
     )
     assert hidden
     assert _near(after, OUTCOME_RGB["on_handle"]) < _near(before, OUTCOME_RGB["on_handle"]) / 4
+    box.click()  # back on: every grasp drawn again
+
+
+def test_label_page_failure_filter_handle_label_and_record(browser, label_page):
+    """The failure-mode boxes hide what they name (``held`` covers both held outcomes), the
+    handle label is drawn, and a click on a grasp shows its label record."""
+    records = [json.loads(line) for line in (label_page.parent / "labels" / "labels.jsonl").open()]
+    before = _open(browser, label_page)
+    handle = browser.execute_script(
+        "return document.getElementById('scene')._fullData.filter(t => t.name === 'handle label')"
+        ".map(t => [t.type, t.x.length, t.opacity, t.visible])"
+    )  # plotly's decoded traces (the page's own arrays are base64)
+    assert handle and all(
+        kind == "mesh3d" and count >= 8 and 0 < opacity < 1 and shown is True
+        for kind, count, opacity, shown in handle
+    )
+    browser.find_element("css selector", 'input[data-filter="failure"][value="held"]').click()
+    time.sleep(1.0)
+    after = _screenshot(browser)
+    drawn = browser.execute_script(
+        "return document.getElementById('scene').data.filter(t => t.meta && "
+        "t.meta.outcome !== undefined).map(t => [t.meta.failure, t.visible !== false])"
+    )
+    assert drawn and all(on == (failure != "held") for failure, on in drawn)
+    for kind in ("on_handle", "off_handle"):
+        assert _near(after, OUTCOME_RGB[kind]) < _near(before, OUTCOME_RGB[kind]) / 4 + 5, kind
+    # plotly's own click event on a grasp's TCP marker (a 3D pick by pixel is not reproducible
+    # across GL implementations): the record box shows that grasp's label record
+    chosen = next(r for r in records if r["success"])
+    browser.execute_script(
+        "document.getElementById('scene').emit('plotly_click', "
+        "{points: [{customdata: arguments[0]}]})",
+        chosen["index"],
+    )
+    shown = json.loads(browser.find_element("id", "record").text)
+    assert shown["index"] == chosen["index"] and shown["failure"] == chosen["failure"]
+    assert shown["grasp"] == pytest.approx(chosen["grasp"])
+    hover = browser.execute_script(
+        "return document.getElementById('scene').data.filter(t => t.mode === 'markers' && "
+        "t.meta && t.meta.outcome !== undefined).map(t => t.hovertemplate)"
+    )
+    assert hover and all(h.startswith("grasp %{customdata}") for h in hover)

@@ -140,7 +140,10 @@ def test_real_scene_page_draws_each_segment(browser, tmp_path):
         )  # fmt: skip
     _run("view", "d.json", "--export", "page.html", cwd=tmp_path)
     shot = _clean_load(browser, tmp_path / "page.html")
-    assert _near(shot, _hex(SEGMENT_COLORS[0])) > 200 and _near(shot, _hex(SEGMENT_COLORS[1])) > 200
+    first, second = _hex(SEGMENT_COLORS[0]), _hex(SEGMENT_COLORS[1])
+    assert _near(shot, first) > 200 and _near(shot, second) > 200
+    after = _toggle(browser, "layer", "segments")
+    assert _near(after, first) < _near(shot, first) / 4
 
 
 @pytest.fixture(scope="module")
@@ -170,9 +173,18 @@ def test_report_page_shows_tables_plots_and_each_trial(browser, report_page):
     # the first trial with a grasp is drawn on load: its object's mesh and the grasp
     drawn = browser.execute_script("return document.getElementById('scene').data.map(t => t.type)")
     assert drawn == ["mesh3d", "scatter3d"]
+    first = int(browser.execute_script("return document.body.dataset.selected"))
     last = len(records) - 1
     browser.find_element("css selector", f'tr.trial[data-trial="{last}"]').click()
     time.sleep(1.0)
+    drawn = browser.execute_script(
+        "return document.getElementById('scene').data.map(t => [t.type, t.line && t.line.color])"
+    )
+    if outcomes[last] != "no_grasp":  # the clicked trial's grasp, in its outcome color
+        assert ["scatter3d", COLORS[outcomes[last]]] in drawn
+    if last != first:
+        moved = _screenshot(browser)
+        assert (np.abs(moved.astype(int) - shot).sum(axis=2) > 30).mean() > 0.002
     shown = json.loads(browser.find_element("id", "record").text)
     assert (shown["object"], shown["seed"], shown["detector"]) == (
         records[last]["object"], records[last]["seed"], records[last]["detector"],

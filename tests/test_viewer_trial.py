@@ -1,6 +1,6 @@
 """The trial replay page (``simgrasp view t.json``) in a real headless Chromium (the browser
-of ``test_viewer_browser.py``): offline, no console error, the scene drawn, the slider moves
-the gripper and the object and names the phase."""
+of ``test_viewer_browser.py``): offline, no console error, the scene drawn in its colors,
+the slider moves the gripper and the object and names the phase."""
 
 from __future__ import annotations
 
@@ -12,9 +12,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_viewer_browser import _open, _requests, _screenshot, browser  # noqa: F401
+from test_viewer_browser import _near, _open, _requests, _screenshot, browser  # noqa: F401
 
 GRIPPER_RGB = (91, 111, 138)  # trial_page.GRIPPER_COLOR, before shading
+TABLE_RGB = (200, 180, 140)  # the table's color, before shading
 
 
 def _simgrasp(*args: str, cwd: Path) -> str:
@@ -48,6 +49,8 @@ def test_trial_page_replays_with_slider_and_phases(browser, trial_page):  # noqa
     assert outside == []
     assert [e for e in browser.get_log("browser") if e["level"] == "SEVERE"] == []
     assert (~(first == 255).all(axis=2)).mean() > 0.05  # the scene is drawn
+    # the gripper and the table top in their colors (far more pixels than a legend swatch)
+    assert _near(first, GRIPPER_RGB) > 500 and _near(first, TABLE_RGB) > 5000
     assert browser.find_element("id", "phase").text == "approach and close"
     assert "on_handle" in browser.find_element("id", "side").text
     low = _gripper_top(browser)
@@ -76,6 +79,8 @@ def test_trial_page_of_a_ycb_object(browser, ycb_dir, tmp_path):  # noqa: F811
     (tmp_path / "t.json").write_text(record)
     _simgrasp("view", "t.json", "--ycb-dir", ycb_dir, "--export", "t.html", cwd=tmp_path)
     image = _open(browser, tmp_path / "t.html")
+    outside = [u for u in _requests(browser) if not u.startswith(("file:", "data:", "blob:"))]
+    assert outside == []
     assert [e for e in browser.get_log("browser") if e["level"] == "SEVERE"] == []
     assert (~(image == 255).all(axis=2)).mean() > 0.05
     vertices = browser.execute_script(
