@@ -101,3 +101,36 @@ def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -
     labels.write_text("".join(json.dumps(r) + "\n" for r in rows))
     held = held_from_labels(labels, len(item.object_T_hands))
     assert subset_shares(item, label, held=held)["good_grasp"]["grasps"] == 1
+
+
+def _tube_points(radius: float, length: float, center_x: float = 0.0) -> np.ndarray:
+    """Points on a tube of ``radius`` along z through (center_x, 0), ``length`` long (m)."""
+    angle, z = np.meshgrid(np.linspace(0, 2 * np.pi, 120, endpoint=False), np.arange(-1, 1, 0.01))
+    x = center_x + radius * np.cos(angle).ravel()
+    return np.column_stack([x, radius * np.sin(angle).ravel(), z.ravel() * length / 2])
+
+
+def test_free_space_is_empty_around_a_free_tube_and_full_beside_a_wall() -> None:
+    from simgrasp.handles.free_space import sideways_occupancy
+
+    tube = _tube_points(0.005, 0.06)
+    axis, center, semi = np.array([[0.0, 0.0, 1.0]]), np.zeros((1, 3)), np.array([0.005])
+    rings = {"slab": 0.003, "gap": 0.003, "ring": 0.008}
+    assert sideways_occupancy(tube, center, axis, semi, **rings)[0] == 0.0
+    y, z = np.meshgrid(np.linspace(-0.03, 0.03, 61), np.linspace(-0.03, 0.03, 61))
+    wall = np.column_stack([np.full(y.size, 0.012), y.ravel(), z.ravel()])
+    beside = sideways_occupancy(np.vstack([tube, wall]), center, axis, semi, **rings)[0]
+    assert beside >= 3 / 12
+    # A plate continuing from the candidate's edge (a blade, a rim's wall) fills one side.
+    plate = np.column_stack([0.005 + y.ravel() + 0.03, np.zeros(y.size), z.ravel()])
+    edge = sideways_occupancy(np.vstack([tube, plate]), center, axis, semi, **rings)[0]
+    assert 0.0 < edge < beside
+    nan_semi = sideways_occupancy(tube, center, axis, np.array([np.nan]), **rings)
+    assert nan_semi[0] == 1.0
+
+
+def test_free_space_fallback_finds_no_handle_on_handle_less_bodies() -> None:
+    config = replace(FAST, free_space_fallback=True)
+    for kind in ("can", "fruit"):
+        asset = generate_tool(kind, 0)
+        assert auto_handle_label(asset.mesh, asset.name, config).label.regions == ()
