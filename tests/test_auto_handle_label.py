@@ -134,3 +134,21 @@ def test_free_space_fallback_finds_no_handle_on_handle_less_bodies() -> None:
     for kind in ("can", "fruit"):
         asset = generate_tool(kind, 0)
         assert auto_handle_label(asset.mesh, asset.name, config).label.regions == ()
+
+
+FLAT_STRAP_MUG = "Mug_b7841572364fd9ce1249ffc39a0c3c0b_0.0003944227048461527.h5"
+"""A tune-half ACRONYM mug whose strap is a flat band: no candidate passes the flatness test."""
+
+
+def test_free_space_fallback_labels_a_flat_strap_the_default_misses() -> None:
+    from simgrasp.evaluation.acronym_handles import read_acronym, subset_shares
+
+    root = require_data("acronym")
+    item = read_acronym(root / "affordance" / "grasps" / FLAT_STRAP_MUG)
+    full = replace(FAST, scan=ScanConfig())
+    assert auto_handle_label(item.mesh, item.name, full).label.regions == ()
+    label = auto_handle_label(item.mesh, item.name, replace(full, free_space_fallback=True)).label
+    shares = subset_shares(item, label)
+    handle, pour = shares["good_grasp"], shares["good_pour"]
+    assert handle["on_handle"] / handle["grasps"] >= 0.5
+    assert pour["on_handle"] / pour["grasps"] <= 0.05
