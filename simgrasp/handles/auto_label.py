@@ -10,11 +10,12 @@ become handle parts. Optionally (``free_space_fallback``, off by default: on hel
 mugs it labeled rims, see docs/results/handle-labels/README.md), when no round part is found
 (a flat strap), the narrow candidates of any flatness that have free space around their axis
 (:mod:`simgrasp.handles.free_space`: a handle stands off the object, a wall continues
-sideways) are clustered instead. Each
-part's scanned surface points, split into ``segments`` along their main axis, give one
-oriented box per segment (the way ``models/handles/ycb_handles.json`` was made by hand),
-grown by ``margin``. The result is a :class:`~simgrasp.assets.labels.HandleLabel`
-in the mesh frame, meters; no part found means an empty label (no handle).
+sideways) are clustered instead. Each part's scanned surface points (those near its
+candidates, followed ``axis_reach`` along the candidates' axes but not onto flat candidates'
+surface: :mod:`simgrasp.handles.axis_reach`), split into ``segments`` along their main axis,
+give one oriented box per segment (the way ``models/handles/ycb_handles.json`` was made by
+hand), grown by ``margin``. The result is a :class:`~simgrasp.assets.labels.HandleLabel` in
+the mesh frame, meters; no part found means an empty label (no handle).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from simgrasp.assets.labels import Box, HandleLabel
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
+from simgrasp.handles.axis_reach import reached_along_axes
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
@@ -81,6 +83,16 @@ class AutoLabelConfig(Checked):
     """... and at least this share of the best part's candidates."""
     region_radius: Positive = 0.01
     """Scanned surface points within this distance of a part's candidates are its surface."""
+    axis_reach: NonNegative = 0.02
+    """A part's surface also takes the scanned points up to this far along each of its
+    candidates' axes ... (0: off)"""
+    reach_pad: NonNegative = 0.003
+    """... within the candidate's larger transverse semi-axis plus this of the axis ..."""
+    reach_max_semi_axis: Positive = 0.015
+    """... (the semi-axis counted at most this much) ..."""
+    flat_block: NonNegative = 0.005
+    """... except points within this distance of a narrow candidate that failed the flatness
+    test (a blade's or a wall's evidence)."""
     segments: PositiveInt = 3
     """Boxes per part: its surface split into this many slabs along its main axis."""
     margin: NonNegative = 0.002
@@ -228,9 +240,9 @@ def part_boxes(
     surface: NDArray[np.float64],
     config: AutoLabelConfig,
 ) -> list[Box]:
-    """Oriented boxes around the scanned surface of one part, one per slab along its axis."""
-    near, _ = cKDTree(candidates.centers[part]).query(surface)
-    points = surface[near <= config.region_radius]
+    """Oriented boxes around the scanned surface of one part (:func:`part_surface`), one per
+    slab along its main axis."""
+    points = surface[part_surface(candidates, part, surface, config)]
     if len(points) < 4:
         return []
     centered = points - points.mean(axis=0)
@@ -256,3 +268,28 @@ def _box(points: NDArray[np.float64], margin: float) -> Box | None:
         rotation = rotation * np.array([1.0, 1.0, -1.0])
     half = np.maximum(np.asarray(extents, float) / 2.0, 1e-4) + margin
     return Box(points_T_box[:3, 3].copy(), rotation, half)
+
+
+def part_surface(
+    candidates: Candidates,
+    part: NDArray[np.int64],
+    surface: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> NDArray[np.bool_]:
+    """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
+    candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
+    the narrow candidates that failed the flatness test."""
+    near, _ = cKDTree(candidates.centers[part]).query(surface)
+    flat = (candidates.widths <= config.max_width) & (candidates.flatness > config.max_flatness)
+    blocked = np.zeros(len(surface), dtype=bool)
+    if config.flat_block > 0 and flat.any():
+        blocked = cKDTree(candidates.centers[flat]).query(surface)[0] <= config.flat_block
+    reached = reached_along_axes(
+        surface,
+        candidates.handle_points[part],
+        candidates.axes[part],
+        np.fmin(candidates.semi_major[part], config.reach_max_semi_axis) + config.reach_pad,
+        reach=config.axis_reach,
+        blocked=blocked,
+    )
+    return (near <= config.region_radius) | reached
