@@ -147,8 +147,32 @@ def test_free_space_fallback_labels_a_flat_strap_the_default_misses() -> None:
     item = read_acronym(root / "affordance" / "grasps" / FLAT_STRAP_MUG)
     full = replace(FAST, scan=ScanConfig())
     assert auto_handle_label(item.mesh, item.name, full).label.regions == ()
-    label = auto_handle_label(item.mesh, item.name, replace(full, free_space_fallback=True)).label
+    fallback = replace(full, free_space_fallback=True, axis_reach=0.0)  # the fallback alone
+    label = auto_handle_label(item.mesh, item.name, fallback).label
     shares = subset_shares(item, label)
     handle, pour = shares["good_grasp"], shares["good_pour"]
     assert handle["on_handle"] / handle["grasps"] >= 0.5
     assert pour["on_handle"] / pour["grasps"] <= 0.05
+
+
+def test_axis_reach_follows_a_tube_but_not_onto_a_blocked_blade() -> None:
+    from simgrasp.handles.axis_reach import reached_along_axes
+
+    tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
+    y, z = np.meshgrid(np.linspace(-0.02, 0.02, 41), np.linspace(0.0, 0.04, 41))
+    blade = np.column_stack([np.zeros(y.size), y.ravel(), 0.025 + z.ravel()])
+    surface = np.vstack([tube, blade])
+    center, axis = np.array([[0.0, 0.0, 0.01]]), np.array([[0.0, 0.0, 1.0]])
+    free = np.zeros(len(surface), dtype=bool)
+    reached = reached_along_axes(surface, center, axis, np.array([0.008]), reach=0.02, blocked=free)
+    on_tube = reached[: len(tube)]
+    z_tube = tube[:, 2]
+    assert on_tube[np.abs(z_tube - 0.01) <= 0.019].all() and not on_tube[z_tube < -0.011].any()
+    assert reached[len(tube) :].any()  # the blade's root lies within reach and radius
+    blocked = np.r_[free[: len(tube)], np.ones(len(blade), dtype=bool)]
+    kept_off = reached_along_axes(
+        surface, center, axis, np.array([0.008]), reach=0.02, blocked=blocked
+    )
+    assert not kept_off[len(tube) :].any() and (kept_off[: len(tube)] == on_tube).all()
+    none = reached_along_axes(surface, center, axis, np.array([0.008]), reach=0.0, blocked=free)
+    assert not none.any()
