@@ -12,7 +12,8 @@ The subsets are AffordanceGrasp's: mugs ``good_grasp`` on the handle against ``g
 ``good_grasp`` the blade (see the README written beside the results), so two knife rows are
 given: as the issue words it (``good_grasp`` as the handle subset) and by where the grasps are.
 ``--labels-dir DIR`` restricts every subset to the grasps our simulator held
-(``DIR/<file stem>/labels.jsonl``, rows with ``index`` and ``success``). Writes
+(``DIR/<file stem>/labels.jsonl``, rows with ``index`` and ``success``; files without one
+are left out; grasps without a row count as not held). Writes
 ``handle_labels.md`` and ``per_file.json`` (counts only: no mesh-derived geometry).
 
     python scripts/measure_handle_labels.py --out docs/results/handle-labels
@@ -47,12 +48,13 @@ def measure(data: Path, out: Path, labels_dir: Path | None) -> list[dict[str, ob
         if path.stem in done:
             rows.append(done[path.stem])
             continue
+        labels = labels_dir / path.stem / "labels.jsonl" if labels_dir is not None else None
+        if labels is not None and not labels.is_file():
+            print(f"{path.stem}: no {labels}, left out", flush=True)
+            continue
         item = read_acronym(path)
         result = auto_handle_label(item.mesh, item.name)
-        held = None
-        if labels_dir is not None:
-            labels = labels_dir / path.stem / "labels.jsonl"
-            held = held_from_labels(labels, len(item.object_T_hands))
+        held = None if labels is None else held_from_labels(labels, len(item.object_T_hands))
         shares = subset_shares(item, result.label, held=held)
         row = {
             "file": path.stem,

@@ -101,3 +101,78 @@ def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -
     labels.write_text("".join(json.dumps(r) + "\n" for r in rows))
     held = held_from_labels(labels, len(item.object_T_hands))
     assert subset_shares(item, label, held=held)["good_grasp"]["grasps"] == 1
+
+
+def _tube_points(radius: float, length: float, center_x: float = 0.0) -> np.ndarray:
+    """Points on a tube of ``radius`` along z through (center_x, 0), ``length`` long (m)."""
+    angle, z = np.meshgrid(np.linspace(0, 2 * np.pi, 120, endpoint=False), np.arange(-1, 1, 0.01))
+    x = center_x + radius * np.cos(angle).ravel()
+    return np.column_stack([x, radius * np.sin(angle).ravel(), z.ravel() * length / 2])
+
+
+def test_free_space_is_empty_around_a_free_tube_and_full_beside_a_wall() -> None:
+    from simgrasp.handles.free_space import sideways_occupancy
+
+    tube = _tube_points(0.005, 0.06)
+    axis, center, semi = np.array([[0.0, 0.0, 1.0]]), np.zeros((1, 3)), np.array([0.005])
+    rings = {"slab": 0.003, "gap": 0.003, "ring": 0.008}
+    assert sideways_occupancy(tube, center, axis, semi, **rings)[0] == 0.0
+    y, z = np.meshgrid(np.linspace(-0.03, 0.03, 61), np.linspace(-0.03, 0.03, 61))
+    wall = np.column_stack([np.full(y.size, 0.012), y.ravel(), z.ravel()])
+    beside = sideways_occupancy(np.vstack([tube, wall]), center, axis, semi, **rings)[0]
+    assert beside >= 3 / 12
+    # A plate continuing from the candidate's edge (a blade, a rim's wall) fills one side.
+    plate = np.column_stack([0.005 + y.ravel() + 0.03, np.zeros(y.size), z.ravel()])
+    edge = sideways_occupancy(np.vstack([tube, plate]), center, axis, semi, **rings)[0]
+    assert 0.0 < edge < beside
+    nan_semi = sideways_occupancy(tube, center, axis, np.array([np.nan]), **rings)
+    assert nan_semi[0] == 1.0
+
+
+def test_free_space_fallback_finds_no_handle_on_handle_less_bodies() -> None:
+    config = replace(FAST, free_space_fallback=True)
+    for kind in ("can", "fruit"):
+        asset = generate_tool(kind, 0)
+        assert auto_handle_label(asset.mesh, asset.name, config).label.regions == ()
+
+
+FLAT_STRAP_MUG = "Mug_b7841572364fd9ce1249ffc39a0c3c0b_0.0003944227048461527.h5"
+"""A tune-half ACRONYM mug whose strap is a flat band: no candidate passes the flatness test."""
+
+
+def test_free_space_fallback_labels_a_flat_strap_the_default_misses() -> None:
+    from simgrasp.evaluation.acronym_handles import read_acronym, subset_shares
+
+    root = require_data("acronym")
+    item = read_acronym(root / "affordance" / "grasps" / FLAT_STRAP_MUG)
+    full = replace(FAST, scan=ScanConfig())
+    assert auto_handle_label(item.mesh, item.name, full).label.regions == ()
+    fallback = replace(full, free_space_fallback=True, axis_reach=0.0)  # the fallback alone
+    label = auto_handle_label(item.mesh, item.name, fallback).label
+    shares = subset_shares(item, label)
+    handle, pour = shares["good_grasp"], shares["good_pour"]
+    assert handle["on_handle"] / handle["grasps"] >= 0.5
+    assert pour["on_handle"] / pour["grasps"] <= 0.05
+
+
+def test_axis_reach_follows_a_tube_but_not_onto_a_blocked_blade() -> None:
+    from simgrasp.handles.axis_reach import reached_along_axes
+
+    tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
+    y, z = np.meshgrid(np.linspace(-0.02, 0.02, 41), np.linspace(0.0, 0.04, 41))
+    blade = np.column_stack([np.zeros(y.size), y.ravel(), 0.025 + z.ravel()])
+    surface = np.vstack([tube, blade])
+    center, axis = np.array([[0.0, 0.0, 0.01]]), np.array([[0.0, 0.0, 1.0]])
+    free = np.zeros(len(surface), dtype=bool)
+    reached = reached_along_axes(surface, center, axis, np.array([0.008]), reach=0.02, blocked=free)
+    on_tube = reached[: len(tube)]
+    z_tube = tube[:, 2]
+    assert on_tube[np.abs(z_tube - 0.01) <= 0.019].all() and not on_tube[z_tube < -0.011].any()
+    assert reached[len(tube) :].any()  # the blade's root lies within reach and radius
+    blocked = np.r_[free[: len(tube)], np.ones(len(blade), dtype=bool)]
+    kept_off = reached_along_axes(
+        surface, center, axis, np.array([0.008]), reach=0.02, blocked=blocked
+    )
+    assert not kept_off[len(tube) :].any() and (kept_off[: len(tube)] == on_tube).all()
+    none = reached_along_axes(surface, center, axis, np.array([0.008]), reach=0.0, blocked=free)
+    assert not none.any()

@@ -6,10 +6,16 @@ in the mesh frame and kept when they look like a handle's cross-section: narrow 
 handle rather than the object's body (``max_width``) and round rather than flat
 (``max_flatness``: a blade's or a wall's fits are flat). The kept candidates are clustered by
 single linkage; clusters seen from enough views, with enough support against the best one,
-become handle parts. Each part's scanned surface points, split into ``segments`` along their
-main axis, give one oriented box per segment (the way ``models/handles/ycb_handles.json`` was
-made by hand), grown by ``margin``. The result is a :class:`~simgrasp.assets.labels.HandleLabel`
-in the mesh frame, meters; no part found means an empty label (no handle).
+become handle parts. Optionally (``free_space_fallback``, off by default: on held-out ACRONYM
+mugs it labeled rims, see docs/results/handle-labels/README.md), when no round part is found
+(a flat strap), the narrow candidates of any flatness that have free space around their axis
+(:mod:`simgrasp.handles.free_space`: a handle stands off the object, a wall continues
+sideways) are clustered instead. Each part's scanned surface points (those near its
+candidates, followed ``axis_reach`` along the candidates' axes but not onto flat candidates'
+surface: :mod:`simgrasp.handles.axis_reach`), split into ``segments`` along their main axis,
+give one oriented box per segment (the way ``models/handles/ycb_handles.json`` was made by
+hand), grown by ``margin``. The result is a :class:`~simgrasp.assets.labels.HandleLabel` in
+the mesh frame, meters; no part found means an empty label (no handle).
 """
 
 from __future__ import annotations
@@ -26,8 +32,10 @@ from simgrasp.assets.labels import Box, HandleLabel
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
+from simgrasp.handles.axis_reach import reached_along_axes
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
+from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
 from simgrasp.handles.virtual_scan import ScanConfig, View, scan_mesh
 from simgrasp.quadric import analyze_quadrics
 
@@ -51,6 +59,22 @@ class AutoLabelConfig(Checked):
     flat (a blade, a wall) and are dropped."""
     cluster_distance: Positive = 0.006
     """Single-linkage distance joining kept candidate centers into one part."""
+    free_space_fallback: bool = False
+    """When no part passes the flatness test, keep the narrow candidates of any flatness
+    that have free space around them (off: it found the rims of two held-out ACRONYM mugs)."""
+    max_occupancy: Fraction = 0.2
+    """In that fallback, a candidate is kept when surface lies around its axis in at most this
+    share of directions ..."""
+    free_gap: Positive = 0.003
+    """... looking from this far outside their larger transverse semi-axis ..."""
+    free_ring: Positive = 0.008
+    """... over a ring this wide ..."""
+    free_slab: Positive = 0.003
+    """... within this distance along their axis."""
+    free_max_semi_axis: Positive = 0.03
+    """Larger semi-axes count as this much there (the ring starts at most this far out)."""
+    free_voxel: Positive = 0.002
+    """The scanned surface is thinned to one point per cube of this side for that test."""
     min_views: PositiveInt = 3
     """A part must be found in at least this many views."""
     min_candidates: PositiveInt = 10
@@ -59,6 +83,16 @@ class AutoLabelConfig(Checked):
     """... and at least this share of the best part's candidates."""
     region_radius: Positive = 0.01
     """Scanned surface points within this distance of a part's candidates are its surface."""
+    axis_reach: NonNegative = 0.02
+    """A part's surface also takes the scanned points up to this far along each of its
+    candidates' axes ... (0: off)"""
+    reach_pad: NonNegative = 0.003
+    """... within the candidate's larger transverse semi-axis plus this of the axis ..."""
+    reach_max_semi_axis: Positive = 0.015
+    """... (the semi-axis counted at most this much) ..."""
+    flat_block: NonNegative = 0.005
+    """... except points within this distance of a narrow candidate that failed the flatness
+    test (a blade's or a wall's evidence)."""
     segments: PositiveInt = 3
     """Boxes per part: its surface split into this many slabs along its main axis."""
     margin: NonNegative = 0.002
@@ -71,12 +105,17 @@ class AutoLabelConfig(Checked):
 class Candidates:
     """The detector's candidates of all views, pooled (mesh frame): ``centers`` (M, 3),
     ``widths`` (M,), ``flatness`` (M,) (larger / smaller transverse semi-axis), ``views``
-    (M,) the index of the view each came from."""
+    (M,) the index of the view each came from, ``axes`` (M, 3) unit handle directions,
+    ``handle_points`` (M, 3) points on the handle axis, ``semi_major`` (M,) the larger
+    transverse semi-axis (m; NaN or inf where undefined)."""
 
     centers: NDArray[np.float64]
     widths: NDArray[np.float64]
     flatness: NDArray[np.float64]
     views: NDArray[np.int64]
+    axes: NDArray[np.float64]
+    handle_points: NDArray[np.float64]
+    semi_major: NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -86,7 +125,8 @@ class AutoLabel:
     label: HandleLabel
     candidates: Candidates
     kept: NDArray[np.bool_]
-    """Which candidates passed the width and flatness tests."""
+    """Which candidates passed the width and flatness tests (or, in the fallback, the width
+    and free-space tests)."""
     parts: tuple[NDArray[np.int64], ...]
     """Candidate indices of each accepted part."""
     surface: NDArray[np.float64]
@@ -102,9 +142,13 @@ def auto_handle_label(
     if not views:
         raise SimgraspError(f"object {name!r}: no scan saw the mesh")
     candidates = pooled_candidates(views, config)
-    kept = (candidates.widths <= config.max_width) & (candidates.flatness <= config.max_flatness)
-    parts = handle_parts(candidates, kept, config)
     surface = np.concatenate([v.points for v in views])
+    narrow = candidates.widths <= config.max_width
+    kept = narrow & (candidates.flatness <= config.max_flatness)
+    parts = handle_parts(candidates, kept, config)
+    if config.free_space_fallback and not parts and narrow.any():
+        kept = narrow & (free_space_shares(candidates, surface, config) <= config.max_occupancy)
+        parts = handle_parts(candidates, kept, config)
     regions = tuple(box for part in parts for box in part_boxes(candidates, part, surface, config))
     return AutoLabel(HandleLabel(name, regions), candidates, kept, parts, surface)
 
@@ -117,14 +161,39 @@ def pooled_candidates(views: list[View], config: AutoLabelConfig) -> Candidates:
             view.points, view.normals, config.detector, config.seed + k, viewpoint=view.viewpoint
         )
         rows.append(_candidate_rows(detection, k, config.detector.kind_rtol))
-    table = np.concatenate(rows) if rows else np.zeros((0, 6))
-    return Candidates(table[:, :3], table[:, 3], table[:, 4], table[:, 5].astype(np.int64))
+    table = np.concatenate(rows) if rows else np.zeros((0, 13))
+    return Candidates(
+        table[:, :3],
+        table[:, 3],
+        table[:, 4],
+        table[:, 5].astype(np.int64),
+        table[:, 6:9],
+        table[:, 9:12],
+        table[:, 12],
+    )
+
+
+def free_space_shares(
+    candidates: Candidates, surface: NDArray[np.float64], config: AutoLabelConfig
+) -> NDArray[np.float64]:
+    """(M,) per candidate, the share of directions around its axis where the scanned
+    ``surface`` continues sideways (:func:`simgrasp.handles.free_space.sideways_occupancy`)."""
+    return sideways_occupancy(
+        voxel_thinned(surface, config.free_voxel),
+        candidates.handle_points,
+        candidates.axes,
+        np.fmin(candidates.semi_major, config.free_max_semi_axis),
+        slab=config.free_slab,
+        gap=config.free_gap,
+        ring=config.free_ring,
+    )
 
 
 def _candidate_rows(detection: Detection, view: int, rtol: float) -> NDArray[np.float64]:
-    """(M, 6) rows ``[center xyz, width, flatness, view]`` of one detection's candidates."""
+    """(M, 13) rows ``[center xyz, width, flatness, view, axis xyz, handle point xyz, larger
+    transverse semi-axis]`` of one detection's candidates."""
     if not detection.candidates:
-        return np.zeros((0, 6))
+        return np.zeros((0, 13))
     centers = detection.candidate_centers
     coefficients = np.stack([c.quadric.coefficients for c in detection.candidates])
     semi = analyze_quadrics(coefficients, rtol, centers).transverse_semi_axes
@@ -132,7 +201,11 @@ def _candidate_rows(detection: Detection, view: int, rtol: float) -> NDArray[np.
         flatness = np.where(semi[:, 0] > 0, semi[:, 1] / semi[:, 0], np.inf)
     flatness = np.nan_to_num(flatness, nan=np.inf)
     widths = np.array([c.width for c in detection.candidates])
-    return np.column_stack([centers, widths, flatness, np.full(len(centers), view)])
+    axes = np.stack([c.axis for c in detection.candidates])
+    handle_points = np.stack([c.handle_point for c in detection.candidates])
+    return np.column_stack(
+        [centers, widths, flatness, np.full(len(centers), view), axes, handle_points, semi[:, 1]]
+    )
 
 
 def handle_parts(
@@ -167,9 +240,9 @@ def part_boxes(
     surface: NDArray[np.float64],
     config: AutoLabelConfig,
 ) -> list[Box]:
-    """Oriented boxes around the scanned surface of one part, one per slab along its axis."""
-    near, _ = cKDTree(candidates.centers[part]).query(surface)
-    points = surface[near <= config.region_radius]
+    """Oriented boxes around the scanned surface of one part (:func:`part_surface`), one per
+    slab along its main axis."""
+    points = surface[part_surface(candidates, part, surface, config)]
     if len(points) < 4:
         return []
     centered = points - points.mean(axis=0)
@@ -195,3 +268,28 @@ def _box(points: NDArray[np.float64], margin: float) -> Box | None:
         rotation = rotation * np.array([1.0, 1.0, -1.0])
     half = np.maximum(np.asarray(extents, float) / 2.0, 1e-4) + margin
     return Box(points_T_box[:3, 3].copy(), rotation, half)
+
+
+def part_surface(
+    candidates: Candidates,
+    part: NDArray[np.int64],
+    surface: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> NDArray[np.bool_]:
+    """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
+    candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
+    the narrow candidates that failed the flatness test."""
+    near, _ = cKDTree(candidates.centers[part]).query(surface)
+    flat = (candidates.widths <= config.max_width) & (candidates.flatness > config.max_flatness)
+    blocked = np.zeros(len(surface), dtype=bool)
+    if config.flat_block > 0 and flat.any():
+        blocked = cKDTree(candidates.centers[flat]).query(surface)[0] <= config.flat_block
+    reached = reached_along_axes(
+        surface,
+        candidates.handle_points[part],
+        candidates.axes[part],
+        np.fmin(candidates.semi_major[part], config.reach_max_semi_axis) + config.reach_pad,
+        reach=config.axis_reach,
+        blocked=blocked,
+    )
+    return (near <= config.region_radius) | reached
