@@ -114,8 +114,12 @@ def test_a_standing_handle_is_approached_from_above_its_side() -> None:
         rng = np.random.default_rng(0)
         return grasps_from_handles([handle], body, cameras, robotiq_like, 0.0, rng, config)
 
-    assert plan(PlannerConfig(approach_pitches=(0.0,))) == []
+    assert plan(PlannerConfig(approach_pitches=(0.0,), fallback_pitches=())) == []
     grasps = plan(PlannerConfig())
+    unchanged = plan(PlannerConfig(fallback_pitches=()))  # found at the usual pitches
+    assert [g.world_T_tcp.tolist() for g in grasps] == [g.world_T_tcp.tolist() for g in unchanged]
+    steep = plan(PlannerConfig(approach_pitches=(0.0,)))  # only the fallback's clear it
+    assert steep and all(g.approach_world[2] < -0.5 for g in steep)  # 45-60 deg off a rise
     assert grasps
     for grasp in grasps:
         assert abs(grasp.world_T_tcp[:3, 1] @ handle.axis) < 1e-9, "jaws close across it"

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
 from simgrasp.assets.model import model_for
 from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.trials.chain import run_chain
+from simgrasp.grasping.trials.chain import propose_grasps, run_chain
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.clutter_scoring import NeighborWatch, score_in_clutter
 from simgrasp.grasping.trials.trial import run_trial
@@ -88,3 +90,26 @@ def test_a_clutter_trial_records_its_scene_and_cut(hammer) -> None:
     assert record["target_iou"] > 0.8
     assert record["timings_s"]["segment"] > 0
     assert isinstance(record["neighbors_disturbed"], int)
+
+
+def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap() -> None:
+    """Seed 105 stands the YCB mug (Kinect depth) with its strap facing a neighbor: the
+    12 cm palm behind every approach to the strap up to 30 degrees down meets the neighbor,
+    so the usual pitches leave no grasp; the fallback's steeper ones pass over the neighbor,
+    still close across the strap and lift the mug by it."""
+    mug, seed = model_for("025_mug"), 105
+    config = ChainConfig.of(scene__clutter=5, sensor__kind="kinect")
+    scene = build_scene(mug, make_gripper(config.gripper), config.scene, seed)
+    observation = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor)
+    cut = perceive_target(scene, observation, config.perception_mode, 0.0, seed)
+    usual = replace(config, planner=replace(config.planner, fallback_pitches=()))
+    assert propose_grasps(scene, cut.cloud, usual, seed, cut.obstacles_world)[0] == []
+    grasps, detection = propose_grasps(scene, cut.cloud, config, seed, cut.obstacles_world)
+    assert grasps and detection is not None
+    axis = detection.handles[0].axis
+    assert abs(axis[2]) > 0.95  # the standing strap
+    for grasp in grasps:
+        assert grasp.approach_world[2] < -np.sin(np.pi / 4) + 0.05  # 45 degrees down or more
+        assert abs(grasp.world_T_tcp[:3, 1] @ axis) < 1e-9  # the jaws close across it
+    trial = run_trial(scene, grasps[0], config.trial)
+    assert trial.success and trial.on_handle

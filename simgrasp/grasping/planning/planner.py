@@ -18,26 +18,10 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
+from simgrasp.grasping.planning.approaches import approach_angles, handle_approaches, orthonormal
 from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
-
-
-def _orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    u = np.cross(axis, helper)
-    u /= np.linalg.norm(u)
-    return u, np.cross(axis, u)
-
-
-def _downward_basis(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Unit vectors ``u, v`` perpendicular to ``axis`` with ``u`` the steepest downward
-    direction (world -z projected off the axis); any perpendicular pair for a vertical axis."""
-    down = np.array([0.0, 0.0, -1.0]) - axis * -axis[2]
-    if np.linalg.norm(down) < 1e-6:
-        return _orthonormal(axis)
-    u = down / np.linalg.norm(down)
-    return u, np.cross(axis, u)
 
 
 def _gripper_boxes(
@@ -148,19 +132,6 @@ def above_table(
     return shifted
 
 
-def _pitched(
-    approach: NDArray[np.float64], axis: NDArray[np.float64], config: PlannerConfig
-) -> list[NDArray[np.float64]]:
-    """``approach`` (perpendicular to the handle ``axis``) turned about the closing direction
-    by each of ``config.approach_pitches`` (rad) so that it descends: toward the axis's lower
-    end. Not tilted around an axis sloping less than ``config.pitch_min_slope``."""
-    if abs(axis[2]) < np.sin(config.pitch_min_slope):
-        return [approach]
-    down_axis = -np.sign(axis[2]) * axis
-    pitches = config.approach_pitches
-    return [np.cos(pitch) * approach + np.sin(pitch) * down_axis for pitch in pitches]
-
-
 def _rank(approach: NDArray, position: NDArray, cameras: NDArray, config: PlannerConfig) -> float:
     view = position - cameras
     view /= np.linalg.norm(view, axis=1, keepdims=True)
@@ -207,28 +178,32 @@ def grasps_from_handles(
     around the axis: the steepest downward approach first (exactly, so a handle lying flat on
     the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
     seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
-    a sloping axis. A grasp's score is the handle's score relative to the best handle's (1 for
-    the best) plus bonuses for approaching from the camera's side, from above and with the
-    open gripper clear of the cloud, less penalties for backing off the handle to clear the
-    table and for the lever arm to the centroid along the handle.
+    a sloping axis; only when none of them is clear, the same approaches are tilted down by
+    ``config.fallback_pitches`` (steeper, over the neighbors around a standing handle). A
+    grasp's score is the handle's score relative to the best handle's (1 for the best) plus
+    bonuses for approaching from the camera's side, from above and with the open gripper
+    clear of the cloud, less penalties for backing off the handle to clear the table and for
+    the lever arm to the centroid along the handle.
     """
     cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     handles = list(handles)[: config.max_handles]
     best_score = max((h.score for h in handles), default=1.0) or 1.0
     centroid = points_world.mean(axis=0) if len(points_world) else None
     obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
-    grasps = []
-    for handle in handles:
-        u, v = _downward_basis(handle.axis)
-        angles = _approach_angles(rng, config)
-        for offset, lever in _grasp_offsets(handle, centroid, geometry):
-            position = handle.center + offset * handle.axis
-            for angle in angles:
-                around = np.cos(angle) * u + np.sin(angle) * v
-                closing = np.cross(around, handle.axis)
-                for approach in _pitched(around, handle.axis, config):
+    angles = [approach_angles(rng, config) for _ in handles]
+    grasps: list[Grasp] = []
+    passes = ((config.approach_pitches, True), (config.fallback_pitches, False))
+    for pitches, level in passes:
+        for handle, handle_angles in zip(handles, angles, strict=True):
+            targets = [
+                (handle.center + offset * handle.axis, lever)
+                for offset, lever in _grasp_offsets(handle, centroid, geometry)
+            ]
+            for position, lever in targets:
+                pairs = handle_approaches(handle.axis, handle_angles, pitches, config, level)
+                for around, approach in pairs:
                     grasp = _scored_grasp(
-                        (position, closing, approach),
+                        (position, np.cross(around, handle.axis), approach),
                         handle.score / best_score,
                         lever,
                         obstacles,
@@ -240,16 +215,9 @@ def grasps_from_handles(
                     )
                     if grasp is not None:
                         grasps.append(grasp)
+        if grasps:
+            break
     return sorted(grasps, key=lambda g: -g.score)
-
-
-def _approach_angles(rng: np.random.Generator, config: PlannerConfig) -> NDArray[np.floating]:
-    """Approach angles around a handle's axis (rad): 0 (the steepest downward approach) and
-    evenly spaced ones turned by one seeded jitter."""
-    step = 2 * np.pi / config.approaches_per_handle
-    angles = np.arange(config.approaches_per_handle) * step
-    angles[1:] += rng.uniform(-step / 2, step / 2)
-    return angles
 
 
 def _scored_grasp(
@@ -360,7 +328,7 @@ def antipodal_grasps(
             or normals_world[j] @ line < config.antipodal_cos
         ):
             continue
-        u, v = _orthonormal(line)
+        u, v = orthonormal(line)
         angle = rng.uniform(0, 2 * np.pi)
         approach = np.cos(angle) * u + np.sin(angle) * v
         pose = above_table(

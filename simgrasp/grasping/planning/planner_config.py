@@ -36,6 +36,16 @@ class PlannerConfig(Checked):
     close across the handle: a handle standing upright (a mug's) is then also approached from
     above its side, which keeps the palm off the table (a level approach to a handle 4 cm up
     puts a Robotiq palm at the table top)."""
+    fallback_pitches: tuple[Annotated[float, Range(ge=0, lt=np.pi / 2)], ...] = (
+        np.pi / 4,
+        np.pi / 3,
+    )
+    """When no approach tilted by ``approach_pitches`` around any handle is clear, the same
+    approaches around the sloping axes are tried again tilted down by these (rad; empty: no
+    second try). In clutter a neighbor touching an upright mug (5 distractors) blocks the
+    12 cm wide palm behind every approach to its standing strap up to 30 degrees down, where a
+    45-60 degree approach passes over it; as a second try, no plan that finds a grasp at the
+    usual pitches changes."""
     pitch_min_slope: Annotated[float, Range(ge=0, le=np.pi / 2)] = np.pi / 12
     """Approaches are tilted only around axes sloping at least this much from level (rad):
     along a flatter axis (a tool lying on the table) a tilt turns the approach sideways more
