@@ -116,8 +116,10 @@ def main() -> None:
     if osd:
         report("osd-learn", osd, args.repeats)
     else:
-        print(f"skipped osd-learn: no learn*.pcd in {default_real_dir() / 'osd-learn'} "
-              "(set SIMGRASP_REAL_DIR)")
+        print(
+            f"skipped osd-learn: no learn*.pcd in {default_real_dir() / 'osd-learn'} "
+            "(set SIMGRASP_REAL_DIR)"
+        )
     if args.clutter_scenes > 0:
         report("kinect clutter views", clutter_frames(args.clutter_scenes), args.repeats)
 
