@@ -28,20 +28,19 @@ def grid_components(
     """Segment ids (H, W) of the ``candidates`` pixels (0 elsewhere), in no particular order.
 
     ``points`` is the (H, W, 3) position image (m, NaN where invalid). The candidates are cut
-    group by group (:func:`candidate_groups`), each in the bounding box of its pixels: groups
-    lie too far apart for any step to see two at once, and a group with fewer than
-    ``min_object_points`` pixels can only give segments that are dropped, so it is skipped.
+    group by group (:func:`candidate_groups`), each in its bounding box: groups lie too far
+    apart for any step to see two at once, and a group with fewer than ``min_object_points``
+    pixels can only give segments that are dropped, so it is skipped.
     """
-    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
     segments = np.zeros(candidates.shape, dtype=np.int32)
-    for group in candidate_groups(candidates, config):
+    next_id = 0
+    for rows, cols, group in candidate_groups(candidates, config):
         if np.count_nonzero(group) < config.min_object_points:
             continue
-        rows, cols = _bounding_slices(group, margin)
-        crop = _crop_components(points[rows, cols], group[rows, cols], viewpoint, config)
-        view = segments[rows, cols]
+        crop = _crop_components(points[rows, cols], group, viewpoint, config)
         cut = crop > 0
-        view[cut] = crop[cut] + segments.max()
+        segments[rows, cols][cut] = crop[cut] + next_id
+        next_id += int(crop.max())
     return segments
 
 
@@ -51,27 +50,32 @@ GROUP_BLOCK = 8
 
 def candidate_groups(
     candidates: NDArray[np.bool_], config: SegmentConfig
-) -> list[NDArray[np.bool_]]:
+) -> list[tuple[slice, slice, NDArray[np.bool_]]]:
     """The ``candidates`` (H, W) split into groups whose pixels lie farther apart than any
     step of the cut reaches (the normals' window and baseline, the concave baseline and the
     attach radius): ``GROUP_BLOCK`` blocks holding a candidate, joined when one block of
-    dilation makes them touch (pixels of two groups are then at least 3 blocks + 1 apart)."""
-    reach = (
-        config.normal_bin_px
-        * (config.normal_window_px + 2 * config.normal_step_px + config.concave_step_px)
-        + config.attach_radius_px
-    )
+    dilation makes them touch (pixels of two groups are then at least 3 blocks + 1 apart).
+    Each group as the row and column slices of its blocks grown by the normals' margin and
+    its pixels within them."""
+    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
+    reach = margin + config.normal_bin_px * config.concave_step_px + config.attach_radius_px
     dilation = max(0, -(-(reach - GROUP_BLOCK) // (2 * GROUP_BLOCK)))
-    height, width = candidates.shape
-    size = GROUP_BLOCK
+    (height, width), size = candidates.shape, GROUP_BLOCK
     padded = np.zeros((-(-height // size) * size, -(-width // size) * size), dtype=bool)
     padded[:height, :width] = candidates
     blocks = padded.reshape(padded.shape[0] // size, size, -1, size).any(axis=(1, 3))
     grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
-    grown = grown if dilation else blocks
-    ids, count = ndimage.label(grown, np.ones((3, 3), bool))
-    pixel_ids = np.repeat(np.repeat(ids * blocks, size, axis=0), size, axis=1)[:height, :width]
-    return [candidates & (pixel_ids == k) for k in range(1, count + 1)]
+    ids, _ = ndimage.label(grown if dilation else blocks, np.ones((3, 3), bool))
+    ids *= blocks
+    pixel_ids = np.repeat(np.repeat(ids, size, axis=0), size, axis=1)[:height, :width]
+    groups = []
+    for group, found in enumerate(ndimage.find_objects(ids), start=1):
+        if found is None:
+            continue
+        rows = slice(max(found[0].start * size - margin, 0), found[0].stop * size + margin)
+        cols = slice(max(found[1].start * size - margin, 0), found[1].stop * size + margin)
+        groups.append((rows, cols, candidates[rows, cols] & (pixel_ids[rows, cols] == group)))
+    return groups
 
 
 def inner_floors(
@@ -91,10 +95,12 @@ def inner_floors(
     if not small.any():
         return np.zeros(table.shape, dtype=np.int32)
     floors = np.where(small[patches], patches, 0).astype(np.int32)
-    grown = ndimage.maximum_filter(floors, size=3)
-    ring = (grown > 0) & (floors == 0)
+    rows, cols = _bounding_slices(floors > 0, 1)
+    box = floors[rows, cols]
+    grown = ndimage.maximum_filter(box, size=3, mode="constant")
+    ring = (grown > 0) & (box == 0)
     ring_size = np.bincount(grown[ring], minlength=count + 1)
-    ring_above = np.bincount(grown[ring & above], minlength=count + 1)
+    ring_above = np.bincount(grown[ring & above[rows, cols]], minlength=count + 1)
     enclosed = small & (ring_above >= config.floor_enclosed * np.maximum(ring_size, 1))
     return np.where(enclosed[floors], floors, 0).astype(np.int32)
 

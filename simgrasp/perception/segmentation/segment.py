@@ -160,7 +160,8 @@ def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any
 def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
     name = scene.source or "scene"
     points, eye = scene.points, scene.viewpoint.astype(np.float32)
-    squared = np.einsum("ij,ij->i", points, points)
+    squared = points[:, 0] * points[:, 0] + points[:, 1] * points[:, 1]
+    squared += points[:, 2] * points[:, 2]
     if eye.any():
         squared += eye @ eye - 2.0 * row_dot(points, eye)
     finite = np.isfinite(squared)

@@ -90,7 +90,10 @@ def _contacts(
     ``part_contact_distance`` (m). Every offset at once, on grids padded with label 0."""
     count, reach = len(sizes), config.part_contact_px
     steps = sorted({-reach, -1, 0, 1, reach})
-    padded, flat_planes, padded_pixels = _padded(labels, points, pixels, reach)
+    rows, cols, inner = _window(labels.shape, pixels, reach)
+    padded, flat_planes, padded_pixels = _padded(
+        labels[rows, cols], points[rows, cols], inner, reach
+    )
     width = padded.shape[1]
     shifts = np.array([dr * width + dc for dr in steps for dc in steps if dr or dc])
     there = padded_pixels[None, :] + shifts[:, None]
@@ -102,6 +105,20 @@ def _contacts(
     pixel_pairs = np.unique(here.astype(np.int64) * count + other[touch])
     parts = labels.reshape(-1)[pixel_pairs // count].astype(np.int64)
     return np.unique(parts * count + pixel_pairs % count, return_counts=True)
+
+
+def _window(
+    shape: tuple[int, ...], pixels: NDArray[np.int64], reach: int
+) -> tuple[slice, slice, NDArray[np.int64]]:
+    """Row and column slices of the bounding box of the flat ``pixels`` of an image of
+    ``shape``, grown by ``reach`` (cut at the image), and the pixels' flat indices in it."""
+    rows, cols = np.divmod(pixels, shape[1])
+    if len(pixels) == 0:
+        return slice(0, 0), slice(0, 0), pixels
+    top, left = max(int(rows.min()) - reach, 0), max(int(cols.min()) - reach, 0)
+    right = min(int(cols.max()) + reach + 1, shape[1])
+    window = (slice(top, min(int(rows.max()) + reach + 1, shape[0])), slice(left, right))
+    return window[0], window[1], (rows - top) * (right - left) + cols - left
 
 
 def _padded(
@@ -155,18 +172,23 @@ def claim_table_edges(
         return labels
     flat = labels.reshape(-1)
     pixels = np.flatnonzero(is_part[np.minimum(flat, len(parents) - 1)] & (flat >= FIRST_OBJECT))
-    padded, flat_planes, padded_pixels = _padded(labels, points, pixels, reach)
+    rows, cols, inner = _window(labels.shape, pixels, reach)
+    padded, flat_planes, padded_pixels = _padded(
+        labels[rows, cols], points[rows, cols], inner, reach
+    )
     width = padded.shape[1]
     steps = np.arange(-reach, reach + 1)
     shifts = (steps[:, None] * width + steps[None, :]).reshape(-1)
     there = padded_pixels[None, :] + shifts[:, None]
     near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
-    padded_height = np.pad(height, reach).reshape(-1)
+    padded_height = np.pad(height[rows, cols], reach).reshape(-1)
     edge = (
         near
         & (padded.reshape(-1)[there] == TABLE)
         & (padded_height[there] > config.part_edge_height)
     )
-    claimed = padded.reshape(-1).copy()
-    claimed[there[edge]] = np.broadcast_to(flat[pixels][None, :], edge.shape)[edge]
-    return claimed.reshape(padded.shape)[reach:-reach, reach:-reach].copy()
+    window = padded.reshape(-1).copy()
+    window[there[edge]] = np.broadcast_to(flat[pixels][None, :], edge.shape)[edge]
+    claimed = labels.copy()
+    claimed[rows, cols] = window.reshape(padded.shape)[reach:-reach, reach:-reach]
+    return claimed
