@@ -1,9 +1,10 @@
 """Milliseconds of CPU per 640x480 frame of the scene segmenter (``segment_scene``), on one core.
 
 Two sets of frames: the 45 real osd-learn scenes (``$SIMGRASP_REAL_DIR/osd-learn``; skipped
-with a line when absent) and the kinect views of simulated clutter scenes (a generated tool
-among five generated distractors, four views each, rendered once through the chain's own
-scene, render and sensor code; the ``segment`` perception of ``simgrasp evaluate --clutter``).
+with a line when absent; default settings) and the kinect views of simulated clutter scenes (a
+generated tool among five generated distractors, four views each, rendered once through the
+chain's own scene, render and sensor code, segmented with the chain's settings,
+``SegmentConfig.simulated``: the ``segment`` perception of ``simgrasp evaluate --clutter``).
 Per frame the least CPU time of ``--repeats`` runs is taken; medians over the frames are
 printed with their stage medians (``Segmentation.timings_s``). The same-run baseline is back-
 projecting the frame's depth image to camera-frame points (``depth_to_points_cam``), the
@@ -33,12 +34,15 @@ from simgrasp.assets.real import default_real_dir  # noqa: E402
 from simgrasp.perception.camera import CameraIntrinsics, depth_to_points_cam  # noqa: E402
 from simgrasp.perception.scene_cloud import SceneCloud, read_scene  # noqa: E402
 from simgrasp.perception.segmentation.segment import Segmentation, segment_scene  # noqa: E402
+from simgrasp.perception.segmentation.segment_config import SegmentConfig  # noqa: E402
 
 KINECT = CameraIntrinsics(width=640, height=480, fx=525.0, fy=525.0, cx=319.5, cy=239.5)
 """The osd-learn scenes' camera (camera-frame points; only the baseline uses it)."""
 
 Frame = tuple[SceneCloud, np.ndarray, CameraIntrinsics]
 """A scene cloud, its depth image (m, 0 where none) and the camera that took it."""
+SIMULATED = SegmentConfig.simulated()
+"""The chain's segmenter settings (``ChainConfig.segment``), used on the rendered frames."""
 
 
 def osd_frames() -> list[Frame]:
@@ -87,15 +91,15 @@ def least_cpu_ms(work: Callable[[], object], repeats: int) -> float:
     return 1000.0 * best
 
 
-def report(name: str, frames: list[Frame], repeats: int) -> None:
-    """Print the median segmentation and baseline ms per frame of ``frames``."""
+def report(name: str, frames: list[Frame], repeats: int, config: SegmentConfig) -> None:
+    """Print the median segmentation (``config``) and baseline ms per frame of ``frames``."""
     segment_ms, baseline_ms, stages = [], [], {}
     for scene, depth, intrinsics in frames:
-        segment_ms.append(least_cpu_ms(lambda s=scene: segment_scene(s), repeats))
+        segment_ms.append(least_cpu_ms(lambda s=scene: segment_scene(s, config), repeats))
         baseline_ms.append(
             least_cpu_ms(lambda d=depth, i=intrinsics: depth_to_points_cam(d, i), repeats)
         )
-        result: Segmentation = segment_scene(scene)
+        result: Segmentation = segment_scene(scene, config)
         for stage, seconds in result.timings_s.items():
             stages.setdefault(stage, []).append(1000.0 * seconds)
     segment, baseline = statistics.median(segment_ms), statistics.median(baseline_ms)
@@ -114,14 +118,14 @@ def main() -> None:
     args = parser.parse_args()
     osd = osd_frames()
     if osd:
-        report("osd-learn", osd, args.repeats)
+        report("osd-learn", osd, args.repeats, SegmentConfig())
     else:
         print(
             f"skipped osd-learn: no learn*.pcd in {default_real_dir() / 'osd-learn'} "
             "(set SIMGRASP_REAL_DIR)"
         )
     if args.clutter_scenes > 0:
-        report("kinect clutter views", clutter_frames(args.clutter_scenes), args.repeats)
+        report("kinect clutter views", clutter_frames(args.clutter_scenes), args.repeats, SIMULATED)
 
 
 if __name__ == "__main__":
