@@ -30,11 +30,19 @@ def grid_components(
     ``points`` is the (H, W, 3) position image (m, NaN where invalid). The candidates are cut
     group by group (:func:`candidate_groups`), each in its bounding box: groups lie too far
     apart for any step to see two at once, and a group with fewer than ``min_object_points``
-    pixels can only give segments that are dropped, so it is skipped.
+    pixels can only give segments that are dropped, so it is skipped. With
+    ``normal_bin_px`` > 1 the normals' blocks are anchored at the corner of the bounding box
+    of all candidates, so all are cut in that one box.
     """
     segments = np.zeros(candidates.shape, dtype=np.int32)
     next_id = 0
-    for rows, cols, group in candidate_groups(candidates, config):
+    if config.normal_bin_px == 1:
+        groups = candidate_groups(candidates, config)
+    else:  # the normals' blocks anchored at the one box of all candidates, as ever
+        margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
+        rows, cols = _bounding_slices(candidates, margin)
+        groups = [(rows, cols, candidates[rows, cols])]
+    for rows, cols, group in groups:
         if np.count_nonzero(group) < config.min_object_points:
             continue
         crop = _crop_components(points[rows, cols], group, viewpoint, config)
