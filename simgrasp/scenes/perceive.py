@@ -79,7 +79,9 @@ def perceive_target(
         cloud = observation.cloud  # exactly today's ground-truth cut
     else:
         cloud = noisy_cloud(_fused(frames, views, targets), noise, seed)
-    obstacles = _fused(frames, views, others).points_world
+    obstacles = _masked_points(views, others)
+    if len(obstacles):
+        obstacles = voxel_downsample(obstacles, CLOUD_VOXEL)[0]  # as _fused's, no viewpoints
     return PerceivedTarget(cloud, obstacles, inter / union if union else 0.0)
 
 
@@ -151,4 +153,18 @@ def _fused(
         viewpoints_world=eyes[view_index].reshape(-1, 3),
         view_counts=tuple(int(c) for c in np.bincount(view_index, minlength=len(frames))),
         camera_names=tuple(frame.camera_name for frame in frames),
+    )
+
+
+def _masked_points(
+    views: list[tuple[NDArray[np.float64], NDArray[np.intp]]], masks: list[NDArray[np.bool_]]
+) -> NDArray[np.float64]:
+    """(N, 3) the world points of the masked pixels of every view (their :func:`world_pixels`
+    ``views``), view after view."""
+    return np.concatenate(
+        [
+            points[mask.reshape(-1)[pixels]]
+            for (points, pixels), mask in zip(views, masks, strict=True)
+        ],
+        axis=0,
     )
