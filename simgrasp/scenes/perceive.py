@@ -4,9 +4,11 @@
 cloud in the world frame (640 x 480, NaN where the sensor returned nothing), which
 :func:`simgrasp.perception.segmentation.segment.segment_scene` cuts into the table and the
 objects on it, as
-``simgrasp segment`` cuts a real Kinect frame; in each view the segment (with its side parts)
-holding most of the target's true pixels is taken, with any other segment mostly on the target
-(``MAJORITY``), as an object recognizer would hand it over, and the views' picks are fused
+``simgrasp segment`` cuts a real Kinect frame (with :meth:`SegmentConfig.simulated`, for the
+exactly flat rendered table); in each view every segment (with its side parts) at least
+``MAJORITY`` on the target's true pixels is taken, as an object recognizer would hand the
+target over (none when no segment is mostly the target: a target barely seen behind a
+neighbor is not handed over as that neighbor), and the views' picks are fused
 into the target cloud. Every other segment is fused into the
 obstacle cloud the planner keeps the open gripper clear of. ``mask``: the renderer's
 segmentation cuts the target (today's ground truth) and the distractors' pixels are the
@@ -32,9 +34,9 @@ from simgrasp.scenes.render import DepthFrame
 from simgrasp.scenes.scene import Scene
 
 MAJORITY = 0.5
-"""A segment more than this share of whose pixels are the target's is one of its pieces (an
-over-segmented mug: its inside and outside); an object recognizer would hand them over
-together."""
+"""A segment at least this share of whose pixels are the target's is one of its pieces (an
+over-segmented mug: its inside and outside; a thin tool lying flat, broken in fragments by
+the table band); an object recognizer would hand them over together."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,7 +67,7 @@ def perceive_target(
         truth = (frame.body_ids == scene.object_body) & (frame.depth > 0)
         if perception == "segment":
             views.append(world_pixels(frame))
-            cut, rest = _segmented_cut(frame, views[-1], truth, config or SegmentConfig())
+            cut, rest = _segmented_cut(frame, views[-1], truth, config or SegmentConfig.simulated())
         else:
             cut, rest = truth, np.isin(frame.body_ids, distractors) & (frame.depth > 0)
             views.append(world_pixels(frame, rest))
@@ -77,7 +79,9 @@ def perceive_target(
         cloud = observation.cloud  # exactly today's ground-truth cut
     else:
         cloud = noisy_cloud(_fused(frames, views, targets), noise, seed)
-    obstacles = _fused(frames, views, others).points_world
+    obstacles = _masked_points(views, others)
+    if len(obstacles):
+        obstacles = voxel_downsample(obstacles, CLOUD_VOXEL)[0]  # as _fused's, no viewpoints
     return PerceivedTarget(cloud, obstacles, inter / union if union else 0.0)
 
 
@@ -108,9 +112,8 @@ def _segmented_cut(
     truth: NDArray[np.bool_],
     config: SegmentConfig,
 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """(H, W) the target's segments, and every other object segment: the segment (with its
-    side parts) holding most of ``truth``'s pixels, joined by every other segment of which
-    the target holds at least ``MAJORITY`` (none when no segment holds a target pixel)."""
+    """(H, W) the target's segments, and every other object segment: the segments (with
+    their side parts) of which ``truth`` holds at least ``MAJORITY`` of the pixels."""
     segmentation = segment_scene(organized_cloud(frame, view), config)
     shape = frame.depth.shape
     labels = segmentation.labels
@@ -118,16 +121,11 @@ def _segmented_cut(
     sizes = np.bincount(labels, minlength=FIRST_OBJECT)
     hits = np.bincount(labels[truth.reshape(-1)], minlength=len(sizes))
     chosen: list[int] = []
-    best: list[int] = []
-    best_count = 0
     for label in segmentation.whole_objects():
         members = [o.label for o in segmentation.objects if label in (o.label, o.part_of)]
-        count = int(hits[members].sum())
-        if count > best_count:
-            best, best_count = members, count
-        if count >= MAJORITY * int(sizes[members].sum()):
+        if int(hits[members].sum()) >= MAJORITY * int(sizes[members].sum()) > 0:
             chosen += members
-    cut = np.isin(labels, chosen + best).reshape(shape)
+    cut = np.isin(labels, chosen).reshape(shape)
     return cut, objects & ~cut
 
 
@@ -155,4 +153,18 @@ def _fused(
         viewpoints_world=eyes[view_index].reshape(-1, 3),
         view_counts=tuple(int(c) for c in np.bincount(view_index, minlength=len(frames))),
         camera_names=tuple(frame.camera_name for frame in frames),
+    )
+
+
+def _masked_points(
+    views: list[tuple[NDArray[np.float64], NDArray[np.intp]]], masks: list[NDArray[np.bool_]]
+) -> NDArray[np.float64]:
+    """(N, 3) the world points of the masked pixels of every view (their :func:`world_pixels`
+    ``views``), view after view."""
+    return np.concatenate(
+        [
+            points[mask.reshape(-1)[pixels]]
+            for (points, pixels), mask in zip(views, masks, strict=True)
+        ],
+        axis=0,
     )

@@ -70,11 +70,12 @@ class ChainConfig(Checked):
     sensor: SensorSettings = field(default_factory=SensorSettings)
     perception: Perception = setting("auto", flag="--perception")
     """How the target's cloud is cut from the views (:mod:`simgrasp.scenes.perceive`): segment
-    (our scene segmenter, the segment holding most of the target's pixels; the other segments
+    (our scene segmenter, the segments mostly on the target's pixels; the other segments
     are obstacles), mask (the renderer's segmentation: ground truth); auto: segment in
     clutter, mask otherwise."""
-    segment: SegmentConfig = field(default_factory=SegmentConfig)
-    """The scene segmenter of ``perception`` segment."""
+    segment: SegmentConfig = field(default_factory=SegmentConfig.simulated)
+    """The scene segmenter of ``perception`` segment (:meth:`SegmentConfig.simulated`: the
+    rendered table is exactly flat)."""
     scene: SceneConfig = field(default_factory=_chain_scene)
     planner: PlannerConfig = field(default_factory=PlannerConfig)
     trial: TrialConfig = field(default_factory=TrialConfig)

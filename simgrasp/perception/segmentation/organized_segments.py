@@ -27,15 +27,63 @@ def grid_components(
 ) -> NDArray[np.int32]:
     """Segment ids (H, W) of the ``candidates`` pixels (0 elsewhere), in no particular order.
 
-    ``points`` is the (H, W, 3) position image (m, NaN where invalid).
+    ``points`` is the (H, W, 3) position image (m, NaN where invalid). The candidates are cut
+    group by group (:func:`candidate_groups`), each in its bounding box: groups lie too far
+    apart for any step to see two at once, and a group with fewer than ``min_object_points``
+    pixels can only give segments that are dropped, so it is skipped. With
+    ``normal_bin_px`` > 1 the normals' blocks are anchored at the corner of the bounding box
+    of all candidates, so all are cut in that one box.
     """
-    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
-    rows, cols = _bounding_slices(candidates, margin)
     segments = np.zeros(candidates.shape, dtype=np.int32)
-    segments[rows, cols] = _crop_components(
-        points[rows, cols], candidates[rows, cols], viewpoint, config
-    )
+    next_id = 0
+    if config.normal_bin_px == 1:
+        groups = candidate_groups(candidates, config)
+    else:  # the normals' blocks anchored at the one box of all candidates, as ever
+        margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
+        rows, cols = _bounding_slices(candidates, margin)
+        groups = [(rows, cols, candidates[rows, cols])]
+    for rows, cols, group in groups:
+        if np.count_nonzero(group) < config.min_object_points:
+            continue
+        crop = _crop_components(points[rows, cols], group, viewpoint, config)
+        cut = crop > 0
+        segments[rows, cols][cut] = crop[cut] + next_id
+        next_id += int(crop.max())
     return segments
+
+
+GROUP_BLOCK = 8
+"""Edge (px) of the blocks in which :func:`candidate_groups` gathers candidate pixels."""
+
+
+def candidate_groups(
+    candidates: NDArray[np.bool_], config: SegmentConfig
+) -> list[tuple[slice, slice, NDArray[np.bool_]]]:
+    """The ``candidates`` (H, W) split into groups whose pixels lie farther apart than any
+    step of the cut reaches (the normals' window and baseline, the concave baseline and the
+    attach radius): ``GROUP_BLOCK`` blocks holding a candidate, joined when one block of
+    dilation makes them touch (pixels of two groups are then at least 3 blocks + 1 apart).
+    Each group as the row and column slices of its blocks grown by the normals' margin and
+    its pixels within them."""
+    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
+    reach = margin + config.normal_bin_px * config.concave_step_px + config.attach_radius_px
+    dilation = max(0, -(-(reach - GROUP_BLOCK) // (2 * GROUP_BLOCK)))
+    (height, width), size = candidates.shape, GROUP_BLOCK
+    padded = np.zeros((-(-height // size) * size, -(-width // size) * size), dtype=bool)
+    padded[:height, :width] = candidates
+    blocks = padded.reshape(padded.shape[0] // size, size, -1, size).any(axis=(1, 3))
+    grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
+    ids, _ = ndimage.label(grown if dilation else blocks, np.ones((3, 3), bool))
+    ids *= blocks
+    pixel_ids = np.repeat(np.repeat(ids, size, axis=0), size, axis=1)[:height, :width]
+    groups = []
+    for group, found in enumerate(ndimage.find_objects(ids), start=1):
+        if found is None:
+            continue
+        rows = slice(max(found[0].start * size - margin, 0), found[0].stop * size + margin)
+        cols = slice(max(found[1].start * size - margin, 0), found[1].stop * size + margin)
+        groups.append((rows, cols, candidates[rows, cols] & (pixel_ids[rows, cols] == group)))
+    return groups
 
 
 def inner_floors(
@@ -55,10 +103,12 @@ def inner_floors(
     if not small.any():
         return np.zeros(table.shape, dtype=np.int32)
     floors = np.where(small[patches], patches, 0).astype(np.int32)
-    grown = ndimage.maximum_filter(floors, size=3)
-    ring = (grown > 0) & (floors == 0)
+    rows, cols = _bounding_slices(floors > 0, 1)
+    box = floors[rows, cols]
+    grown = ndimage.maximum_filter(box, size=3, mode="constant")
+    ring = (grown > 0) & (box == 0)
     ring_size = np.bincount(grown[ring], minlength=count + 1)
-    ring_above = np.bincount(grown[ring & above], minlength=count + 1)
+    ring_above = np.bincount(grown[ring & above[rows, cols]], minlength=count + 1)
     enclosed = small & (ring_above >= config.floor_enclosed * np.maximum(ring_size, 1))
     return np.where(enclosed[floors], floors, 0).astype(np.int32)
 
@@ -87,18 +137,20 @@ def _crop_components(
     if candidates.size == 0:
         return np.zeros(candidates.shape, dtype=np.int32)
     eye = viewpoint.astype(np.float32)[:, None, None]
+    planes = _planes(points)
     binned, binned_mask = _binned(points, candidates, config.normal_bin_px)
-    smooth = _box_mean(_planes(binned), binned_mask, config.normal_window_px)
+    binned_planes = planes if binned is points else _planes(binned)
+    smooth = _box_mean(binned_planes, binned_mask, config.normal_window_px)
     normals = _grid_normals(smooth, eye, config.normal_step_px)
     concave = _concave_cuts(smooth, normals, config.concave_step_px, config.concave_threshold)
-    planes = _planes(points)
     cut = _depth_cuts(planes, candidates, eye, config.depth_jump)
     cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
     interior = candidates & ~cut
     segments, _ = ndimage.label(interior)
     segments = segments.astype(np.int32)
+    flat_planes = _padded_planes(planes, config.attach_radius_px)
     for _ in range(config.attach_passes):
-        segments = _attach_edges(segments, planes, candidates, config)
+        segments = _attach_edges(segments, flat_planes, candidates, config)
     return segments
 
 
@@ -146,7 +198,7 @@ def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
     mean = ndimage.uniform_filter1d(mean, size, axis=2, mode="constant")
     with np.errstate(invalid="ignore", divide="ignore"):
         mean /= count
-    mean[:, count < 0.5 / (size * size)] = np.nan
+    np.copyto(mean, np.float32(np.nan), where=count < 0.5 / (size * size))
     return mean
 
 
@@ -167,7 +219,7 @@ def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
     with np.errstate(invalid="ignore", divide="ignore"):
         normals /= np.sqrt(_dot(normals, normals))
     toward = _dot(normals, eye - smooth)
-    normals[:, toward < 0] *= -1.0
+    normals *= np.where(toward < 0, np.float32(-1.0), np.float32(1.0))
     return normals
 
 
@@ -178,7 +230,7 @@ def _depth_cuts(
     ``planes`` (3, H, W), ``eye`` (3, 1, 1)."""
     offset = planes - eye
     ranges = np.sqrt(_dot(offset, offset))
-    ranges[~mask] = np.nan
+    np.copyto(ranges, np.float32(np.nan), where=~mask)
     limit = jump * ranges * ranges
     cut = np.zeros(mask.shape, dtype=bool)
     for axis in (0, 1):
@@ -213,31 +265,38 @@ def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> N
 
 
 def _attach_edges(
-    segments: NDArray[np.int32], planes: Grid, candidates: NDArray[np.bool_], config: SegmentConfig
+    segments: NDArray[np.int32],
+    flat_planes: Grid,
+    candidates: NDArray[np.bool_],
+    config: SegmentConfig,
 ) -> NDArray[np.int32]:
     """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
     those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
-    0), when within ``attach_distance`` (m): a mixed pixel at an occluding edge joins the side
-    whose depth it is nearer (``planes`` (3, H, W) positions)."""
+    0; the first in row-major offset order on a tie), when within ``attach_distance`` (m): a
+    mixed pixel at an occluding edge joins the side whose depth it is nearer.
+    ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions padded by r = ``attach_radius_px``
+    (:func:`_padded_planes`); every offset is tried at once, one (offsets, pixels) array."""
     reach = config.attach_radius_px
-    labels = np.pad(segments, reach)
-    if not labels.any() or not (candidates & (segments == 0)).any():
+    loose_mask = candidates & (segments == 0)
+    if not segments.any() or not loose_mask.any():
         return segments
-    width = labels.shape[1]
-    flat_planes = np.pad(planes, ((0, 0), (reach, reach), (reach, reach))).reshape(3, -1)
+    labels = np.pad(segments, reach)
     flat_labels = labels.reshape(-1)
-    loose = np.flatnonzero(np.pad(candidates & (segments == 0), reach))
-    here = flat_planes[:, loose]
-    best_gap = np.full(len(loose), np.inf, dtype=np.float32)
-    best = np.zeros(len(loose), dtype=np.int32)
-    steps = [0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)]
-    for shift in (dr * width + dc for dr in steps for dc in steps):
-        label = flat_labels[loose + shift]
-        offset = flat_planes[:, loose + shift] - here
-        gap = _dot(offset, offset)
-        better = (label > 0) & (gap < best_gap)
-        best_gap[better] = gap[better]
-        best[better] = label[better]
-    near = best_gap <= config.attach_distance**2
-    flat_labels[loose[near]] = best[near]
+    loose = np.flatnonzero(np.pad(loose_mask, reach))
+    steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
+    shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
+    around = loose[None, :] + shifts[:, None]
+    label = flat_labels[around]
+    offset = np.stack([plane[around] - plane[loose] for plane in flat_planes])
+    gap = np.where(label > 0, _dot(offset, offset), np.float32(np.inf))
+    nearest = gap.argmin(axis=0)
+    columns = np.arange(len(loose))
+    near = gap[nearest, columns] <= config.attach_distance**2
+    flat_labels[loose[near]] = label[nearest[near], columns[near]]
     return labels[reach:-reach, reach:-reach]
+
+
+def _padded_planes(planes: Grid, reach: int) -> Grid:
+    """(3, (H + 2 reach) (W + 2 reach)) the channel planes (3, H, W) padded with zeros, each
+    flattened."""
+    return np.pad(planes, ((0, 0), (reach, reach), (reach, reach))).reshape(3, -1)

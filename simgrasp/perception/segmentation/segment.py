@@ -160,7 +160,8 @@ def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any
 def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
     name = scene.source or "scene"
     points, eye = scene.points, scene.viewpoint.astype(np.float32)
-    squared = np.einsum("ij,ij->i", points, points)
+    squared = points[:, 0] * points[:, 0] + points[:, 1] * points[:, 1]
+    squared += points[:, 2] * points[:, 2]
     if eye.any():
         squared += eye @ eye - 2.0 * row_dot(points, eye)
     finite = np.isfinite(squared)
@@ -262,14 +263,26 @@ def _parts(
     claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
     claimed = claimed.reshape(-1)
     parents = rim_parents(claimed, scene.points, height, plane, parents, config)
-    changed = set(np.unique(claimed[claimed != labels]).tolist())
+    redone = _objects_of(claimed, scene.points, np.unique(claimed[claimed != labels]))
     return claimed, tuple(
-        replace(
-            _object(obj.label, scene.points[claimed == obj.label]) if obj.label in changed else obj,
-            part_of=int(parents[obj.label]),
-        )
-        for obj in objects
+        replace(redone.get(obj.label, obj), part_of=int(parents[obj.label])) for obj in objects
     )
+
+
+def _objects_of(
+    labels: NDArray[np.int32], points: NDArray[np.float32], wanted: NDArray[np.int32]
+) -> dict[int, SegmentedObject]:
+    """The objects of the ``wanted`` labels among ``labels`` (N,), their ``points`` (N, 3)
+    in ascending index order as :func:`_object` takes them, from one pass over the labels."""
+    if len(wanted) == 0:
+        return {}
+    index = np.flatnonzero(np.isin(labels, wanted))
+    index = index[np.argsort(labels[index], kind="stable")]
+    ends = np.cumsum(np.bincount(labels[index], minlength=int(wanted.max()) + 1))
+    return {
+        int(label): _object(int(label), points[index[ends[label - 1] : ends[label]]])
+        for label in wanted.tolist()
+    }
 
 
 def _floor_segments(

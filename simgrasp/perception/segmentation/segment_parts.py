@@ -87,24 +87,59 @@ def _contacts(
     """Codes ``part * count + whole`` of (thin segment, larger segment) pairs and, for each,
     how many of the thin segment's ``pixels`` (flat indices) have a pixel of the larger one
     within ``part_contact_px`` (rows and columns at offsets -r, -1, 0, 1, r) and
-    ``part_contact_distance`` (m)."""
-    count, (height, width) = len(sizes), labels.shape
-    flat_labels, flat_points = labels.reshape(-1), points.reshape(-1, 3)
-    rows, cols = np.divmod(pixels, width)
-    own = flat_labels[pixels]
-    steps = sorted({-config.part_contact_px, -1, 0, 1, config.part_contact_px})
-    codes = []
-    for dr, dc in ((dr, dc) for dr in steps for dc in steps if dr or dc):
-        inside = (rows + dr >= 0) & (rows + dr < height) & (cols + dc >= 0) & (cols + dc < width)
-        here, there = pixels[inside], pixels[inside] + dr * width + dc
-        other = flat_labels[there]
-        offset = flat_points[there] - flat_points[here]
-        near = np.einsum("ij,ij->i", offset, offset) <= config.part_contact_distance**2
-        touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own[inside]])
-        codes.append(here[touch].astype(np.int64) * count + other[touch])
-    pixel_pairs = np.unique(np.concatenate(codes))
-    parts = flat_labels[pixel_pairs // count].astype(np.int64)
+    ``part_contact_distance`` (m). Every offset at once, on grids padded with label 0."""
+    count, reach = len(sizes), config.part_contact_px
+    steps = sorted({-reach, -1, 0, 1, reach})
+    rows, cols, inner = _window(labels.shape, pixels, reach)
+    padded, flat_planes, padded_pixels = _padded(
+        labels[rows, cols], points[rows, cols], inner, reach
+    )
+    width = padded.shape[1]
+    shifts = np.array([dr * width + dc for dr in steps for dc in steps if dr or dc])
+    there = padded_pixels[None, :] + shifts[:, None]
+    other = padded.reshape(-1)[there]
+    near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
+    own = labels.reshape(-1)[pixels]
+    touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own][None, :])
+    here = np.broadcast_to(pixels[None, :], touch.shape)[touch]
+    pixel_pairs = np.unique(here.astype(np.int64) * count + other[touch])
+    parts = labels.reshape(-1)[pixel_pairs // count].astype(np.int64)
     return np.unique(parts * count + pixel_pairs % count, return_counts=True)
+
+
+def _window(
+    shape: tuple[int, ...], pixels: NDArray[np.int64], reach: int
+) -> tuple[slice, slice, NDArray[np.int64]]:
+    """Row and column slices of the bounding box of the flat ``pixels`` of an image of
+    ``shape``, grown by ``reach`` (cut at the image), and the pixels' flat indices in it."""
+    rows, cols = np.divmod(pixels, shape[1])
+    if len(pixels) == 0:
+        return slice(0, 0), slice(0, 0), pixels
+    top, left = max(int(rows.min()) - reach, 0), max(int(cols.min()) - reach, 0)
+    right = min(int(cols.max()) + reach + 1, shape[1])
+    window = (slice(top, min(int(rows.max()) + reach + 1, shape[0])), slice(left, right))
+    return window[0], window[1], (rows - top) * (right - left) + cols - left
+
+
+def _padded(
+    labels: NDArray[np.int32], points: NDArray[np.float32], pixels: NDArray[np.int64], reach: int
+) -> tuple[NDArray[np.int32], NDArray[np.float32], NDArray[np.int64]]:
+    """``labels`` (H, W) padded by ``reach`` pixels of label 0, the (H, W, 3) ``points`` as
+    three flat channel planes padded alike (3, (H + 2 reach) (W + 2 reach)), and the flat
+    ``pixels`` as indices into the padded grid."""
+    padded = np.pad(labels, reach)
+    planes = np.pad(np.moveaxis(points, 2, 0), ((0, 0), (reach, reach), (reach, reach)))
+    rows, cols = np.divmod(pixels, labels.shape[1])
+    return padded, planes.reshape(3, -1), (rows + reach) * padded.shape[1] + cols + reach
+
+
+def _distance_squared(
+    flat_planes: NDArray[np.float32], pixels: NDArray[np.int64], there: NDArray[np.int64]
+) -> NDArray[np.float32]:
+    """(S, L) squared 3-D distance (m^2) from each of the L ``pixels`` to its S pixels
+    ``there`` (flat indices into the channel planes (3, M))."""
+    offset = [plane[there] - plane[pixels] for plane in flat_planes]
+    return offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]
 
 
 def _best_pairs(
@@ -135,18 +170,25 @@ def claim_table_edges(
     reach = config.part_edge_px
     if not is_part.any() or reach <= 0:
         return labels
-    (rows_total, width), flat = labels.shape, labels.reshape(-1)
-    flat_points, flat_height = points.reshape(-1, 3), height.reshape(-1)
+    flat = labels.reshape(-1)
     pixels = np.flatnonzero(is_part[np.minimum(flat, len(parents) - 1)] & (flat >= FIRST_OBJECT))
-    rows, cols = np.divmod(pixels, width)
-    claimed = flat.copy()
-    for dr in range(-reach, reach + 1):
-        for dc in range(-reach, reach + 1):
-            inside = (rows + dr >= 0) & (rows + dr < rows_total)
-            inside &= (cols + dc >= 0) & (cols + dc < width)
-            here, there = pixels[inside], pixels[inside] + dr * width + dc
-            offset = flat_points[there] - flat_points[here]
-            near = np.einsum("ij,ij->i", offset, offset) <= config.part_contact_distance**2
-            edge = near & (flat[there] == TABLE) & (flat_height[there] > config.part_edge_height)
-            claimed[there[edge]] = flat[here[edge]]
-    return claimed.reshape(labels.shape)
+    rows, cols, inner = _window(labels.shape, pixels, reach)
+    padded, flat_planes, padded_pixels = _padded(
+        labels[rows, cols], points[rows, cols], inner, reach
+    )
+    width = padded.shape[1]
+    steps = np.arange(-reach, reach + 1)
+    shifts = (steps[:, None] * width + steps[None, :]).reshape(-1)
+    there = padded_pixels[None, :] + shifts[:, None]
+    near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
+    padded_height = np.pad(height[rows, cols], reach).reshape(-1)
+    edge = (
+        near
+        & (padded.reshape(-1)[there] == TABLE)
+        & (padded_height[there] > config.part_edge_height)
+    )
+    window = padded.reshape(-1).copy()
+    window[there[edge]] = np.broadcast_to(flat[pixels][None, :], edge.shape)[edge]
+    claimed = labels.copy()
+    claimed[rows, cols] = window.reshape(padded.shape)[reach:-reach, reach:-reach]
+    return claimed
