@@ -36,6 +36,28 @@ class StablePose(NamedTuple):
 def _support_and_com(
     asset_or_model: ObjectAsset | ObjectModel,
 ) -> tuple[trimesh.Trimesh, NDArray[np.float64]]:
+    """The convex support hull (object frame) and center of mass of an asset or model, kept
+    per object in this process (a clutter scene draws a rest pose for each of its objects,
+    each draw needing the hull twice, ~30 ms a hull). Callers must not modify them."""
+    kept = _SUPPORT.get(id(asset_or_model))
+    if kept is None or kept[0] is not asset_or_model:
+        kept = (asset_or_model, *_compute_support_and_com(asset_or_model))
+        if len(_SUPPORT) >= SUPPORT_KEPT:
+            del _SUPPORT[next(iter(_SUPPORT))]  # the oldest
+        _SUPPORT[id(asset_or_model)] = kept
+    return kept[1], kept[2]
+
+
+SUPPORT_KEPT = 64
+"""At most this many support hulls are kept (a clutter scene's target and distractors)."""
+_SUPPORT: dict[int, tuple[object, trimesh.Trimesh, NDArray[np.float64]]] = {}
+"""Support hulls by object identity, the object kept beside its hull (so its id stays its
+own), oldest first."""
+
+
+def _compute_support_and_com(
+    asset_or_model: ObjectAsset | ObjectModel,
+) -> tuple[trimesh.Trimesh, NDArray[np.float64]]:
     if isinstance(asset_or_model, ObjectModel):
         model = asset_or_model
         points = np.concatenate([h.vertices for h in model.hulls] + [model.asset.mesh.vertices])
