@@ -79,7 +79,7 @@ def perceive_target(
         cloud = observation.cloud  # exactly today's ground-truth cut
     else:
         cloud = noisy_cloud(_fused(frames, views, targets), noise, seed)
-    obstacles = _masked_points(views, others)
+    obstacles = np.concatenate(_masked_points(views, others), axis=0)
     if len(obstacles):
         obstacles = voxel_downsample(obstacles, CLOUD_VOXEL)[0]  # as _fused's, no viewpoints
     return PerceivedTarget(cloud, obstacles, inter / union if union else 0.0)
@@ -137,10 +137,7 @@ def _fused(
     """The masked pixels of every frame (their :func:`world_pixels` ``views``) fused into one
     world-frame cloud (``CLOUD_VOXEL`` voxels), each point keeping the viewpoint of its nearest
     input point."""
-    per_view = [
-        points[mask.reshape(-1)[pixels]]
-        for (points, pixels), mask in zip(views, masks, strict=True)
-    ]
+    per_view = _masked_points(views, masks)
     points_world = np.concatenate(per_view, axis=0)
     view_index = np.repeat(np.arange(len(frames)), [len(p) for p in per_view])
     if len(points_world):
@@ -158,13 +155,10 @@ def _fused(
 
 def _masked_points(
     views: list[tuple[NDArray[np.float64], NDArray[np.intp]]], masks: list[NDArray[np.bool_]]
-) -> NDArray[np.float64]:
-    """(N, 3) the world points of the masked pixels of every view (their :func:`world_pixels`
-    ``views``), view after view."""
-    return np.concatenate(
-        [
-            points[mask.reshape(-1)[pixels]]
-            for (points, pixels), mask in zip(views, masks, strict=True)
-        ],
-        axis=0,
-    )
+) -> list[NDArray[np.float64]]:
+    """Per view, the world points (N_i, 3) of its masked pixels (``views``: each frame's
+    :func:`world_pixels`)."""
+    return [
+        points[mask.reshape(-1)[pixels]]
+        for (points, pixels), mask in zip(views, masks, strict=True)
+    ]
