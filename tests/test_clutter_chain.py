@@ -92,12 +92,12 @@ def test_a_clutter_trial_records_its_scene_and_cut(hammer) -> None:
     assert isinstance(record["neighbors_disturbed"], int)
 
 
-def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap() -> None:
+def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap(ycb_dir: str) -> None:
     """Seed 105 stands the YCB mug (Kinect depth) with its strap facing a neighbor: the
     12 cm palm behind every approach to the strap up to 30 degrees down meets the neighbor,
     so the usual pitches leave no grasp; the fallback's steeper ones pass over the neighbor,
     still close across the strap and lift the mug by it."""
-    mug, seed = model_for("025_mug"), 105
+    mug, seed = model_for("025_mug", ycb_dir), 105
     config = ChainConfig.of(scene__clutter=5, sensor__kind="kinect")
     scene = build_scene(mug, make_gripper(config.gripper), config.scene, seed)
     observation = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor)
