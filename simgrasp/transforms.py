@@ -82,3 +82,12 @@ def pose7_to_matrix(pose7: ArrayLike, what: str = "pose") -> NDArray[np.float64]
         raise SimgraspError(f"{what} has a zero quaternion: {pose.tolist()}")
     rotation = Rotation.from_quat(pose[3:] / norm, scalar_first=True).as_matrix()
     return make_transform(rotation, pose[:3])
+
+
+def orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Unit vectors ``u, v`` perpendicular to the unit ``axis`` and to each other (``axis``,
+    ``u``, ``v`` right-handed)."""
+    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(axis, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)

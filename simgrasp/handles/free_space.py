@@ -16,20 +16,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.transforms import orthonormal
+
 
 def voxel_thinned(points: NDArray[np.float64], voxel: float) -> NDArray[np.float64]:
     """One point (the first) of ``points`` (N, 3) per cube of side ``voxel`` (m)."""
     keys = np.floor(points / voxel).astype(np.int64)
     _, first = np.unique(keys, axis=0, return_index=True)
     return points[np.sort(first)]
-
-
-def _perpendicular_basis(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
-    """Two unit vectors perpendicular to the unit ``axis`` and to each other."""
-    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    u = np.cross(axis, helper)
-    u /= np.linalg.norm(u)
-    return u, np.cross(axis, u)
 
 
 def sideways_occupancy(
@@ -57,7 +51,7 @@ def sideways_occupancy(
         across = offsets - along[:, None] * axis
         radius = np.linalg.norm(across, axis=1)
         in_ring = (np.abs(along) <= slab) & (radius >= inner) & (radius <= inner + ring)
-        u, v = _perpendicular_basis(axis)
+        u, v = orthonormal(axis)
         angle = np.arctan2(across[in_ring] @ v, across[in_ring] @ u)
         sector = np.floor((angle + np.pi) / (2.0 * np.pi) * sectors).astype(np.int64)
         shares[i] = len(np.unique(np.clip(sector, 0, sectors - 1))) / sectors

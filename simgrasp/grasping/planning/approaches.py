@@ -13,14 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.grasping.planning.planner_config import PlannerConfig
-
-
-def orthonormal(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Unit vectors ``u, v`` perpendicular to the unit ``axis`` and to each other."""
-    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    u = np.cross(axis, helper)
-    u /= np.linalg.norm(u)
-    return u, np.cross(axis, u)
+from simgrasp.transforms import orthonormal
 
 
 def downward_basis(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -18,10 +18,11 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
-from simgrasp.grasping.planning.approaches import approach_angles, handle_approaches, orthonormal
+from simgrasp.grasping.planning.approaches import approach_angles, handle_approaches
 from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
+from simgrasp.transforms import orthonormal
 
 
 def _gripper_boxes(
@@ -199,8 +200,8 @@ def grasps_from_handles(
                 (handle.center + offset * handle.axis, lever)
                 for offset, lever in _grasp_offsets(handle, centroid, geometry)
             ]
+            pairs = handle_approaches(handle.axis, handle_angles, pitches, config, level)
             for position, lever in targets:
-                pairs = handle_approaches(handle.axis, handle_angles, pitches, config, level)
                 for around, approach in pairs:
                     grasp = _scored_grasp(
                         (position, np.cross(around, handle.axis), approach),
