@@ -12,6 +12,7 @@ the table top, are rejected. All inputs are in the world frame, meters.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -180,45 +181,85 @@ def grasps_from_handles(
     the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
     seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
     a sloping axis; only when none of them is clear, the same approaches are tilted down by
-    ``config.fallback_pitches`` (steeper, over the neighbors around a standing handle). A
-    grasp's score is the handle's score relative to the best handle's (1 for the best) plus
-    bonuses for approaching from the camera's side, from above and with the open gripper
-    clear of the cloud, less penalties for backing off the handle to clear the table and for
-    the lever arm to the centroid along the handle.
+    ``config.fallback_pitches`` (steeper, over the neighbors around a standing handle); only
+    when none of those is clear either, both passes are tried again with the jaws opened to
+    each handle's width plus each of ``config.fallback_opening_margins`` (a finger inside the
+    loop of a mug's strap lying flat, where the fully open jaws reach its body). A grasp's
+    score is the handle's score relative to the best handle's (1 for the best) plus bonuses
+    for approaching from the camera's side, from above and with the open gripper clear of the
+    cloud, less penalties for backing off the handle to clear the table and for the lever arm
+    to the centroid along the handle.
     """
-    cameras = np.atleast_2d(np.asarray(cameras_world, dtype=float))
     handles = list(handles)[: config.max_handles]
-    best_score = max((h.score for h in handles), default=1.0) or 1.0
-    centroid = points_world.mean(axis=0) if len(points_world) else None
-    obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
-    angles = [approach_angles(rng, config) for _ in handles]
-    grasps: list[Grasp] = []
+    plan = _HandlePlan(
+        handles,
+        [approach_angles(rng, config) for _ in handles],
+        points_world.mean(axis=0) if len(points_world) else None,
+        planning_obstacles(points_world, config, scene_obstacles_world),
+        np.atleast_2d(np.asarray(cameras_world, dtype=float)),
+    )
     passes = ((config.approach_pitches, True), (config.fallback_pitches, False))
-    for pitches, level in passes:
-        for handle, handle_angles in zip(handles, angles, strict=True):
-            targets = [
-                (handle.center + offset * handle.axis, lever)
-                for offset, lever in _grasp_offsets(handle, centroid, geometry)
-            ]
+    for margin in (None, *config.fallback_opening_margins):
+        for pitches, level in passes:
+            grasps = plan.grasps(pitches, level, margin, geometry, table_z, config, source)
+            if grasps:
+                return sorted(grasps, key=lambda g: -g.score)
+    return []
+
+
+@dataclass(frozen=True)
+class _HandlePlan:
+    """What every pass of :func:`grasps_from_handles` shares: the handles (best first), their
+    approach angles (rad), the cloud's centroid, the obstacle points and the cameras (world
+    frame, m)."""
+
+    handles: list[Handle]
+    angles: list[NDArray[np.floating]]
+    centroid: NDArray[np.float64] | None
+    obstacles_world: NDArray[np.float64]
+    cameras_world: NDArray[np.float64]
+
+    def grasps(
+        self,
+        pitches: Sequence[float],
+        level: bool,
+        margin: float | None,
+        geometry: GripperGeometry,
+        table_z: float,
+        config: PlannerConfig,
+        source: str,
+    ) -> list[Grasp]:
+        """The clear grasps of one pass: approaches tilted by ``pitches`` (``level``: the
+        untilted ones around a flat axis too), the jaws fully open (``margin`` None) or opened
+        to each handle's width plus ``margin`` (m) on each side."""
+        best_score = max((h.score for h in self.handles), default=1.0) or 1.0
+        grasps: list[Grasp] = []
+        for handle, handle_angles in zip(self.handles, self.angles, strict=True):
+            jaws = geometry if margin is None else narrowed(geometry, handle.width, margin)
             pairs = handle_approaches(handle.axis, handle_angles, pitches, config, level)
-            for position, lever in targets:
+            for offset, lever in _grasp_offsets(handle, self.centroid, geometry):
+                position = handle.center + offset * handle.axis
                 for around, approach in pairs:
                     grasp = _scored_grasp(
                         (position, np.cross(around, handle.axis), approach),
                         handle.score / best_score,
                         lever,
-                        obstacles,
-                        cameras,
-                        geometry,
+                        self.obstacles_world,
+                        self.cameras_world,
+                        jaws,
                         table_z,
                         config,
                         source,
                     )
                     if grasp is not None:
                         grasps.append(grasp)
-        if grasps:
-            break
-    return sorted(grasps, key=lambda g: -g.score)
+        return grasps
+
+
+def narrowed(geometry: GripperGeometry, width: float, margin: float) -> GripperGeometry:
+    """``geometry`` with its jaws opened only to ``width + 2 * margin`` (m; never wider than
+    its ``max_opening``): the planner checks, and the trial opens, this opening."""
+    return replace(geometry, max_opening=min(geometry.max_opening, width + 2 * margin))
 
 
 def _scored_grasp(

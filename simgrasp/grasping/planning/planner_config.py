@@ -46,6 +46,14 @@ class PlannerConfig(Checked):
     12 cm wide palm behind every approach to its standing strap up to 30 degrees down, where a
     45-60 degree approach passes over it; as a second try, no plan that finds a grasp at the
     usual pitches changes."""
+    fallback_opening_margins: tuple[NonNegative, ...] = (0.01,)
+    """When no approach at ``approach_pitches`` or ``fallback_pitches`` around any handle is
+    clear with the jaws fully open, both are tried again (in order, until one is clear) with
+    the jaws opened only to the handle's detected width plus each of these margins on either
+    side (m, across the handle in the TCP frame's y; empty: no further try). A mug lying on its
+    side with its strap flat on the table: the fully open jaws (8.5 cm on the built-in
+    gripper) put the inner finger on the mug's body, where a narrower opening puts it inside
+    the strap's loop; as a last try, no plan that finds a grasp otherwise changes."""
     pitch_min_slope: Annotated[float, Range(ge=0, le=np.pi / 2)] = np.pi / 12
     """Approaches are tilted only around axes sloping at least this much from level (rad):
     along a flatter axis (a tool lying on the table) a tilt turns the approach sideways more
