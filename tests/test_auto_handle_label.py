@@ -6,9 +6,11 @@ from __future__ import annotations
 import json
 from dataclasses import replace
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 import pytest
+import trimesh
 
 from simgrasp.assets.generated import generate_tool
 from simgrasp.assets.labels import HandleLabel, load_handle_label, write_label_file
@@ -176,3 +178,71 @@ def test_axis_reach_follows_a_tube_but_not_onto_a_blocked_blade() -> None:
     assert not kept_off[len(tube) :].any() and (kept_off[: len(tube)] == on_tube).all()
     none = reached_along_axes(surface, center, axis, np.array([0.008]), reach=0.0, blocked=free)
     assert not none.any()
+
+
+def _guarded_knife() -> trimesh.Trimesh:
+    """A knife-like mesh (m): a round handle (9 mm radius, z from -0.05 to 0.05), a guard
+    36 mm wide at z 0.05-0.056 and a flat blade 30 mm wide, 2 mm thick above it to z 0.146."""
+    handle = trimesh.creation.cylinder(radius=0.009, height=0.10, sections=48)
+    guard = trimesh.creation.box([0.036, 0.010, 0.006])
+    guard.apply_translation([0.0, 0.0, 0.053])
+    blade = trimesh.creation.box([0.030, 0.002, 0.09])
+    blade.apply_translation([0.0, 0.0, 0.101])
+    return cast(trimesh.Trimesh, trimesh.util.concatenate([handle, guard, blade]))
+
+
+def test_wide_sections_and_the_section_stop_keep_a_knife_label_off_its_blade() -> None:
+    mesh = _guarded_knife()
+    points, _ = sample_surface(mesh, 20000, np.random.default_rng(0))
+    on_handle, on_blade = np.abs(points[:, 2]) < 0.045, points[:, 2] > 0.066
+
+    def shares(config: AutoLabelConfig) -> tuple[float, float]:
+        inside = auto_handle_label(mesh, "knife", config).label.contains(points)
+        return float(inside[on_handle].mean()), float(inside[on_blade].mean())
+
+    untrimmed = shares(replace(FAST, max_section_ratio=0.0))
+    trimmed = shares(FAST)  # the default leaves the blade root's wide fits out
+    stopped = shares(replace(FAST, stop_growth=1.5))  # and the guard ends the label
+    assert min(untrimmed[0], trimmed[0], stopped[0]) >= 0.95
+    assert trimmed[1] <= untrimmed[1] - 0.05
+    assert stopped[1] <= 0.02
+
+
+def test_uniform_section_leaves_out_wide_candidates_of_large_parts_only() -> None:
+    from simgrasp.handles.auto_label import Candidates, uniform_section
+
+    semi = np.r_[np.full(30, 0.005), np.full(5, 0.012)]
+    n = len(semi)
+    ones = np.ones((n, 3))
+    candidates = Candidates(
+        ones, semi * 2, np.ones(n), np.arange(n), ones, ones, semi.astype(np.float64)
+    )
+    part = np.arange(n)
+    assert (uniform_section(candidates, part, AutoLabelConfig()) == np.arange(30)).all()
+    few = replace(AutoLabelConfig(), section_min_candidates=n + 1)
+    assert (uniform_section(candidates, part, few) == part).all()
+    undefined = replace(candidates, semi_major=np.full(n, np.nan))
+    assert (uniform_section(undefined, part, AutoLabelConfig()) == part).all()
+
+
+def test_section_stops_end_a_tube_at_a_disc_across_it() -> None:
+    from scipy.spatial import cKDTree
+
+    from simgrasp.handles.axis_reach import SectionStop, section_stops
+
+    radius, angle = np.meshgrid(np.linspace(0.0, 0.02, 21), np.linspace(0, 2 * np.pi, 72))
+    disc = np.column_stack(
+        [
+            (radius * np.cos(angle)).ravel(),
+            (radius * np.sin(angle)).ravel(),
+            np.full(radius.size, 0.015),
+        ]
+    )
+    surface = np.vstack([_tube_points(0.005, 0.08), disc])
+    stop = SectionStop(growth=1.5, ring=0.008, slab=0.002)
+    own, center, axis = np.array([[0.005, 0.0, 0.0]]), np.zeros((1, 3)), np.array([[0.0, 0, 1]])
+    args = (cKDTree(surface), surface, own, center, axis)
+    low, high = section_stops(*args, np.array([0.005]), reach=0.03, stop=stop)[0]
+    assert low == -np.inf and 0.012 <= high <= 0.016
+    # A section as wide as the disc is no growth: no stop.
+    assert np.isinf(section_stops(*args, np.array([0.02]), reach=0.03, stop=stop)).all()

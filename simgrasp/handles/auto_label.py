@@ -6,16 +6,19 @@ in the mesh frame and kept when they look like a handle's cross-section: narrow 
 handle rather than the object's body (``max_width``) and round rather than flat
 (``max_flatness``: a blade's or a wall's fits are flat). The kept candidates are clustered by
 single linkage; clusters seen from enough views, with enough support against the best one,
-become handle parts. Optionally (``free_space_fallback``, off by default: on held-out ACRONYM
-mugs it labeled rims, see docs/results/handle-labels/README.md), when no round part is found
-(a flat strap), the narrow candidates of any flatness that have free space around their axis
+become handle parts; a part's candidates much wider than its median (``max_section_ratio``:
+a knife's blade root or guard fitted as one wide round section) are then left out.
+Optionally (``free_space_fallback``, off by default: on held-out ACRONYM mugs it labeled
+rims, see docs/results/handle-labels/README.md), when no round part is found (a flat strap),
+the narrow candidates of any flatness that have free space around their axis
 (:mod:`simgrasp.handles.free_space`: a handle stands off the object, a wall continues
 sideways) are clustered instead. Each part's scanned surface points (those near its
 candidates, followed ``axis_reach`` along the candidates' axes but not onto flat candidates'
-surface: :mod:`simgrasp.handles.axis_reach`), split into ``segments`` along their main axis,
-give one oriented box per segment (the way ``models/handles/ycb_handles.json`` was made by
-hand), grown by ``margin``. The result is a :class:`~simgrasp.assets.labels.HandleLabel` in
-the mesh frame, meters; no part found means an empty label (no handle).
+surface and, optionally, not past where the section grows: :mod:`simgrasp.handles.axis_reach`),
+split into ``segments`` along their main axis, give one oriented box per segment (the way
+``models/handles/ycb_handles.json`` was made by hand), grown by ``margin``. The result is a
+:class:`~simgrasp.assets.labels.HandleLabel` in the mesh frame, meters; no part found means
+an empty label (no handle).
 """
 
 from __future__ import annotations
@@ -32,7 +35,12 @@ from simgrasp.assets.labels import Box, HandleLabel
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
-from simgrasp.handles.axis_reach import reached_along_axes
+from simgrasp.handles.axis_reach import (
+    SectionStop,
+    near_within_stops,
+    reached_along_axes,
+    section_stops,
+)
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
@@ -81,6 +89,13 @@ class AutoLabelConfig(Checked):
     """A part needs at least this many candidates ..."""
     min_relative_support: Fraction = 0.5
     """... and at least this share of the best part's candidates."""
+    max_section_ratio: NonNegative = 1.6
+    """A part's candidates whose larger transverse semi-axis exceeds this many times the
+    part's median are left out of it once it is chosen: a knife's blade root or guard, the
+    wall where a strap joins the body (0: off)."""
+    section_min_candidates: PositiveInt = 20
+    """... when it has at least this many candidates (the median of fewer is no measure of
+    its section)."""
     region_radius: Positive = 0.01
     """Scanned surface points within this distance of a part's candidates are its surface."""
     axis_reach: NonNegative = 0.02
@@ -93,6 +108,18 @@ class AutoLabelConfig(Checked):
     flat_block: NonNegative = 0.005
     """... except points within this distance of a narrow candidate that failed the flatness
     test (a blade's or a wall's evidence)."""
+    stop_growth: NonNegative = 0.0
+    """A part's surface near a candidate and reached along its axis ends at the first slab
+    along the axis whose section spreads more than this many times the candidate's diameter
+    (twice its larger transverse semi-axis, counted at most ``reach_max_semi_axis`` and at
+    most the part's median): a knife's guard, a blade's root, the body a strap joins
+    (:func:`simgrasp.handles.axis_reach.section_stops`; 0: off, see
+    docs/results/handle-labels/README.md: on ACRONYM tune mugs it trades handle grasps for
+    wall) ..."""
+    stop_ring: Positive = 0.008
+    """... the section taken within the semi-axis plus this of the axis ..."""
+    stop_slab: Positive = 0.002
+    """... in slabs this thick along it."""
     segments: PositiveInt = 3
     """Boxes per part: its surface split into this many slabs along its main axis."""
     margin: NonNegative = 0.002
@@ -143,12 +170,22 @@ def auto_handle_label(
         raise SimgraspError(f"object {name!r}: no scan saw the mesh")
     candidates = pooled_candidates(views, config)
     surface = np.concatenate([v.points for v in views])
+    return label_from_candidates(candidates, surface, name, config)
+
+
+def label_from_candidates(
+    candidates: Candidates, surface: NDArray[np.float64], name: str, config: AutoLabelConfig
+) -> AutoLabel:
+    """The label made from pooled ``candidates`` and the scanned ``surface`` (mesh frame, m):
+    everything of :func:`auto_handle_label` after the scans and the detector."""
     narrow = candidates.widths <= config.max_width
     kept = narrow & (candidates.flatness <= config.max_flatness)
     parts = handle_parts(candidates, kept, config)
     if config.free_space_fallback and not parts and narrow.any():
         kept = narrow & (free_space_shares(candidates, surface, config) <= config.max_occupancy)
         parts = handle_parts(candidates, kept, config)
+    if config.max_section_ratio > 0:
+        parts = tuple(uniform_section(candidates, part, config) for part in parts)
     regions = tuple(box for part in parts for box in part_boxes(candidates, part, surface, config))
     return AutoLabel(HandleLabel(name, regions), candidates, kept, parts, surface)
 
@@ -234,6 +271,19 @@ def handle_parts(
     return tuple(sorted(chosen, key=len, reverse=True))
 
 
+def uniform_section(
+    candidates: Candidates, part: NDArray[np.int64], config: AutoLabelConfig
+) -> NDArray[np.int64]:
+    """The part's candidates whose larger transverse semi-axis is at most
+    ``max_section_ratio`` times the part's median (the others span a guard, a blade's root or
+    the wall a strap joins); all of them where the semi-axes are undefined."""
+    semi = candidates.semi_major[part]
+    median = np.nanmedian(semi) if np.isfinite(semi).any() else np.nan
+    if not np.isfinite(median) or len(part) < config.section_min_candidates:
+        return part
+    return part[~(semi > config.max_section_ratio * median)]
+
+
 def part_boxes(
     candidates: Candidates,
     part: NDArray[np.int64],
@@ -279,17 +329,31 @@ def part_surface(
     """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
     candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
     the narrow candidates that failed the flatness test."""
-    near, _ = cKDTree(candidates.centers[part]).query(surface)
+    tree = cKDTree(surface)
     flat = (candidates.widths <= config.max_width) & (candidates.flatness > config.max_flatness)
     blocked = np.zeros(len(surface), dtype=bool)
     if config.flat_block > 0 and flat.any():
         blocked = cKDTree(candidates.centers[flat]).query(surface)[0] <= config.flat_block
+    handle_points, axes = candidates.handle_points[part], candidates.axes[part]
+    semi = np.fmin(candidates.semi_major[part], config.reach_max_semi_axis)
+    stops = np.tile([-np.inf, np.inf], (len(part), 1))
+    if config.stop_growth > 0:
+        stop = SectionStop(config.stop_growth, config.stop_ring, config.stop_slab)
+        reach = max(config.axis_reach, config.region_radius)
+        own, typical = candidates.centers[part], np.fmin(semi, np.nanmedian(semi))
+        stops = section_stops(
+            tree, surface, own, handle_points, axes, typical, reach=reach, stop=stop
+        )
+    near = near_within_stops(
+        tree, surface, candidates.centers[part], handle_points, axes, stops, config.region_radius
+    )
     reached = reached_along_axes(
         surface,
-        candidates.handle_points[part],
-        candidates.axes[part],
-        np.fmin(candidates.semi_major[part], config.reach_max_semi_axis) + config.reach_pad,
+        handle_points,
+        axes,
+        semi + config.reach_pad,
         reach=config.axis_reach,
         blocked=blocked,
+        stops=stops,
     )
-    return (near <= config.region_radius) | reached
+    return near | reached
