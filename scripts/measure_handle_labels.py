@@ -22,14 +22,16 @@ are left out; grasps without a row count as not held). Writes
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 from pathlib import Path
 
 import numpy as np
 
+from simgrasp.config.tree import flatten
 from simgrasp.evaluation.acronym_handles import held_from_labels, read_acronym, subset_shares
-from simgrasp.handles.auto_label import auto_handle_label
+from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 
 GOAL_ON, GOAL_OFF = 0.90, 0.95
 HANDLE_SUBSETS = {
@@ -39,13 +41,21 @@ HANDLE_SUBSETS = {
 }
 
 
+def settings_key(labels_dir: Path | None) -> str:
+    """What a row was measured under: the labeler's settings and the held-grasp folder."""
+    given = {"label": flatten(AutoLabelConfig()), "labels_dir": str(labels_dir)}
+    return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
+
+
 def measure(data: Path, out: Path, labels_dir: Path | None) -> list[dict[str, object]]:
-    """One row per file: its half, category and per-subset counts (resumes from per_file)."""
+    """One row per file: its half, category and per-subset counts. Resumes from
+    ``per_file.json``, reusing only rows measured under today's settings (others rerun)."""
     done_file = out / "per_file.json"
+    key = settings_key(labels_dir)
     done = {r["file"]: r for r in json.loads(done_file.read_text())} if done_file.exists() else {}
     rows = []
     for index, path in enumerate(sorted((data / "grasps").glob("*.h5"))):
-        if path.stem in done:
+        if done.get(path.stem, {}).get("settings") == key:
             rows.append(done[path.stem])
             continue
         labels = labels_dir / path.stem / "labels.jsonl" if labels_dir is not None else None
@@ -62,6 +72,7 @@ def measure(data: Path, out: Path, labels_dir: Path | None) -> list[dict[str, ob
             "category": path.stem.split("_")[0],
             "boxes": len(result.label.regions),
             "subsets": shares,
+            "settings": key,
         }
         rows.append(row)
         print(row["file"], row["half"], shares, flush=True)
