@@ -73,10 +73,16 @@ def obstacle_points(
     points are flying pixels, not surfaces)."""
     if config.obstacle_radius <= 0 or len(points_world) == 0:
         return points_world
-    counts = cKDTree(points_world).query_ball_point(
-        points_world, config.obstacle_radius, return_length=True
+    # The point itself and its obstacle_min_neighbors nearest others: its last is within the
+    # radius exactly when the ball holds more than obstacle_min_neighbors points (itself
+    # included); the k nearest are cheaper than counting every point in the ball.
+    nearest = config.obstacle_min_neighbors + 1
+    if nearest > len(points_world):
+        return points_world[:0]
+    distances, _ = cKDTree(points_world).query(
+        points_world, k=[nearest], distance_upper_bound=np.nextafter(config.obstacle_radius, 1.0)
     )
-    return points_world[counts > config.obstacle_min_neighbors]
+    return points_world[distances[:, 0] <= config.obstacle_radius]
 
 
 def planning_obstacles(
@@ -89,6 +95,34 @@ def planning_obstacles(
     if scene_world is None or len(scene_world) == 0:
         return obstacle_points(points_world, config)
     return obstacle_points(np.concatenate([points_world, scene_world]), config)
+
+
+NEAR_QUERY_POINTS = 8_000
+"""An obstacle cloud larger than this (a cluttered scene's) is searched through a KD-tree for
+the points near each candidate gripper; a smaller one (an object's) is tested whole."""
+
+
+def _near_gripper(
+    world_T_tcp: NDArray,
+    obstacles_world: NDArray,
+    tree: cKDTree | None,
+    geometry: GripperGeometry,
+    reach: float,
+) -> NDArray[np.float64]:
+    """The obstacle points (world frame) that can lie within ``reach`` (m) of the open
+    gripper's boxes at ``world_T_tcp``: those within ``reach`` of a box's bounding sphere
+    (``tree`` is over ``obstacles_world``), in cloud order; the whole cloud without a tree.
+    Every point left out is farther than ``reach`` from every box."""
+    if tree is None:
+        return obstacles_world
+    found = [
+        tree.query_ball_point(
+            world_T_tcp[:3, :3] @ center + world_T_tcp[:3, 3],
+            float(np.linalg.norm(half)) + reach + 1e-6,
+        )
+        for center, half in _gripper_boxes(geometry, geometry.max_opening)
+    ]
+    return obstacles_world[np.unique(np.concatenate(found).astype(np.intp))]
 
 
 def _inside_count(distances: NDArray[np.float64]) -> int:
@@ -191,6 +225,7 @@ def grasps_from_handles(
     best_score = max((h.score for h in handles), default=1.0) or 1.0
     centroid = points_world.mean(axis=0) if len(points_world) else None
     obstacles = planning_obstacles(points_world, config, scene_obstacles_world)
+    tree = cKDTree(obstacles) if len(obstacles) > NEAR_QUERY_POINTS else None
     angles = [approach_angles(rng, config) for _ in handles]
     grasps: list[Grasp] = []
     passes = ((config.approach_pitches, True), (config.fallback_pitches, False))
@@ -207,7 +242,7 @@ def grasps_from_handles(
                         (position, np.cross(around, handle.axis), approach),
                         handle.score / best_score,
                         lever,
-                        obstacles,
+                        (obstacles, tree),
                         cameras,
                         geometry,
                         table_z,
@@ -225,7 +260,7 @@ def _scored_grasp(
     position_closing_approach: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     handle_score: float,
     lever: float,
-    obstacles_world: NDArray[np.float64],
+    obstacles: tuple[NDArray[np.float64], cKDTree | None],
     cameras: NDArray[np.float64],
     geometry: GripperGeometry,
     table_z: float,
@@ -235,12 +270,15 @@ def _scored_grasp(
     """The grasp at a TCP ``position`` with jaws ``closing`` and ``approach`` directions
     (world frame; backed off to clear the table) with its rank score
     (:func:`grasps_from_handles`), or None when it cannot clear the table or the open
-    gripper holds cloud points; ``handle_score`` is relative to the best handle's."""
+    gripper holds cloud points of ``obstacles`` (world frame, and a KD-tree over them or
+    None); ``handle_score`` is relative to the best handle's."""
     position, closing, approach = position_closing_approach
     pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
     if pose is None:
         return None
-    distances = gripper_distances(pose, obstacles_world, geometry)
+    # points beyond clearance_cap of every box change neither the count nor the clearance
+    near = _near_gripper(pose, *obstacles, geometry, config.clearance_cap)
+    distances = gripper_distances(pose, near, geometry)
     if _inside_count(distances) > config.max_colliding_points:
         return None
     clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
