@@ -8,9 +8,9 @@ import pytest
 from data_needs import ROBOTIQ
 
 from simgrasp.assets.model import model_for
+from simgrasp.grasping.planning.clearance import collides
 from simgrasp.grasping.planning.planner import (
     PlannerConfig,
-    collides,
     grasps_from_handles,
     table_margin,
 )

@@ -13,7 +13,7 @@ import pytest
 from simgrasp.assets.model import model_for
 from simgrasp.config import build
 from simgrasp.config.files import read_config_file
-from simgrasp.grasping.planning.planner import obstacle_points
+from simgrasp.grasping.planning.clearance import obstacle_points
 from simgrasp.grasping.trials.chain import propose_grasps, run_chain
 from simgrasp.grasping.trials.chain_config import ChainConfig, ChainDetectorConfig
 from simgrasp.grippers import make_gripper

@@ -3,8 +3,9 @@ object's pixels into one world-frame cloud with normals turned toward the camera
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from functools import cached_property, partial
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -154,10 +155,16 @@ def noisy_cloud(cloud: ObjectCloud, noise: float, seed: int) -> ObjectCloud:
 
 @dataclass(frozen=True, eq=False)
 class SceneObservation:
-    """What the scene's cameras saw: every frame, and the object's fused cloud."""
+    """What the scene's cameras saw: every frame, and the object's fused cloud (fused from the
+    frames by ``fuse`` on first use, once: a cut by our segmenter never needs it)."""
 
     frames: list[DepthFrame]
-    cloud: ObjectCloud
+    fuse: Callable[[], ObjectCloud] = field(repr=False)
+
+    @cached_property
+    def cloud(self) -> ObjectCloud:
+        """The object's fused cloud (:func:`cloud_from_views`)."""
+        return self.fuse()
 
 
 def observe(
@@ -171,7 +178,7 @@ def observe(
     each view through ``sensor`` (default ideal; :func:`sensed_views`) and fuse the object's
     pixels into a world-frame cloud (see :func:`cloud_from_views`)."""
     frames = sensed_views(render_views(scene, renderer), sensor or SensorSettings(), seed)
-    return SceneObservation(frames, cloud_from_views(scene, frames, noise, seed))
+    return SceneObservation(frames, partial(cloud_from_views, scene, frames, noise, seed))
 
 
 def viewpoint_normals(cloud: ObjectCloud) -> np.ndarray:

@@ -25,7 +25,7 @@ import trimesh
 from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.planning.planner import gripper_distances
+from simgrasp.grasping.planning.clearance import gripper_distances
 from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.seeding import rng_for

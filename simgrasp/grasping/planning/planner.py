@@ -20,80 +20,19 @@ from scipy.spatial import cKDTree
 
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.planning.approaches import approach_angles, handle_approaches
+from simgrasp.grasping.planning.clearance import (
+    NEAR_QUERY_POINTS,
+    collides,
+    gripper_boxes,
+    gripper_distances,
+    inside_count,
+    near_gripper,
+    planning_obstacles,
+)
 from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.detection import Handle
 from simgrasp.transforms import orthonormal
-
-
-def _gripper_boxes(
-    geometry: GripperGeometry, opening: float, reach: float | None = None
-) -> list[tuple[NDArray, NDArray]]:
-    """(center, half extents) of the fingers and palm in the TCP frame; the fingertips reach
-    ``reach`` (m, default ``geometry.pad_reach``) past the TCP."""
-    reach = geometry.pad_reach if reach is None else reach
-    half_len = (geometry.finger_length + reach) / 2
-    z_finger = reach - half_len
-    y_finger = opening / 2 + geometry.finger_thickness / 2
-    finger_half = np.array([geometry.finger_width / 2, geometry.finger_thickness / 2, half_len])
-    palm_half = np.asarray(geometry.palm_size) / 2
-    palm_center = np.array([0.0, 0.0, -geometry.finger_length - palm_half[2]])
-    return [
-        (np.array([0.0, y_finger, z_finger]), finger_half),
-        (np.array([0.0, -y_finger, z_finger]), finger_half),
-        (palm_center, palm_half),
-    ]
-
-
-def gripper_distances(
-    world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry
-) -> NDArray[np.float64]:
-    """(N,) distance (m) from each cloud point to the nearest box of the open gripper at
-    ``world_T_tcp`` (0 inside one)."""
-    tcp_T_world = np.linalg.inv(world_T_tcp)
-    points_tcp = points_world @ tcp_T_world[:3, :3].T + tcp_T_world[:3, 3]
-    distances = np.full(len(points_tcp), np.inf)
-    for center, half in _gripper_boxes(geometry, geometry.max_opening):
-        outside = np.maximum(np.abs(points_tcp - center) - half, 0.0)
-        np.minimum(distances, np.linalg.norm(outside, axis=1), out=distances)
-    return distances
-
-
-def collides(
-    world_T_tcp: NDArray, points_world: NDArray, geometry: GripperGeometry, limit: int
-) -> bool:
-    """Whether more than ``limit`` cloud points fall inside the open gripper's boxes."""
-    return _inside_count(gripper_distances(world_T_tcp, points_world, geometry)) > limit
-
-
-def obstacle_points(
-    points_world: NDArray[np.float64], config: PlannerConfig
-) -> NDArray[np.float64]:
-    """The cloud points the gripper must keep clear of: those with at least
-    ``config.obstacle_min_neighbors`` other points within ``config.obstacle_radius`` (isolated
-    points are flying pixels, not surfaces)."""
-    if config.obstacle_radius <= 0 or len(points_world) == 0:
-        return points_world
-    counts = cKDTree(points_world).query_ball_point(
-        points_world, config.obstacle_radius, return_length=True
-    )
-    return points_world[counts > config.obstacle_min_neighbors]
-
-
-def planning_obstacles(
-    points_world: NDArray[np.float64],
-    config: PlannerConfig,
-    scene_world: NDArray[np.float64] | None = None,
-) -> NDArray[np.float64]:
-    """:func:`obstacle_points` of the object cloud and, in clutter, of the rest of the scene
-    (``scene_world``, (M, 3) world frame, m)."""
-    if scene_world is None or len(scene_world) == 0:
-        return obstacle_points(points_world, config)
-    return obstacle_points(np.concatenate([points_world, scene_world]), config)
-
-
-def _inside_count(distances: NDArray[np.float64]) -> int:
-    return int(np.count_nonzero(distances == 0.0))
 
 
 def table_margin(
@@ -111,7 +50,7 @@ def table_margin(
     )
     margin = np.inf
     for back, reach, clearance in checks:
-        for center, half in _gripper_boxes(geometry, geometry.max_opening, reach):
+        for center, half in gripper_boxes(geometry, geometry.max_opening, reach):
             corners_tcp = center + signs * half - np.array([0.0, 0.0, back])
             corners_world = corners_tcp @ world_T_tcp[:3, :3].T + world_T_tcp[:3, 3]
             margin = min(margin, float(corners_world[:, 2].min()) - table_z - clearance)
@@ -191,11 +130,13 @@ def grasps_from_handles(
     to the centroid along the handle.
     """
     handles = list(handles)[: config.max_handles]
+    obstacles_world = planning_obstacles(points_world, config, scene_obstacles_world)
     plan = _HandlePlan(
         handles,
         [approach_angles(rng, config) for _ in handles],
         points_world.mean(axis=0) if len(points_world) else None,
-        planning_obstacles(points_world, config, scene_obstacles_world),
+        obstacles_world,
+        cKDTree(obstacles_world) if len(obstacles_world) > NEAR_QUERY_POINTS else None,
         np.atleast_2d(np.asarray(cameras_world, dtype=float)),
     )
     passes = ((config.approach_pitches, True), (config.fallback_pitches, False))
@@ -210,13 +151,14 @@ def grasps_from_handles(
 @dataclass(frozen=True)
 class _HandlePlan:
     """What every pass of :func:`grasps_from_handles` shares: the handles (best first), their
-    approach angles (rad), the cloud's centroid, the obstacle points and the cameras (world
-    frame, m)."""
+    approach angles (rad), the cloud's centroid, the obstacle points (and a KD-tree over them
+    when they are many, else None) and the cameras (world frame, m)."""
 
     handles: list[Handle]
     angles: list[NDArray[np.floating]]
     centroid: NDArray[np.float64] | None
     obstacles_world: NDArray[np.float64]
+    obstacles_tree: cKDTree | None
     cameras_world: NDArray[np.float64]
 
     def grasps(
@@ -244,7 +186,7 @@ class _HandlePlan:
                         (position, np.cross(around, handle.axis), approach),
                         handle.score / best_score,
                         lever,
-                        self.obstacles_world,
+                        (self.obstacles_world, self.obstacles_tree),
                         self.cameras_world,
                         jaws,
                         table_z,
@@ -266,7 +208,7 @@ def _scored_grasp(
     position_closing_approach: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     handle_score: float,
     lever: float,
-    obstacles_world: NDArray[np.float64],
+    obstacles: tuple[NDArray[np.float64], cKDTree | None],
     cameras: NDArray[np.float64],
     geometry: GripperGeometry,
     table_z: float,
@@ -276,13 +218,16 @@ def _scored_grasp(
     """The grasp at a TCP ``position`` with jaws ``closing`` and ``approach`` directions
     (world frame; backed off to clear the table) with its rank score
     (:func:`grasps_from_handles`), or None when it cannot clear the table or the open
-    gripper holds cloud points; ``handle_score`` is relative to the best handle's."""
+    gripper holds cloud points of ``obstacles`` (world frame, and a KD-tree over them or
+    None); ``handle_score`` is relative to the best handle's."""
     position, closing, approach = position_closing_approach
     pose = above_table(tcp_pose(position, closing, approach), geometry, table_z, config)
     if pose is None:
         return None
-    distances = gripper_distances(pose, obstacles_world, geometry)
-    if _inside_count(distances) > config.max_colliding_points:
+    # points beyond clearance_cap of every box change neither the count nor the clearance
+    near = near_gripper(pose, *obstacles, geometry, config.clearance_cap)
+    distances = gripper_distances(pose, near, geometry)
+    if inside_count(distances) > config.max_colliding_points:
         return None
     clearance = min(float(distances.min(initial=np.inf)), config.clearance_cap)
     shift = float(np.linalg.norm(pose[:3, 3] - position))

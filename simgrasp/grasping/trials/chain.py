@@ -127,15 +127,17 @@ def run_chain(
     scene = build_scene(object_model, gripper, config.scene, seed)
     lap("scene")
     observation = observe(scene, kept_renderer(scene), config.noise, seed, config.sensor)
+    if config.perception_mode == "mask":  # the mask's cut, fused in the render stage
+        cloud = observation.cloud  # (our segmenter's cut never needs it)
     lap("render")
-    cloud, perceived, fields = observation.cloud, None, {}
+    perceived, fields = None, {}
     if config.scene.clutter or config.perception_mode != "mask":
         perceived = perceive_target(
             scene, observation, config.perception_mode, config.noise, seed, config.segment
         )
-        cloud = perceived.cloud
         fields = {"perception": config.perception_mode, "target_iou": perceived.target_iou}
         lap("segment")
+    cloud = perceived.cloud if perceived else observation.cloud
     obstacles = perceived.obstacles_world if perceived else None
     grasps, detection = propose_grasps(scene, cloud, config, seed, obstacles)
     lap("detect_and_plan")

@@ -275,7 +275,7 @@ def _attach_edges(
     0; the first in row-major offset order on a tie), when within ``attach_distance`` (m): a
     mixed pixel at an occluding edge joins the side whose depth it is nearer.
     ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions padded by r = ``attach_radius_px``
-    (:func:`_padded_planes`); every offset is tried at once, one (offsets, pixels) array."""
+    (:func:`_padded_planes`); every offset is tried at once, one (pixels, offsets) array."""
     reach = config.attach_radius_px
     loose_mask = candidates & (segments == 0)
     if not segments.any() or not loose_mask.any():
@@ -285,15 +285,35 @@ def _attach_edges(
     loose = np.flatnonzero(np.pad(loose_mask, reach))
     steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
     shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
-    around = loose[None, :] + shifts[:, None]
+    around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
     label = flat_labels[around]
-    offset = np.stack([plane[around] - plane[loose] for plane in flat_planes])
-    gap = np.where(label > 0, _dot(offset, offset), np.float32(np.inf))
-    nearest = gap.argmin(axis=0)
-    columns = np.arange(len(loose))
-    near = gap[nearest, columns] <= config.attach_distance**2
-    flat_labels[loose[near]] = label[nearest[near], columns[near]]
+    gap = _squared_gaps(flat_planes, around, loose[:, None])
+    gap[label <= 0] = np.inf
+    nearest = gap.argmin(axis=1)
+    rows = np.arange(len(loose))
+    near = gap[rows, nearest] <= config.attach_distance**2
+    flat_labels[loose[near]] = label[rows[near], nearest[near]]
     return labels[reach:-reach, reach:-reach]
+
+
+def _squared_gaps(
+    flat_planes: Grid, around: NDArray[np.intp], loose: NDArray[np.intp]
+) -> NDArray[np.float32]:
+    """Squared 3-D distance (m^2) from each ``loose`` pixel to each pixel ``around`` it (flat
+    indices into ``flat_planes``' channels, broadcast against each other), channel by channel
+    in place: the same float32 operations as ``_dot(offset, offset)`` of the stacked offsets,
+    without the stack."""
+    gap = np.empty(around.shape, dtype=flat_planes.dtype)
+    channel = np.empty_like(gap)
+    for index, plane in enumerate(flat_planes):
+        np.take(plane, around, out=channel)
+        channel -= plane[loose]
+        channel *= channel
+        if index == 0:
+            gap, channel = channel, gap
+        else:
+            gap += channel
+    return gap
 
 
 def _padded_planes(planes: Grid, reach: int) -> Grid:
