@@ -46,6 +46,9 @@ SETTLE_SPEED = 0.02
 """... ending once no generalized velocity exceeds this (m/s, rad/s)."""
 FALLEN_DEPTH = 0.05
 """A distractor that settles this far (m) below the table top fell off; it is left out."""
+FLUNG_HEIGHT = 0.5
+"""A distractor this far (m) above the table top at the end of the settle was flung by an
+overlapping drop (crowded scenes of 13+ distractors); it is left out too."""
 MIN_VISIBLE = 1 / 3
 MAX_DRAWS = 8
 VISIBILITY_POINTS = 300
@@ -205,7 +208,8 @@ def _settled(
         if step >= min_steps and np.abs(data.qvel).max() < SETTLE_SPEED:
             break
     poses = [make_transform(data.xmat[b].reshape(3, 3), data.xpos[b]) for b in bodies]
-    on_table = [pose for pose in poses[1:] if pose[2, 3] > config.table_top_z - FALLEN_DEPTH]
+    low, high = config.table_top_z - FALLEN_DEPTH, config.table_top_z + FLUNG_HEIGHT
+    on_table = [pose for pose in poses[1:] if low < pose[2, 3] < high]
     kept = [(m, p) for m, p in zip(models, poses[1:], strict=True) if any(p is q for q in on_table)]
     distractors = tuple(
         Distractor(f"{DISTRACTOR_PREFIX}{i}", m, pose) for i, (m, pose) in enumerate(kept)

@@ -32,7 +32,7 @@ class SceneConfig(Checked):
         placement: ``"stable"``, a rest pose drawn among all stable poses by the probability
             of landing in it from a random drop, or ``"upright"``, only among the poses that
             stand the object on its own base (+z up), as a person places a mug.
-        clutter: distractor objects (0..12) drawn by the seed, dropped around the object and
+        clutter: distractor objects (0..19) drawn by the seed, dropped around the object and
             settled by the simulator before the cameras look (:mod:`simgrasp.scenes.clutter`).
         clutter_objects: what distractors are drawn from: ``all`` (every object we have but
             the target: the generated tools, and the YCB objects when ``$SIMGRASP_YCB_DIR``
