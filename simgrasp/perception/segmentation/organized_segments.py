@@ -10,6 +10,8 @@ a box-filtered position image, so every step is a few whole-image numpy / scipy.
 
 from __future__ import annotations
 
+from typing import TypeVar
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
@@ -17,6 +19,7 @@ from scipy import ndimage
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 Grid = NDArray[np.float32]
+Scalar = TypeVar("Scalar", bound=np.generic)
 
 
 def grid_components(
@@ -71,7 +74,7 @@ def candidate_groups(
     (height, width), size = candidates.shape, GROUP_BLOCK
     padded = np.zeros((-(-height // size) * size, -(-width // size) * size), dtype=bool)
     padded[:height, :width] = candidates
-    blocks = padded.reshape(padded.shape[0] // size, size, -1, size).any(axis=(1, 3))
+    blocks = _blocks_any(padded)
     grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
     ids, _ = ndimage.label(grown if dilation else blocks, np.ones((3, 3), bool))
     ids *= blocks
@@ -84,6 +87,13 @@ def candidate_groups(
         cols = slice(max(found[1].start * size - margin, 0), found[1].stop * size + margin)
         groups.append((rows, cols, candidates[rows, cols] & (pixel_ids[rows, cols] == group)))
     return groups
+
+
+def _blocks_any(padded: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Whether each ``GROUP_BLOCK`` x ``GROUP_BLOCK`` block of ``padded`` (H, W; multiples of
+    the block) holds a True pixel: each block row of 8 bytes read as one 64-bit word."""
+    words = padded.view(np.uint64).reshape(padded.shape[0] // GROUP_BLOCK, GROUP_BLOCK, -1)
+    return np.bitwise_or.reduce(words, axis=1) != 0
 
 
 def inner_floors(
@@ -192,7 +202,8 @@ def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
     """Mean position (3, H, W) over each ``size`` x ``size`` window of the masked pixels of
     ``planes`` (3, H, W; NaN if none)."""
     weight = mask.astype(np.float32)
-    summed = np.where(mask, planes, np.float32(0.0))
+    summed = np.zeros_like(planes)
+    np.copyto(summed, planes, where=mask)
     count = ndimage.uniform_filter(weight, size, mode="constant")
     mean = ndimage.uniform_filter1d(summed, size, axis=1, mode="constant")
     mean = ndimage.uniform_filter1d(mean, size, axis=2, mode="constant")
@@ -204,23 +215,35 @@ def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
 
 def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
     """Unit normals (3, H, W) from central differences over ``step`` pixels of ``smooth``
-    (3, H, W), turned toward ``eye`` (3, 1, 1); NaN where a neighbour is missing."""
+    (3, H, W), turned toward ``eye`` (3, 1, 1); NaN where a neighbour is missing. Written
+    into reused buffers (the float32 operations of the cross product and ``_dot``)."""
     du = np.full_like(smooth, np.nan)
     dv = np.full_like(smooth, np.nan)
-    du[:, :, step:-step] = smooth[:, :, 2 * step :] - smooth[:, :, : -2 * step]
-    dv[:, step:-step] = smooth[:, 2 * step :] - smooth[:, : -2 * step]
-    normals = np.stack(
-        [
-            du[1] * dv[2] - du[2] * dv[1],
-            du[2] * dv[0] - du[0] * dv[2],
-            du[0] * dv[1] - du[1] * dv[0],
-        ]
-    )
+    np.subtract(smooth[:, :, 2 * step :], smooth[:, :, : -2 * step], out=du[:, :, step:-step])
+    np.subtract(smooth[:, 2 * step :], smooth[:, : -2 * step], out=dv[:, step:-step])
+    normals = np.empty_like(smooth)
+    scratch = np.empty_like(smooth[0])
+    for axis, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
+        np.multiply(du[a], dv[b], out=normals[axis])
+        np.multiply(du[b], dv[a], out=scratch)
+        normals[axis] -= scratch
+    length = _dot_into(normals, normals, scratch, du[0])
     with np.errstate(invalid="ignore", divide="ignore"):
-        normals /= np.sqrt(_dot(normals, normals))
-    toward = _dot(normals, eye - smooth)
-    normals *= np.where(toward < 0, np.float32(-1.0), np.float32(1.0))
+        normals /= np.sqrt(length, out=length)
+    np.subtract(eye, smooth, out=dv)
+    toward = _dot_into(normals, dv, du[1], du[2])
+    np.negative(normals, out=normals, where=toward < 0)
     return normals
+
+
+def _dot_into(a: Grid, b: Grid, out: Grid, scratch: Grid) -> Grid:
+    """``_dot(a, b)`` (the same float32 operations, in the same order) written into ``out``,
+    with ``scratch`` a buffer of its shape."""
+    np.multiply(a[0], b[0], out=out)
+    for channel in (1, 2):
+        np.multiply(a[channel], b[channel], out=scratch)
+        out += scratch
+    return out
 
 
 def _depth_cuts(
@@ -254,9 +277,13 @@ def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> N
         hi = [slice(None)] * 3
         lo[axis], hi[axis] = slice(None, -step), slice(step, None)
         offset = smooth[tuple(hi)] - smooth[tuple(lo)]
-        fold = _dot(normals[tuple(hi)] - normals[tuple(lo)], offset)
+        turn = normals[tuple(hi)] - normals[tuple(lo)]
+        fold = _dot_into(turn, offset, turn[0], turn[1])  # turn[0] read before written
+        limit = _dot_into(offset, offset, turn[2], turn[1])
         with np.errstate(invalid="ignore"):
-            concave = fold < -threshold * np.sqrt(_dot(offset, offset))
+            limit = np.sqrt(limit, out=limit)
+            limit *= -threshold
+            concave = fold < limit
         for shift in range(step + 1):
             span = [slice(None), slice(None)]
             span[axis - 1] = slice(shift, shift + concave.shape[axis - 1])
@@ -280,9 +307,10 @@ def _attach_edges(
     loose_mask = candidates & (segments == 0)
     if not segments.any() or not loose_mask.any():
         return segments
-    labels = np.pad(segments, reach)
+    labels = _padded(segments, reach)
     flat_labels = labels.reshape(-1)
-    loose = np.flatnonzero(np.pad(loose_mask, reach))
+    loose = np.flatnonzero(loose_mask)  # flat in the crop, then in the padded crop
+    loose += 2 * reach * (loose // segments.shape[1]) + reach * (labels.shape[1] + 1)
     steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
     shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
     around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
@@ -319,4 +347,13 @@ def _squared_gaps(
 def _padded_planes(planes: Grid, reach: int) -> Grid:
     """(3, (H + 2 reach) (W + 2 reach)) the channel planes (3, H, W) padded with zeros, each
     flattened."""
-    return np.pad(planes, ((0, 0), (reach, reach), (reach, reach))).reshape(3, -1)
+    return _padded(planes, reach).reshape(3, -1)
+
+
+def _padded(grid: NDArray[Scalar], reach: int) -> NDArray[Scalar]:
+    """``grid`` (..., H, W) with ``reach`` zeros around its last two axes (``np.pad``'s
+    result, without its per-call overhead)."""
+    *lead, height, width = grid.shape
+    padded = np.zeros((*lead, height + 2 * reach, width + 2 * reach), dtype=grid.dtype)
+    padded[..., reach : reach + height, reach : reach + width] = grid
+    return padded
