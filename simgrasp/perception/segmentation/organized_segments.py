@@ -157,7 +157,7 @@ def _crop_components(
     cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
     interior = candidates & ~cut
     segments, _ = ndimage.label(interior)
-    segments = segments.astype(np.int32)
+    segments = segments.astype(np.int32, copy=False)
     flat_planes = _padded_planes(planes, config.attach_radius_px)
     for _ in range(config.attach_passes):
         segments = _attach_edges(segments, flat_planes, candidates, config)
@@ -202,8 +202,7 @@ def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
     """Mean position (3, H, W) over each ``size`` x ``size`` window of the masked pixels of
     ``planes`` (3, H, W; NaN if none)."""
     weight = mask.astype(np.float32)
-    summed = np.zeros_like(planes)
-    np.copyto(summed, planes, where=mask)
+    summed = np.where(mask, planes, np.float32(0.0))
     count = ndimage.uniform_filter(weight, size, mode="constant")
     mean = ndimage.uniform_filter1d(summed, size, axis=1, mode="constant")
     mean = ndimage.uniform_filter1d(mean, size, axis=2, mode="constant")
@@ -252,9 +251,10 @@ def _depth_cuts(
     """Pixels with a 4-neighbour whose range differs by more than ``jump`` x range^2 (m);
     ``planes`` (3, H, W), ``eye`` (3, 1, 1)."""
     offset = planes - eye
-    ranges = np.sqrt(_dot(offset, offset))
+    ranges = np.sqrt(_dot_into(offset, offset, offset[0], offset[1]), out=offset[0])
     np.copyto(ranges, np.float32(np.nan), where=~mask)
-    limit = jump * ranges * ranges
+    limit = np.multiply(ranges, jump, out=offset[1])
+    limit *= ranges
     cut = np.zeros(mask.shape, dtype=bool)
     for axis in (0, 1):
         lo = [slice(None), slice(None)]
