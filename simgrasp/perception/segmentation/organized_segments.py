@@ -56,7 +56,8 @@ def grid_components(
 
 
 GROUP_BLOCK = 8
-"""Edge (px) of the blocks in which :func:`candidate_groups` gathers candidate pixels."""
+"""Edge (px) of the blocks in which :func:`candidate_groups` gathers candidate pixels: 1, 2, 4
+or 8, since :func:`_blocks_any` reads a block row of booleans as one unsigned word."""
 
 
 def candidate_groups(
@@ -91,8 +92,9 @@ def candidate_groups(
 
 def _blocks_any(padded: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """Whether each ``GROUP_BLOCK`` x ``GROUP_BLOCK`` block of ``padded`` (H, W; multiples of
-    the block) holds a True pixel: each block row of 8 bytes read as one 64-bit word."""
-    words = padded.view(np.uint64).reshape(padded.shape[0] // GROUP_BLOCK, GROUP_BLOCK, -1)
+    the block) holds a True pixel: each block row of ``GROUP_BLOCK`` bytes read as one word."""
+    rows = padded.view(np.dtype(f"u{GROUP_BLOCK}"))
+    words = rows.reshape(padded.shape[0] // GROUP_BLOCK, GROUP_BLOCK, -1)
     return np.bitwise_or.reduce(words, axis=1) != 0
 
 
