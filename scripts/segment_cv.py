@@ -42,6 +42,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from simgrasp.assets.object_sets import expand_objects  # noqa: E402
 from simgrasp.assets.real import default_real_dir  # noqa: E402
 from simgrasp.evaluation.segment_eval import FIRST_PART, osd_scenes, part_ious  # noqa: E402
 from simgrasp.perception.scene_cloud import SceneCloud, read_scene  # noqa: E402
@@ -62,20 +63,8 @@ GRID = {
     "depth_jump": (0.02, 0.03),
 }
 """The settings tried (24 combinations); every other field keeps its default."""
-TARGETS = (
-    "001_chips_can",
-    "014_lemon",
-    "025_mug",
-    "033_spatula",
-    "030_fork",
-    "035_power_drill",
-    "044_flat_screwdriver",
-    "048_hammer",
-    "gen_hammer",
-    "gen_spatula",
-    "gen_screwdriver",
-    "gen_mug",
-    "gen_pan",
+TARGETS = tuple(
+    expand_objects(["paper", "gen_hammer", "gen_spatula", "gen_screwdriver", "gen_mug", "gen_pan"])
 )
 """The clutter run's targets (``docs/results/clutter/``)."""
 TUNE_SEED, TUNE_CLUTTER = 100, 5
