@@ -46,6 +46,15 @@ def rotation_to_quat_wxyz(rotation: ArrayLike) -> NDArray[np.float64]:
     return Rotation.from_matrix(matrix, assume_valid=valid).as_quat(scalar_first=True)
 
 
+def rotations_to_quats_wxyz(rotations: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``[w, x, y, z]`` quaternions ``(N, 4)`` of ``N`` rotation matrices ``(N, 3, 3)`` (either
+    sign), row for row the same bits as :func:`rotation_to_quat_wxyz`, in one SciPy call when
+    every matrix passes its test."""
+    if all(_is_rotation(matrix) for matrix in rotations):
+        return Rotation.from_matrix(rotations, assume_valid=True).as_quat(scalar_first=True)
+    return np.stack([rotation_to_quat_wxyz(matrix) for matrix in rotations])
+
+
 def _is_rotation(matrix: NDArray[np.float64]) -> bool:
     """Whether a 3x3 ``matrix`` passes SciPy's rotation test: orthogonal to its tolerance and
     a positive determinant (the sign of ``r0 . (r1 x r2)``, exact enough near +-1)."""

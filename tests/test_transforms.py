@@ -13,6 +13,7 @@ from simgrasp.transforms import (
     matrix_to_pose7,
     pose7_to_matrix,
     rotation_to_quat_wxyz,
+    rotations_to_quats_wxyz,
 )
 
 
@@ -68,3 +69,13 @@ def test_quaternion_is_scipys_to_the_bit() -> None:
         assert np.array_equal(rotation_to_quat_wxyz(matrix), expected)
     with pytest.raises(ValueError, match="determinant"):
         rotation_to_quat_wxyz(np.diag([1.0, 1.0, -1.0]))
+
+
+def test_batched_quaternions_match_one_by_one_to_the_bit() -> None:
+    """The shake's batched conversion gives each row's quaternion of the one-matrix call, bit
+    for bit, on a batch of rotations and on one holding a matrix SciPy must orthonormalize."""
+    rng = np.random.default_rng(2)
+    rotations = Rotation.random(200, random_state=3).as_matrix()
+    for batch in (rotations, rotations + rng.normal(0.0, 1e-10, rotations.shape)):
+        expected = np.stack([rotation_to_quat_wxyz(matrix) for matrix in batch])
+        assert np.array_equal(rotations_to_quats_wxyz(batch), expected)

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.config.checks import Checked, NonNegative, Positive, PositiveInt
-from simgrasp.transforms import make_transform
+from simgrasp.transforms import make_transform, rotations_to_quats_wxyz
 
 if TYPE_CHECKING:
     from simgrasp.grasping.trials.result import Failure
@@ -68,18 +68,46 @@ def tcp_offset(shake: ShakeConfig, t: float) -> NDArray[np.float64]:
     return np.eye(4)
 
 
-def _motion(trial: _Trial, tcp_T_com0: NDArray[np.float64], radius: float) -> float:
-    """The object's motion in the jaws since the close (m, module docstring)."""
-    scene = trial.scene
-    world_T_tcp = scene.gripper.world_T_tcp(scene.data)
-    body = scene.object_body
-    world_T_com = make_transform(
-        scene.data.ximat[body].reshape(3, 3), np.asarray(scene.data.xipos[body])
+def shake_targets(
+    shake: ShakeConfig,
+    world_T_tcp0: NDArray[np.float64],
+    tcp_T_root: NDArray[np.float64],
+    control_dt: float,
+    steps: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The mocap targets of the whole shake, computed before it runs: positions ``(steps, 3)``
+    (world frame, m) and ``[w, x, y, z]`` quaternions ``(steps, 4)`` (w >= 0) of the gripper
+    root at control steps ``1 .. steps`` of ``control_dt`` seconds; row ``k - 1`` has the same
+    bits as ``Mount.command_tcp(world_T_tcp0 @ tcp_offset(shake, k * control_dt))``."""
+    world_T_root = np.stack(
+        [world_T_tcp0 @ tcp_offset(shake, k * control_dt) @ tcp_T_root for k in range(1, steps + 1)]
     )
-    tcp_T_com = np.linalg.inv(world_T_tcp) @ world_T_com
-    turn = tcp_T_com0[:3, :3].T @ tcp_T_com[:3, :3]
-    angle = math.acos(max(-1.0, min(1.0, (np.trace(turn) - 1.0) / 2.0)))
-    return float(np.linalg.norm(tcp_T_com[:3, 3] - tcp_T_com0[:3, 3])) + angle * radius
+    quats = rotations_to_quats_wxyz(world_T_root[:, :3, :3])
+    quats[quats[:, 0] < 0] *= -1.0
+    return world_T_root[:, :3, 3].copy(), quats
+
+
+def largest_motion(frames: NDArray[np.float64], radius: float) -> float:
+    """The object's largest motion in the jaws (m, module docstring) over ``frames``
+    ``(N, 24)``: per control step the TCP's position and row-major rotation (world frame),
+    then the object's center of mass and rotation; row 0 is the pose at the close."""
+    world_p_tcp, world_R_tcp = frames[:, 0:3], frames[:, 3:12].reshape(-1, 3, 3)
+    world_p_com, world_R_com = frames[:, 12:15], frames[:, 15:24].reshape(-1, 3, 3)
+    tcp_R_world = world_R_tcp.transpose(0, 2, 1)
+    tcp_R_com = tcp_R_world @ world_R_com
+    tcp_p_com = np.einsum("nij,nj->ni", tcp_R_world, world_p_com - world_p_tcp)
+    turn = tcp_R_com[0].T @ tcp_R_com
+    cosine = np.clip((np.trace(turn, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    motion = np.linalg.norm(tcp_p_com - tcp_p_com[0], axis=1) + np.arccos(cosine) * radius
+    return float(motion.max())
+
+
+def _record_frame(frames: NDArray[np.float64], row: int, trial: _Trial) -> None:
+    """Copy the TCP's and the object's poses now into ``frames[row]`` (see
+    :func:`largest_motion`)."""
+    data, site, body = trial.scene.data, trial.scene.gripper.tcp_site, trial.scene.object_body
+    frames[row, 0:3], frames[row, 3:12] = data.site_xpos[site], data.site_xmat[site]
+    frames[row, 12:15], frames[row, 15:24] = data.xipos[body], data.ximat[body]
 
 
 def shake_phase(trial: _Trial) -> Failure | None:
@@ -92,25 +120,27 @@ def shake_phase(trial: _Trial) -> Failure | None:
     scene, config, runner = trial.scene, trial.config, trial.runner
     shake = config.shake
     assert shake is not None, "the shake phase runs with a ShakeConfig"
-    data, body = scene.data, scene.object_body
-    world_T_tcp0 = scene.gripper.world_T_tcp(data)
-    tcp_T_com0 = np.linalg.inv(world_T_tcp0) @ make_transform(
-        data.ximat[body].reshape(3, 3), np.asarray(data.xipos[body])
-    )
+    data, mount = scene.data, scene.gripper
     runner.watch_release = True
     runner.use_hold_timestep()
-    largest, steps = 0.0, runner.chunks(2 * shake.cycles / shake.frequency)
+    steps = runner.chunks(2 * shake.cycles / shake.frequency)
+    positions, quats = shake_targets(
+        shake, mount.world_T_tcp(data), mount.tcp_T_root, runner.control_dt, steps
+    )
+    frames = np.empty((steps + 1, 24))
+    _record_frame(frames, 0, trial)
     try:
-        for k in range(1, steps + 1):
-            scene.gripper.command_tcp(data, world_T_tcp0 @ tcp_offset(shake, k * runner.control_dt))
+        for k in range(steps):
+            data.mocap_pos[mount.mocap_id], data.mocap_quat[mount.mocap_id] = positions[k], quats[k]
             runner.step()
-            largest = max(largest, _motion(trial, tcp_T_com0, runner.object_radius))
+            _record_frame(frames, k + 1, trial)
     except Released:
         trial.record["score"] = 0.0
         trial.lap("shake")
         return "dropped_in_shaking"
     trial.lap("shake")
     trial.moment("perturbed")
+    largest = largest_motion(frames, runner.object_radius)
     trial.record["score"] = 1.0 / (1.0 + largest / shake.score_scale)
     contacts = score_contacts(trial)
     return None if contacts.both else "dropped_in_shaking"
