@@ -246,3 +246,26 @@ def test_section_stops_end_a_tube_at_a_disc_across_it() -> None:
     assert low == -np.inf and 0.012 <= high <= 0.016
     # A section as wide as the disc is no growth: no stop.
     assert np.isinf(section_stops(*args, np.array([0.02]), reach=0.03, stop=stop)).all()
+
+
+def test_only_flat_candidates_thinner_than_the_part_block_its_reach() -> None:
+    """A flat handle's own flat fits (as thick as the part, knife 89e8) leave the reach along
+    the handle open; a blade's thin fits still block it."""
+    from simgrasp.handles.auto_label import Candidates, part_surface
+
+    tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
+    centers = np.array([[0.005, 0, 0], [0.005, 0, 0.001], [0.005, 0, 0.015], [0.005, 0, -0.015]])
+    widths = np.array([0.010, 0.010, 0.009, 0.002])  # a thick and a thin flat candidate
+    axes = np.tile([0.0, 0.0, 1.0], (4, 1))
+    candidates = Candidates(
+        centers, widths, np.array([1.0, 1.0, 3.0, 8.0]), np.arange(4), axes,
+        np.zeros((4, 3)), np.full(4, 0.005),
+    )  # fmt: skip
+    part = np.array([0, 1])
+    config = replace(AutoLabelConfig(), region_radius=0.004, block_width_ratio=0.65)
+    near_thick = np.linalg.norm(tube - centers[2], axis=1) <= 0.003
+    near_thin = np.linalg.norm(tube - centers[3], axis=1) <= 0.003
+    ratio = part_surface(candidates, part, tube, config)
+    assert ratio[near_thick].all() and not ratio[near_thin].any()
+    every = part_surface(candidates, part, tube, replace(config, block_width_ratio=0.0))
+    assert not every[near_thick].any() and not every[near_thin].any()

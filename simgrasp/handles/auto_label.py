@@ -13,8 +13,9 @@ rims, see docs/results/handle-labels/README.md), when no round part is found (a 
 the narrow candidates of any flatness that have free space around their axis
 (:mod:`simgrasp.handles.free_space`: a handle stands off the object, a wall continues
 sideways) are clustered instead. Each part's scanned surface points (those near its
-candidates, followed ``axis_reach`` along the candidates' axes but not onto flat candidates'
-surface and, optionally, not past where the section grows: :mod:`simgrasp.handles.axis_reach`),
+candidates, followed ``axis_reach`` along the candidates' axes but not onto the surface of
+flat candidates thinner than the part, a blade, and, optionally, not past where the section
+grows: :mod:`simgrasp.handles.axis_reach`),
 split into ``segments`` along their main axis, give one oriented box per segment (the way
 ``models/handles/ycb_handles.json`` was made by hand), grown by ``margin``. The result is a
 :class:`~simgrasp.assets.labels.HandleLabel` in the mesh frame, meters; no part found means
@@ -107,7 +108,13 @@ class AutoLabelConfig(Checked):
     """... (the semi-axis counted at most this much) ..."""
     flat_block: NonNegative = 0.005
     """... except points within this distance of a narrow candidate that failed the flatness
-    test (a blade's or a wall's evidence)."""
+    test (a blade's or a wall's evidence) ..."""
+    block_width_ratio: NonNegative = 0.0
+    """... and, when this is positive, whose grasp width is at most this many times the part's
+    median: a blade is thinner than its handle, while a flat handle's own flat fits (knife
+    89e8's 12 x 3 mm handle, flatness 2-4) are as thick as its round ones and then do not
+    block its reach (0: every such candidate blocks; off: at 0.65 it labeled more of held-out
+    knives' blades, see docs/results/handle-labels/README.md)."""
     stop_growth: NonNegative = 0.0
     """A part's surface near a candidate and reached along its axis ends at the first slab
     along the axis whose section spreads more than this many times the candidate's diameter
@@ -328,9 +335,12 @@ def part_surface(
 ) -> NDArray[np.bool_]:
     """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
     candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
-    the narrow candidates that failed the flatness test."""
+    the narrow candidates that failed the flatness test and are thinner than the part
+    (``block_width_ratio``)."""
     tree = cKDTree(surface)
     flat = (candidates.widths <= config.max_width) & (candidates.flatness > config.max_flatness)
+    if config.block_width_ratio > 0:
+        flat &= candidates.widths <= config.block_width_ratio * np.median(candidates.widths[part])
     blocked = np.zeros(len(surface), dtype=bool)
     if config.flat_block > 0 and flat.any():
         blocked = cKDTree(candidates.centers[flat]).query(surface)[0] <= config.flat_block
