@@ -269,3 +269,23 @@ def test_only_flat_candidates_thinner_than_the_part_block_its_reach() -> None:
     assert ratio[near_thick].all() and not ratio[near_thin].any()
     every = part_surface(candidates, part, tube, replace(config, block_width_ratio=0.0))
     assert not every[near_thick].any() and not every[near_thin].any()
+
+
+def test_resplit_drops_a_blade_root_joined_to_the_handle_only_by_its_guard() -> None:
+    from simgrasp.handles.auto_label import Candidates, label_from_candidates
+
+    z = np.r_[np.arange(30) * 0.002, 0.060 + np.arange(5) * 0.002, 0.070 + np.arange(4) * 0.002]
+    semi = np.r_[np.full(30, 0.005), np.full(5, 0.012), np.full(4, 0.005)]  # handle, guard, root
+    n = len(z)
+    centers = np.column_stack([np.zeros(n), np.zeros(n), z])
+    candidates = Candidates(
+        centers, np.full(n, 0.01), np.ones(n), np.arange(n), np.tile([0.0, 0, 1], (n, 1)),
+        centers, semi,
+    )  # fmt: skip
+    surface = _tube_points(0.005, 0.2)
+    joined = label_from_candidates(candidates, surface, "knife", AutoLabelConfig())
+    assert len(joined.parts) == 1 and len(joined.parts[0]) == 34  # the guard left out only
+    split = label_from_candidates(
+        candidates, surface, "knife", replace(AutoLabelConfig(), resplit=True)
+    )
+    assert len(split.parts) == 1 and (split.parts[0] == np.arange(30)).all()

@@ -7,7 +7,9 @@ handle rather than the object's body (``max_width``) and round rather than flat
 (``max_flatness``: a blade's or a wall's fits are flat). The kept candidates are clustered by
 single linkage; clusters seen from enough views, with enough support against the best one,
 become handle parts; a part's candidates much wider than its median (``max_section_ratio``:
-a knife's blade root or guard fitted as one wide round section) are then left out.
+a knife's blade root or guard fitted as one wide round section) are then left out and,
+optionally (``resplit``, off: on ACRONYM tune mugs it dropped strap fragments too), the part
+is clustered again, keeping the pieces that pass the part tests on their own.
 Optionally (``free_space_fallback``, off by default: on held-out ACRONYM mugs it labeled
 rims, see docs/results/handle-labels/README.md), when no round part is found (a flat strap),
 the narrow candidates of any flatness that have free space around their axis
@@ -24,7 +26,7 @@ an empty label (no handle).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import trimesh
@@ -97,6 +99,10 @@ class AutoLabelConfig(Checked):
     section_min_candidates: PositiveInt = 20
     """... when it has at least this many candidates (the median of fewer is no measure of
     its section)."""
+    resplit: bool = False
+    """Cluster each part again after that: of the pieces the left-out wide sections joined
+    (a blade's root hanging on a handle through its guard), keep those that pass the part
+    tests of :func:`handle_parts` on their own (the whole part when none does)."""
     region_radius: Positive = 0.01
     """Scanned surface points within this distance of a part's candidates are its surface."""
     axis_reach: NonNegative = 0.02
@@ -193,6 +199,8 @@ def label_from_candidates(
         parts = handle_parts(candidates, kept, config)
     if config.max_section_ratio > 0:
         parts = tuple(uniform_section(candidates, part, config) for part in parts)
+    if config.resplit:
+        parts = tuple(piece for part in parts for piece in resplit(candidates, part, config))
     regions = tuple(box for part in parts for box in part_boxes(candidates, part, surface, config))
     return AutoLabel(HandleLabel(name, regions), candidates, kept, parts, surface)
 
@@ -289,6 +297,17 @@ def uniform_section(
     if not np.isfinite(median) or len(part) < config.section_min_candidates:
         return part
     return part[~(semi > config.max_section_ratio * median)]
+
+
+def resplit(
+    candidates: Candidates, part: NDArray[np.int64], config: AutoLabelConfig
+) -> tuple[NDArray[np.int64], ...]:
+    """The pieces of ``part`` that pass :func:`handle_parts` when clustered on their own, or
+    ``(part,)`` when none does."""
+    mask = np.zeros(len(candidates.centers), dtype=bool)
+    mask[part] = True
+    alone = replace(config, min_relative_support=0.0)
+    return handle_parts(candidates, mask, alone) or (part,)
 
 
 def part_boxes(
