@@ -246,3 +246,46 @@ def test_section_stops_end_a_tube_at_a_disc_across_it() -> None:
     assert low == -np.inf and 0.012 <= high <= 0.016
     # A section as wide as the disc is no growth: no stop.
     assert np.isinf(section_stops(*args, np.array([0.02]), reach=0.03, stop=stop)).all()
+
+
+def test_only_flat_candidates_thinner_than_the_part_block_its_reach() -> None:
+    """A flat handle's own flat fits (as thick as the part, knife 89e8) leave the reach along
+    the handle open; a blade's thin fits still block it."""
+    from simgrasp.handles.auto_label import Candidates, part_surface
+
+    tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
+    centers = np.array([[0.005, 0, 0], [0.005, 0, 0.001], [0.005, 0, 0.015], [0.005, 0, -0.015]])
+    widths = np.array([0.010, 0.010, 0.009, 0.002])  # a thick and a thin flat candidate
+    axes = np.tile([0.0, 0.0, 1.0], (4, 1))
+    candidates = Candidates(
+        centers, widths, np.array([1.0, 1.0, 3.0, 8.0]), np.arange(4), axes,
+        np.zeros((4, 3)), np.full(4, 0.005),
+    )  # fmt: skip
+    part = np.array([0, 1])
+    config = replace(AutoLabelConfig(), region_radius=0.004, block_width_ratio=0.65)
+    near_thick = np.linalg.norm(tube - centers[2], axis=1) <= 0.003
+    near_thin = np.linalg.norm(tube - centers[3], axis=1) <= 0.003
+    ratio = part_surface(candidates, part, tube, config)
+    assert ratio[near_thick].all() and not ratio[near_thin].any()
+    every = part_surface(candidates, part, tube, replace(config, block_width_ratio=0.0))
+    assert not every[near_thick].any() and not every[near_thin].any()
+
+
+def test_resplit_drops_a_blade_root_joined_to_the_handle_only_by_its_guard() -> None:
+    from simgrasp.handles.auto_label import Candidates, label_from_candidates
+
+    z = np.r_[np.arange(30) * 0.002, 0.060 + np.arange(5) * 0.002, 0.070 + np.arange(4) * 0.002]
+    semi = np.r_[np.full(30, 0.005), np.full(5, 0.012), np.full(4, 0.005)]  # handle, guard, root
+    n = len(z)
+    centers = np.column_stack([np.zeros(n), np.zeros(n), z])
+    candidates = Candidates(
+        centers, np.full(n, 0.01), np.ones(n), np.arange(n), np.tile([0.0, 0, 1], (n, 1)),
+        centers, semi,
+    )  # fmt: skip
+    surface = _tube_points(0.005, 0.2)
+    joined = label_from_candidates(candidates, surface, "knife", AutoLabelConfig())
+    assert len(joined.parts) == 1 and len(joined.parts[0]) == 34  # the guard left out only
+    split = label_from_candidates(
+        candidates, surface, "knife", replace(AutoLabelConfig(), resplit=True)
+    )
+    assert len(split.parts) == 1 and (split.parts[0] == np.arange(30)).all()

@@ -7,14 +7,17 @@ handle rather than the object's body (``max_width``) and round rather than flat
 (``max_flatness``: a blade's or a wall's fits are flat). The kept candidates are clustered by
 single linkage; clusters seen from enough views, with enough support against the best one,
 become handle parts; a part's candidates much wider than its median (``max_section_ratio``:
-a knife's blade root or guard fitted as one wide round section) are then left out.
+a knife's blade root or guard fitted as one wide round section) are then left out and,
+optionally (``resplit``, off: on ACRONYM tune mugs it dropped strap fragments too), the part
+is clustered again, keeping the pieces that pass the part tests on their own.
 Optionally (``free_space_fallback``, off by default: on held-out ACRONYM mugs it labeled
 rims, see docs/results/handle-labels/README.md), when no round part is found (a flat strap),
 the narrow candidates of any flatness that have free space around their axis
 (:mod:`simgrasp.handles.free_space`: a handle stands off the object, a wall continues
 sideways) are clustered instead. Each part's scanned surface points (those near its
-candidates, followed ``axis_reach`` along the candidates' axes but not onto flat candidates'
-surface and, optionally, not past where the section grows: :mod:`simgrasp.handles.axis_reach`),
+candidates, followed ``axis_reach`` along the candidates' axes but not onto the surface of
+flat candidates thinner than the part, a blade, and, optionally, not past where the section
+grows: :mod:`simgrasp.handles.axis_reach`),
 split into ``segments`` along their main axis, give one oriented box per segment (the way
 ``models/handles/ycb_handles.json`` was made by hand), grown by ``margin``. The result is a
 :class:`~simgrasp.assets.labels.HandleLabel` in the mesh frame, meters; no part found means
@@ -23,7 +26,7 @@ an empty label (no handle).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import trimesh
@@ -96,6 +99,10 @@ class AutoLabelConfig(Checked):
     section_min_candidates: PositiveInt = 20
     """... when it has at least this many candidates (the median of fewer is no measure of
     its section)."""
+    resplit: bool = False
+    """Cluster each part again after that: of the pieces the left-out wide sections joined
+    (a blade's root hanging on a handle through its guard), keep those that pass the part
+    tests of :func:`handle_parts` on their own (the whole part when none does)."""
     region_radius: Positive = 0.01
     """Scanned surface points within this distance of a part's candidates are its surface."""
     axis_reach: NonNegative = 0.02
@@ -107,7 +114,13 @@ class AutoLabelConfig(Checked):
     """... (the semi-axis counted at most this much) ..."""
     flat_block: NonNegative = 0.005
     """... except points within this distance of a narrow candidate that failed the flatness
-    test (a blade's or a wall's evidence)."""
+    test (a blade's or a wall's evidence) ..."""
+    block_width_ratio: NonNegative = 0.0
+    """... and, when this is positive, whose grasp width is at most this many times the part's
+    median: a blade is thinner than its handle, while a flat handle's own flat fits (knife
+    89e8's 12 x 3 mm handle, flatness 2-4) are as thick as its round ones and then do not
+    block its reach (0: every such candidate blocks; off: at 0.65 it labeled more of held-out
+    knives' blades, see docs/results/handle-labels/README.md)."""
     stop_growth: NonNegative = 0.0
     """A part's surface near a candidate and reached along its axis ends at the first slab
     along the axis whose section spreads more than this many times the candidate's diameter
@@ -186,6 +199,8 @@ def label_from_candidates(
         parts = handle_parts(candidates, kept, config)
     if config.max_section_ratio > 0:
         parts = tuple(uniform_section(candidates, part, config) for part in parts)
+    if config.resplit:
+        parts = tuple(piece for part in parts for piece in resplit(candidates, part, config))
     regions = tuple(box for part in parts for box in part_boxes(candidates, part, surface, config))
     return AutoLabel(HandleLabel(name, regions), candidates, kept, parts, surface)
 
@@ -284,6 +299,17 @@ def uniform_section(
     return part[~(semi > config.max_section_ratio * median)]
 
 
+def resplit(
+    candidates: Candidates, part: NDArray[np.int64], config: AutoLabelConfig
+) -> tuple[NDArray[np.int64], ...]:
+    """The pieces of ``part`` that pass :func:`handle_parts` when clustered on their own, or
+    ``(part,)`` when none does."""
+    mask = np.zeros(len(candidates.centers), dtype=bool)
+    mask[part] = True
+    alone = replace(config, min_relative_support=0.0)
+    return handle_parts(candidates, mask, alone) or (part,)
+
+
 def part_boxes(
     candidates: Candidates,
     part: NDArray[np.int64],
@@ -328,9 +354,12 @@ def part_surface(
 ) -> NDArray[np.bool_]:
     """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
     candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
-    the narrow candidates that failed the flatness test."""
+    the narrow candidates that failed the flatness test and are thinner than the part
+    (``block_width_ratio``)."""
     tree = cKDTree(surface)
     flat = (candidates.widths <= config.max_width) & (candidates.flatness > config.max_flatness)
+    if config.block_width_ratio > 0:
+        flat &= candidates.widths <= config.block_width_ratio * np.median(candidates.widths[part])
     blocked = np.zeros(len(surface), dtype=bool)
     if config.flat_block > 0 and flat.any():
         blocked = cKDTree(candidates.centers[flat]).query(surface)[0] <= config.flat_block
