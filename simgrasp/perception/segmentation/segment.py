@@ -125,9 +125,7 @@ def segment_scene(
     cluster = _grid_segments if method == "grid" else _dbscan_segments
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
-        floors = _timed(timings, "floors", lambda: _floor_segments(scene, table, above, config))
-        raw = np.where(floors > 0, floors + raw.max(), raw)
-        table &= floors == 0
+        _timed(timings, "floors", lambda: _floors(scene, raw, table, above, config))
     labels, objects = _timed(
         timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
     )
@@ -294,11 +292,22 @@ def _objects_of(
     }
 
 
-def _floor_segments(
-    scene: SceneCloud, table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig
-) -> NDArray[np.int32]:
+def _floors(
+    scene: SceneCloud,
+    raw: NDArray[np.int32],
+    table: NDArray[np.bool_],
+    above: NDArray[np.bool_],
+    config: SegmentConfig,
+) -> None:
+    """The objects' inner floors (:func:`inner_floors`) moved from ``table`` (N,) to segments
+    of their own in ``raw`` (N,; ids after its largest), in place."""
     shape = (scene.height, scene.width)
-    return inner_floors(table.reshape(shape), above.reshape(shape), config).reshape(-1)
+    rows, cols, floors = inner_floors(table.reshape(shape), above.reshape(shape), config)
+    if floors.size == 0:
+        return
+    floor = floors > 0
+    np.copyto(raw.reshape(shape)[rows, cols], floors + raw.max(), where=floor)
+    table.reshape(shape)[rows, cols] &= ~floor
 
 
 def _grid_segments(
@@ -340,7 +349,7 @@ def _ordered_labels(
 ) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
     """Final labels: table 1, segments of at least ``min_object_points`` 2.. by the distance
     of their centroid to the sensor, the rest 0."""
-    labels = np.where(table, TABLE, INVALID).astype(np.int32)
+    labels = np.where(table, np.int32(TABLE), np.int32(INVALID))
     index = np.flatnonzero(raw)
     ids = raw[index]
     counts = np.bincount(ids)
@@ -351,12 +360,37 @@ def _ordered_labels(
     order = np.argsort(np.linalg.norm(centers - viewpoint, axis=1), kind="stable")
     relabel = np.zeros(len(counts), dtype=np.int32)
     relabel[kept[order]] = np.arange(FIRST_OBJECT, FIRST_OBJECT + len(kept), dtype=np.int32)
-    labels[index] = np.where(relabel[ids] > 0, relabel[ids], labels[index])
-    order_of = np.argsort(labels[index], kind="stable")
-    ends = np.cumsum(np.bincount(labels[index], minlength=FIRST_OBJECT + len(kept)))
-    members = np.split(index[order_of], ends[FIRST_OBJECT - 1 : -1])
-    objects = tuple(_object(FIRST_OBJECT + k, points[members[k + 1]]) for k in range(len(kept)))
-    return labels, objects
+    new = relabel[ids]
+    labels[index[new > 0]] = new[new > 0]
+    extents = _extents(ids, index, points, kept)
+    return labels, tuple(
+        SegmentedObject(
+            FIRST_OBJECT + k, int(counts[kept[j]]), centers[j], extents[j], FIRST_OBJECT + k
+        )
+        for k, j in enumerate(order.tolist())
+    )
+
+
+def _extents(
+    ids: NDArray[np.integer],
+    index: NDArray[np.intp],
+    points: NDArray[np.float32],
+    wanted: NDArray[np.intp],
+) -> NDArray[np.float64]:
+    """(len(wanted), 3) edge lengths (m) of the axis-aligned bounding boxes of the ``points``
+    whose id, ``ids`` of the points ``index``, is each of the ascending ``wanted`` ids (each
+    with a point): max - min per label, from one sort of the wanted points by id."""
+    if len(wanted) == 0:
+        return np.zeros((0, 3))
+    is_wanted = np.zeros(int(ids.max(initial=0)) + 1, dtype=bool)
+    is_wanted[wanted] = True
+    chosen = is_wanted[ids]
+    own = ids[chosen]
+    order = np.argsort(own, kind="stable")
+    coords = points[index[chosen][order]]
+    starts = np.searchsorted(own[order], wanted)
+    high = np.maximum.reduceat(coords, starts, axis=0).astype(np.float64)
+    return high - np.minimum.reduceat(coords, starts, axis=0).astype(np.float64)
 
 
 def _object(label: int, points: NDArray[np.float32]) -> SegmentedObject:
