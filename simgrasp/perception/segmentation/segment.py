@@ -27,45 +27,21 @@ from simgrasp.perception.camera import TRANSFORM_BLOCK
 from simgrasp.perception.scene_cloud import SceneCloud
 from simgrasp.perception.segmentation.organized_segments import grid_components, inner_floors
 from simgrasp.perception.segmentation.segment_config import (
-    FIRST_OBJECT,
-    INVALID,
-    TABLE,
-    SegmentConfig,
+    FIRST_OBJECT as FIRST_OBJECT,  # re-exported: the plots and the evaluation read it here
 )
-from simgrasp.perception.segmentation.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segmentation.segment_config import TABLE, SegmentConfig
+from simgrasp.perception.segmentation.segment_objects import (
+    LabelPixels,
+    SegmentedObject,
+    label_pixels,
+    objects_of,
+    ordered_labels,
+)
+from simgrasp.perception.segmentation.segment_parts import part_parents, table_edge_claims
 from simgrasp.perception.segmentation.segment_rims import rim_parents
 from simgrasp.seeding import rng_for
 
 Method = Literal["auto", "grid", "dbscan"]
-
-
-@dataclass(frozen=True)
-class SegmentedObject:
-    """One object on the table.
-
-    Attributes:
-        label: its label in :attr:`Segmentation.labels` (2, 3, ...).
-        points: its number of points.
-        center: (3,) centroid (m, cloud frame).
-        extent: (3,) edge lengths of its axis-aligned bounding box (m, cloud frame).
-        part_of: the label of the object this one is a thin side part of (a pot's tab:
-            :mod:`simgrasp.perception.segmentation.segment_parts`), its own label otherwise.
-    """
-
-    label: int
-    points: int
-    center: NDArray[np.float64]
-    extent: NDArray[np.float64]
-    part_of: int = 0
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "label": self.label,
-            "points": self.points,
-            "center": self.center.tolist(),
-            "extent": self.extent.tolist(),
-            "part_of": self.part_of,
-        }
 
 
 @dataclass(frozen=True)
@@ -126,12 +102,16 @@ def segment_scene(
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
         _timed(timings, "floors", lambda: _floors(scene, raw, table, above, config))
-    labels, objects = _timed(
-        timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
+    labels, objects, pixels = _timed(
+        timings,
+        "order",
+        lambda: ordered_labels(raw, table, points, scene.viewpoint, config.min_object_points),
     )
     if method == "grid":
-        labels, objects = _timed(
-            timings, "parts", lambda: _parts(scene, labels, height, plane, objects, config)
+        objects = _timed(
+            timings,
+            "parts",
+            lambda: _parts(scene, labels, height, plane, (objects, pixels), config),
         )
         table = labels == TABLE
     timings["total"] = time.perf_counter() - start
@@ -258,38 +238,46 @@ def _parts(
     labels: NDArray[np.int32],
     height: NDArray[np.float32],
     plane: NDArray[np.float64],
-    objects: tuple[SegmentedObject, ...],
+    found: tuple[tuple[SegmentedObject, ...], LabelPixels],
     config: SegmentConfig,
-) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
-    """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
-    set (:mod:`simgrasp.perception.segmentation.segment_parts`, on the image grid; with
+) -> tuple[SegmentedObject, ...]:
+    """The ``found`` objects (with their pixels) with ``part_of`` set, and ``labels`` (N,)
+    with the side parts' table edges claimed, in place
+    (:mod:`simgrasp.perception.segmentation.segment_parts`, on the image grid; with
     ``rim_band``, a round container's inside joined to its outside, :mod:`.segment_rims`)."""
+    objects, pixels = found
     shape = (scene.height, scene.width)
-    grid, height_grid = scene.grid(), height.reshape(shape)
-    parents = part_parents(labels.reshape(shape), grid, height_grid, config)
-    claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
-    claimed = claimed.reshape(-1)
-    parents = rim_parents(claimed, scene.points, height, plane, parents, config)
-    redone = _objects_of(claimed, scene.points, np.unique(claimed[claimed != labels]))
-    return claimed, tuple(
+    grid, height_grid, image = scene.grid(), height.reshape(shape), labels.reshape(shape)
+    parents = part_parents(image, grid, height_grid, config, pixels)
+    claims = table_edge_claims(image, grid, height_grid, parents, config, pixels)
+    redone: dict[int, SegmentedObject] = {}
+    if claims is not None:
+        rows, cols, window = claims
+        changed = np.unique(window[window != image[rows, cols]])
+        image[rows, cols] = window
+        redone = _objects_in(window, (rows.start, cols.start), scene, changed)
+    parents = rim_parents(labels, scene.points, height, plane, parents, config)
+    return tuple(
         replace(redone.get(obj.label, obj), part_of=int(parents[obj.label])) for obj in objects
     )
 
 
-def _objects_of(
-    labels: NDArray[np.int32], points: NDArray[np.float32], wanted: NDArray[np.int32]
+def _objects_in(
+    window: NDArray[np.int32],
+    corner: tuple[int, int],
+    scene: SceneCloud,
+    wanted: NDArray[np.int32],
 ) -> dict[int, SegmentedObject]:
-    """The objects of the ``wanted`` labels among ``labels`` (N,), their ``points`` (N, 3)
-    in ascending index order as :func:`_object` takes them, from one pass over the labels."""
+    """The objects of the ``wanted`` labels, all of whose pixels lie in ``window``, the labels
+    of the rows and columns of the scene's image from ``corner`` on."""
     if len(wanted) == 0:
         return {}
-    index = np.flatnonzero(np.isin(labels, wanted))
-    index = index[np.argsort(labels[index], kind="stable")]
-    ends = np.cumsum(np.bincount(labels[index], minlength=int(wanted.max()) + 1))
-    return {
-        int(label): _object(int(label), points[index[ends[label - 1] : ends[label]]])
-        for label in wanted.tolist()
-    }
+    local = np.flatnonzero(np.isin(window, wanted))
+    rows, cols = np.divmod(local, window.shape[1])
+    index = (rows + corner[0]) * scene.width + cols + corner[1]
+    count = int(wanted.max()) + 1
+    pixels = label_pixels(window.reshape(-1)[local], index, count)
+    return {obj.label: obj for obj in objects_of(pixels, scene.points, wanted.astype(np.intp))}
 
 
 def _floors(
@@ -338,61 +326,3 @@ def _dbscan_segments(
     clusters = np.asarray(cloud.cluster_dbscan(config.cluster_eps, config.cluster_min_points))
     segments[index] = clusters[voxel_of.reshape(-1)] + 1
     return segments
-
-
-def _ordered_labels(
-    raw: NDArray[np.int32],
-    table: NDArray[np.bool_],
-    points: NDArray[np.float32],
-    viewpoint: NDArray[np.float64],
-    config: SegmentConfig,
-) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
-    """Final labels: table 1, segments of at least ``min_object_points`` 2.. by the distance
-    of their centroid to the sensor, the rest 0."""
-    labels = np.where(table, np.int32(TABLE), np.int32(INVALID))
-    index = np.flatnonzero(raw)
-    ids = raw[index]
-    counts = np.bincount(ids)
-    sums = np.stack([np.bincount(ids, points[index, k], len(counts)) for k in range(3)], axis=1)
-    kept = np.flatnonzero(counts >= config.min_object_points)
-    kept = kept[kept > 0]
-    centers = sums[kept] / counts[kept, None]
-    order = np.argsort(np.linalg.norm(centers - viewpoint, axis=1), kind="stable")
-    relabel = np.zeros(len(counts), dtype=np.int32)
-    relabel[kept[order]] = np.arange(FIRST_OBJECT, FIRST_OBJECT + len(kept), dtype=np.int32)
-    new = relabel[ids]
-    labels[index[new > 0]] = new[new > 0]
-    extents = _extents(ids, index, points, kept)
-    return labels, tuple(
-        SegmentedObject(
-            FIRST_OBJECT + k, int(counts[kept[j]]), centers[j], extents[j], FIRST_OBJECT + k
-        )
-        for k, j in enumerate(order.tolist())
-    )
-
-
-def _extents(
-    ids: NDArray[np.integer],
-    index: NDArray[np.intp],
-    points: NDArray[np.float32],
-    wanted: NDArray[np.intp],
-) -> NDArray[np.float64]:
-    """(len(wanted), 3) edge lengths (m) of the axis-aligned bounding boxes of the ``points``
-    whose id, ``ids`` of the points ``index``, is each of the ascending ``wanted`` ids (each
-    with a point): max - min per label, from one sort of the wanted points by id."""
-    if len(wanted) == 0:
-        return np.zeros((0, 3))
-    is_wanted = np.zeros(int(ids.max(initial=0)) + 1, dtype=bool)
-    is_wanted[wanted] = True
-    chosen = is_wanted[ids]
-    own = ids[chosen]
-    order = np.argsort(own, kind="stable")
-    coords = points[index[chosen][order]]
-    starts = np.searchsorted(own[order], wanted)
-    high = np.maximum.reduceat(coords, starts, axis=0).astype(np.float64)
-    return high - np.minimum.reduceat(coords, starts, axis=0).astype(np.float64)
-
-
-def _object(label: int, points: NDArray[np.float32]) -> SegmentedObject:
-    pts = points.astype(np.float64)
-    return SegmentedObject(label, len(pts), pts.mean(axis=0), np.ptp(pts, axis=0), label)

@@ -1,0 +1,112 @@
+"""The objects of a segmentation: each segment's point count, centroid and bounding box, and
+the final labels ordered by distance to the sensor.
+
+Per-label statistics come from the labeled pixels grouped by label (:data:`LabelPixels`, one
+sort), never from a pass over the whole image per label: a centroid is the float64 sum of its
+points in ascending index order (as ``mean(axis=0)`` of the gathered points sums them) over
+their count, a bounding box the per-coordinate max - min.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, INVALID, TABLE
+
+
+@dataclass(frozen=True)
+class SegmentedObject:
+    """One object on the table.
+
+    Attributes:
+        label: its label in :attr:`Segmentation.labels` (2, 3, ...).
+        points: its number of points.
+        center: (3,) centroid (m, cloud frame).
+        extent: (3,) edge lengths of its axis-aligned bounding box (m, cloud frame).
+        part_of: the label of the object this one is a thin side part of (a pot's tab:
+            :mod:`simgrasp.perception.segmentation.segment_parts`), its own label otherwise.
+    """
+
+    label: int
+    points: int
+    center: NDArray[np.float64]
+    extent: NDArray[np.float64]
+    part_of: int = 0
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "label": self.label,
+            "points": self.points,
+            "center": self.center.tolist(),
+            "extent": self.extent.tolist(),
+            "part_of": self.part_of,
+        }
+
+
+LabelPixels = tuple[NDArray[np.intp], NDArray[np.intp]]
+"""Labeled pixels grouped by label: their flat indices (by label, ascending within a label)
+and where each label's run starts (indexed by label 0 .. count; the last entry is the total)."""
+
+
+def label_pixels(own: NDArray[np.integer], index: NDArray[np.intp], count: int) -> LabelPixels:
+    """The pixels ``index`` (ascending flat indices) grouped by their labels ``own`` (each
+    below ``count``)."""
+    starts = np.zeros(count + 1, dtype=np.intp)
+    np.cumsum(np.bincount(own, minlength=count), out=starts[1:])
+    return index[np.argsort(own, kind="stable")], starts
+
+
+def objects_of(
+    pixels: LabelPixels, points: NDArray[np.float32], wanted: NDArray[np.intp]
+) -> list[SegmentedObject]:
+    """The objects of the ``wanted`` labels (ascending, each with a pixel; the pixels from the
+    first's run on are theirs), their ``points`` (N, 3) being those of ``pixels``."""
+    if len(wanted) == 0:
+        return []
+    grouped, starts = pixels
+    counts = np.diff(starts)
+    own = np.repeat(np.arange(len(counts)), counts)
+    coords = points[grouped]
+    sums = np.stack([np.bincount(own, coords[:, k], len(counts)) for k in range(3)], axis=1)
+    centers = sums[wanted] / counts[wanted, None]
+    high = np.maximum.reduceat(coords[starts[wanted[0]] :], starts[wanted] - starts[wanted[0]])
+    low = np.minimum.reduceat(coords[starts[wanted[0]] :], starts[wanted] - starts[wanted[0]])
+    extents = high.astype(np.float64) - low.astype(np.float64)
+    return [
+        SegmentedObject(label, int(counts[label]), centers[k], extents[k], label)
+        for k, label in enumerate(wanted.tolist())
+    ]
+
+
+def ordered_labels(
+    raw: NDArray[np.int32],
+    table: NDArray[np.bool_],
+    points: NDArray[np.float32],
+    viewpoint: NDArray[np.float64],
+    min_points: int,
+) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...], LabelPixels]:
+    """Final labels (N,) from the segment ids ``raw`` (N,; 0 for none): table 1, segments of
+    at least ``min_points`` 2.. by the distance of their centroid to the ``viewpoint``, the
+    rest 0; their objects and their pixels."""
+    labels = np.where(table, np.int32(TABLE), np.int32(INVALID))
+    index = np.flatnonzero(raw)
+    ids = raw[index]
+    counts = np.bincount(ids)
+    sums = np.stack([np.bincount(ids, points[index, k], len(counts)) for k in range(3)], axis=1)
+    kept = np.flatnonzero(counts >= min_points)
+    kept = kept[kept > 0]
+    centers = sums[kept] / counts[kept, None]
+    order = np.argsort(np.linalg.norm(centers - viewpoint, axis=1), kind="stable")
+    count = FIRST_OBJECT + len(kept)
+    relabel = np.zeros(len(counts), dtype=np.int32)
+    relabel[kept[order]] = np.arange(FIRST_OBJECT, count, dtype=np.int32)
+    new = relabel[ids]
+    on = new > 0
+    labels[index[on]] = new[on]
+    pixels = label_pixels(new[on], index[on], count)
+    objects = objects_of(pixels, points, np.arange(FIRST_OBJECT, count))
+    return labels, tuple(objects), pixels
