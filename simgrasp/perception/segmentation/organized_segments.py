@@ -178,9 +178,7 @@ def _crop_components(
     segments, _ = ndimage.label(interior)
     segments = segments.astype(np.int32, copy=False)
     flat_planes = _padded_planes(planes, config.attach_radius_px)
-    for _ in range(config.attach_passes):
-        segments = _attach_edges(segments, flat_planes, candidates, config)
-    return segments
+    return _attach_edges(segments, flat_planes, candidates, config)
 
 
 def _planes(points: Grid) -> Grid:
@@ -319,9 +317,11 @@ def _attach_edges(
     """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
     those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
     0; the first in row-major offset order on a tie), when within ``attach_distance`` (m): a
-    mixed pixel at an occluding edge joins the side whose depth it is nearer.
-    ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions padded by r = ``attach_radius_px``
-    (:func:`_padded_planes`); every offset is tried at once, one (pixels, offsets) array."""
+    mixed pixel at an occluding edge joins the side whose depth it is nearer. Repeated
+    ``attach_passes`` times, each pass on the pixels still loose, so a run of mixed pixels
+    joins one pixel-step at a time. ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions
+    padded by r = ``attach_radius_px`` (:func:`_padded_planes`); every offset is tried at
+    once, one (pixels, offsets) array, the 3-D gap computed only to labeled pixels."""
     reach = config.attach_radius_px
     loose_mask = candidates & (segments == 0)
     if not segments.any() or not loose_mask.any():
@@ -332,14 +332,21 @@ def _attach_edges(
     loose += 2 * reach * (loose // segments.shape[1]) + reach * (labels.shape[1] + 1)
     steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
     shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
-    around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
-    label = flat_labels[around]
-    gap = _squared_gaps(flat_planes, around, loose[:, None])
-    gap[label <= 0] = np.inf
-    nearest = gap.argmin(axis=1)
-    rows = np.arange(len(loose))
-    near = gap[rows, nearest] <= config.attach_distance**2
-    flat_labels[loose[near]] = label[rows[near], nearest[near]]
+    for _ in range(config.attach_passes):
+        around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
+        label = flat_labels[around]
+        pairs = np.flatnonzero(label > 0)
+        gap = np.full(around.shape, np.inf, dtype=flat_planes.dtype)
+        gap.reshape(-1)[pairs] = _squared_gaps(
+            flat_planes, around.reshape(-1)[pairs], loose[pairs // len(shifts)]
+        )
+        nearest = gap.argmin(axis=1)
+        rows = np.arange(len(loose))
+        near = gap[rows, nearest] <= config.attach_distance**2
+        flat_labels[loose[near]] = label[rows[near], nearest[near]]
+        loose = loose[~near]
+        if len(loose) == 0:
+            break
     return labels[reach:-reach, reach:-reach]
 
 
