@@ -43,7 +43,7 @@ def grid_components(
         groups = candidate_groups(candidates, config)
     else:  # the normals' blocks anchored at the one box of all candidates, as ever
         margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
-        rows, cols = _bounding_slices(candidates, margin)
+        rows, cols = bounding_slices(candidates, margin)
         groups = [(rows, cols, candidates[rows, cols])]
     for rows, cols, group in groups:
         if np.count_nonzero(group) < config.min_object_points:
@@ -79,15 +79,36 @@ def candidate_groups(
     grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
     ids, _ = ndimage.label(grown if dilation else blocks, np.ones((3, 3), bool))
     ids *= blocks
-    pixel_ids = np.repeat(np.repeat(ids, size, axis=0), size, axis=1)[:height, :width]
     groups = []
     for group, found in enumerate(ndimage.find_objects(ids), start=1):
         if found is None:
             continue
         rows = slice(max(found[0].start * size - margin, 0), found[0].stop * size + margin)
         cols = slice(max(found[1].start * size - margin, 0), found[1].stop * size + margin)
-        groups.append((rows, cols, candidates[rows, cols] & (pixel_ids[rows, cols] == group)))
+        groups.append(
+            (
+                rows,
+                cols,
+                candidates[rows, cols] & _group_pixels(ids, group, rows, cols, (height, width)),
+            )
+        )
     return groups
+
+
+def _group_pixels(
+    ids: NDArray[np.int32], group: int, rows: slice, cols: slice, shape: tuple[int, int]
+) -> NDArray[np.bool_]:
+    """Whether each pixel of the ``rows`` and ``cols`` of an image of ``shape`` (cut at its
+    edge) lies in a ``GROUP_BLOCK`` block of ``group`` (``ids`` per block)."""
+    size = GROUP_BLOCK
+    top, left = rows.start // size, cols.start // size
+    bottom, right = min(rows.stop, shape[0]), min(cols.stop, shape[1])
+    blocks = ids[top : -(-bottom // size), left : -(-right // size)] == group
+    pixels = np.repeat(np.repeat(blocks, size, axis=0), size, axis=1)
+    return pixels[
+        rows.start - top * size : bottom - top * size,
+        cols.start - left * size : right - left * size,
+    ]
 
 
 def _blocks_any(padded: NDArray[np.bool_]) -> NDArray[np.bool_]:
@@ -98,51 +119,7 @@ def _blocks_any(padded: NDArray[np.bool_]) -> NDArray[np.bool_]:
     return np.bitwise_or.reduce(words, axis=1) != 0
 
 
-Box = tuple[slice, slice, NDArray[np.int32]]
-"""Row and column slices of an image and the (rows, cols) values within them."""
-
-
-def inner_floors(table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig) -> Box:
-    """Patch ids (0 elsewhere) of the plane inliers ``table`` (H, W) that are an object's
-    floor instead (the inner bottom of a bowl or pot, level with the table): connected patches
-    smaller than ``floor_share`` of the largest patch whose one-pixel ring lies at least
-    ``floor_enclosed`` above the table (``above``). As the box of the candidate patches grown
-    by one pixel (all ids 0 outside it; an empty box when none)."""
-    none: Box = (slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=np.int32))
-    patches, count = ndimage.label(table, output=np.intp)  # intp: no casts below
-    if count < 2:
-        return none
-    sizes = np.bincount(patches.reshape(-1), minlength=count + 1)
-    sizes[0] = 0
-    small = (sizes < config.floor_share * sizes.max()) & (sizes >= config.min_object_points)
-    small[0] = False
-    if not small.any():
-        return none
-    rows, cols = _bounding_slices(small[patches], 1)
-    box = patches[rows, cols]
-    box = np.where(small[box], box, 0).astype(np.int32)
-    grown = _max3x3(box)
-    ring = (grown > 0) & (box == 0)
-    ring_size = np.bincount(grown[ring], minlength=count + 1)
-    ring_above = np.bincount(grown[ring & above[rows, cols]], minlength=count + 1)
-    enclosed = small & (ring_above >= config.floor_enclosed * np.maximum(ring_size, 1))
-    return rows, cols, np.where(enclosed[box], box, 0).astype(np.int32)
-
-
-def _max3x3(grid: NDArray[np.int32]) -> NDArray[np.int32]:
-    """The largest value of each pixel's 3 x 3 neighbourhood, pixels outside ``grid`` (H, W)
-    counting as 0 (``ndimage.maximum_filter(grid, 3, mode="constant")`` for ``grid`` >= 0),
-    as two separable passes of shifted maxima."""
-    rows = grid.copy()
-    np.maximum(rows[1:], grid[:-1], out=rows[1:])
-    np.maximum(rows[:-1], grid[1:], out=rows[:-1])
-    grown = rows.copy()
-    np.maximum(grown[:, 1:], rows[:, :-1], out=grown[:, 1:])
-    np.maximum(grown[:, :-1], rows[:, 1:], out=grown[:, :-1])
-    return np.maximum(grown, 0, out=grown)
-
-
-def _bounding_slices(mask: NDArray[np.bool_], margin: int) -> tuple[slice, slice]:
+def bounding_slices(mask: NDArray[np.bool_], margin: int) -> tuple[slice, slice]:
     """Row and column slices of the bounding box of ``mask`` grown by ``margin`` pixels."""
     rows = np.flatnonzero(mask.any(axis=1))
     cols = np.flatnonzero(mask.any(axis=0))

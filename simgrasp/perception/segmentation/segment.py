@@ -25,11 +25,12 @@ from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.camera import TRANSFORM_BLOCK
 from simgrasp.perception.scene_cloud import SceneCloud
-from simgrasp.perception.segmentation.organized_segments import grid_components, inner_floors
+from simgrasp.perception.segmentation.organized_segments import grid_components
 from simgrasp.perception.segmentation.segment_config import (
     FIRST_OBJECT as FIRST_OBJECT,  # re-exported: the plots and the evaluation read it here
 )
 from simgrasp.perception.segmentation.segment_config import TABLE, SegmentConfig
+from simgrasp.perception.segmentation.segment_floors import inner_floors
 from simgrasp.perception.segmentation.segment_objects import (
     LabelPixels,
     SegmentedObject,

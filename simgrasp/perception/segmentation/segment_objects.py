@@ -55,9 +55,14 @@ and where each label's run starts (indexed by label 0 .. count; the last entry i
 def label_pixels(own: NDArray[np.integer], index: NDArray[np.intp], count: int) -> LabelPixels:
     """The pixels ``index`` (ascending flat indices) grouped by their labels ``own`` (each
     below ``count``)."""
+    return index[np.argsort(own, kind="stable")], _starts(own, count)
+
+
+def _starts(own: NDArray[np.integer], count: int) -> NDArray[np.intp]:
+    """Where each label's run starts once the labels ``own`` are sorted (0 .. ``count``)."""
     starts = np.zeros(count + 1, dtype=np.intp)
     np.cumsum(np.bincount(own, minlength=count), out=starts[1:])
-    return index[np.argsort(own, kind="stable")], starts
+    return starts
 
 
 def objects_of(
@@ -73,12 +78,30 @@ def objects_of(
     coords = points[grouped]
     sums = np.stack([np.bincount(own, coords[:, k], len(counts)) for k in range(3)], axis=1)
     centers = sums[wanted] / counts[wanted, None]
-    high = np.maximum.reduceat(coords[starts[wanted[0]] :], starts[wanted] - starts[wanted[0]])
-    low = np.minimum.reduceat(coords[starts[wanted[0]] :], starts[wanted] - starts[wanted[0]])
-    extents = high.astype(np.float64) - low.astype(np.float64)
+    return _objects(wanted, counts[wanted], centers, _extents(coords, starts, wanted))
+
+
+def _extents(
+    coords: NDArray[np.float32], starts: NDArray[np.intp], wanted: NDArray[np.intp]
+) -> NDArray[np.float64]:
+    """(len(wanted), 3) max - min of the ``coords`` (grouped by label, runs from ``starts``)
+    of each of the ``wanted`` labels (as :func:`objects_of` takes them), in float64."""
+    first = starts[wanted[0]]
+    high = np.maximum.reduceat(coords[first:], starts[wanted] - first)
+    low = np.minimum.reduceat(coords[first:], starts[wanted] - first)
+    return high.astype(np.float64) - low.astype(np.float64)
+
+
+def _objects(
+    labels: NDArray[np.intp],
+    counts: NDArray[np.intp],
+    centers: NDArray[np.float64],
+    extents: NDArray[np.float64],
+) -> list[SegmentedObject]:
+    """One object per label, each its own whole."""
     return [
-        SegmentedObject(label, int(counts[label]), centers[k], extents[k], label)
-        for k, label in enumerate(wanted.tolist())
+        SegmentedObject(label, int(counts[k]), centers[k], extents[k], label)
+        for k, label in enumerate(labels.tolist())
     ]
 
 
@@ -94,9 +117,9 @@ def ordered_labels(
     rest 0; their objects and their pixels."""
     labels = np.where(table, np.int32(TABLE), np.int32(INVALID))
     index = np.flatnonzero(raw)
-    ids = raw[index]
+    ids, coords = raw[index], points[index]
     counts = np.bincount(ids)
-    sums = np.stack([np.bincount(ids, points[index, k], len(counts)) for k in range(3)], axis=1)
+    sums = np.stack([np.bincount(ids, coords[:, k], len(counts)) for k in range(3)], axis=1)
     kept = np.flatnonzero(counts >= min_points)
     kept = kept[kept > 0]
     centers = sums[kept] / counts[kept, None]
@@ -107,6 +130,12 @@ def ordered_labels(
     new = relabel[ids]
     on = new > 0
     labels[index[on]] = new[on]
-    pixels = label_pixels(new[on], index[on], count)
-    objects = objects_of(pixels, points, np.arange(FIRST_OBJECT, count))
+    own = new[on]
+    grouped = np.argsort(own, kind="stable")
+    pixels = (index[on][grouped], _starts(own, count))
+    if len(kept) == 0:
+        return labels, (), pixels
+    wanted = np.arange(FIRST_OBJECT, count)
+    extents = _extents(coords[on][grouped], pixels[1], wanted)
+    objects = _objects(wanted, counts[kept[order]], centers[order], extents)
     return labels, tuple(objects), pixels
