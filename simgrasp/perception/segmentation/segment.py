@@ -166,9 +166,9 @@ def fit_table_plane(
     if len(index) < 3:
         raise SimgraspError(f"{name}: too few valid points ({len(index)}) to find a table plane")
     rng = rng_for(config.seed, "segment", "plane")
-    sample = points[index[rng.integers(0, len(index), config.plane_samples)]]
+    sample = np.take(points, index[rng.integers(0, len(index), config.plane_samples)], axis=0)
     plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
-    refine = points[index[rng.integers(0, len(index), config.refine_samples)]]
+    refine = np.take(points, index[rng.integers(0, len(index), config.refine_samples)], axis=0)
     plane = _refined_plane(refine, plane, config)
     _check_table(np.abs(refine @ plane[:3] + plane[3]), config, name)
     if plane[:3] @ scene.viewpoint + plane[3] < 0:
