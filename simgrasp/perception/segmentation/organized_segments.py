@@ -210,8 +210,10 @@ def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
     """Unit normals (3, H, W) from central differences over ``step`` pixels of ``smooth``
     (3, H, W), turned toward ``eye`` (3, 1, 1); NaN where a neighbour is missing. Written
     into reused buffers (the float32 operations of the cross product and ``_dot``)."""
-    du = np.full_like(smooth, np.nan)
-    dv = np.full_like(smooth, np.nan)
+    du, dv = np.empty_like(smooth), np.empty_like(smooth)
+    for border in (slice(None, step), slice(-step, None)):  # NaN where a neighbour is missing
+        du[:, :, border] = np.nan
+        dv[:, border] = np.nan
     np.subtract(smooth[:, :, 2 * step :], smooth[:, :, : -2 * step], out=du[:, :, step:-step])
     np.subtract(smooth[:, 2 * step :], smooth[:, : -2 * step], out=dv[:, step:-step])
     normals = np.empty_like(smooth)
@@ -303,7 +305,7 @@ def _attach_edges(
     loose_mask = candidates & (segments == 0)
     if not segments.any() or not loose_mask.any():
         return segments
-    labels = _padded(segments, reach)
+    labels = zero_padded(segments, reach)
     flat_labels = labels.reshape(-1)
     loose = np.flatnonzero(loose_mask)  # flat in the crop, then in the padded crop
     loose += 2 * reach * (loose // segments.shape[1]) + reach * (labels.shape[1] + 1)
@@ -350,10 +352,10 @@ def _squared_gaps(
 def _padded_planes(planes: Grid, reach: int) -> Grid:
     """(3, (H + 2 reach) (W + 2 reach)) the channel planes (3, H, W) padded with zeros, each
     flattened."""
-    return _padded(planes, reach).reshape(3, -1)
+    return zero_padded(planes, reach).reshape(3, -1)
 
 
-def _padded(grid: NDArray[Scalar], reach: int) -> NDArray[Scalar]:
+def zero_padded(grid: NDArray[Scalar], reach: int) -> NDArray[Scalar]:
     """``grid`` (..., H, W) with ``reach`` zeros around its last two axes (``np.pad``'s
     result, without its per-call overhead)."""
     *lead, height, width = grid.shape

@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp.perception.segmentation.organized_segments import zero_padded
 from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, TABLE, SegmentConfig
 from simgrasp.perception.segmentation.segment_objects import LabelPixels
 
@@ -147,8 +148,8 @@ def _padded(
     """``labels`` (H, W) padded by ``reach`` pixels of label 0, the (H, W, 3) ``points`` as
     three flat channel planes padded alike (3, (H + 2 reach) (W + 2 reach)), and the flat
     ``pixels`` as indices into the padded grid."""
-    padded = np.pad(labels, reach)
-    planes = np.pad(np.moveaxis(points, 2, 0), ((0, 0), (reach, reach), (reach, reach)))
+    padded = zero_padded(labels, reach)
+    planes = zero_padded(np.moveaxis(points, 2, 0), reach)
     rows, cols = np.divmod(pixels, labels.shape[1])
     return padded, planes.reshape(3, -1), (rows + reach) * padded.shape[1] + cols + reach
 
@@ -222,7 +223,7 @@ def table_edge_claims(
     shifts = (steps[:, None] * width + steps[None, :]).reshape(-1)
     there = padded_pixels[None, :] + shifts[:, None]
     near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
-    padded_height = np.pad(height[rows, cols], reach).reshape(-1)
+    padded_height = zero_padded(height[rows, cols], reach).reshape(-1)
     edge = (
         near
         & (padded.reshape(-1)[there] == TABLE)
