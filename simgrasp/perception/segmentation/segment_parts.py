@@ -111,21 +111,43 @@ def _contacts(
     ``part_contact_distance`` (m). Every offset at once, on grids padded with label 0."""
     count, reach = len(sizes), config.part_contact_px
     steps = sorted({-reach, -1, 0, 1, reach})
-    rows, cols, inner = _window(labels.shape, pixels, reach)
-    padded, flat_planes, padded_pixels = _padded(
-        labels[rows, cols], points[rows, cols], inner, reach
-    )
-    width = padded.shape[1]
-    shifts = np.array([dr * width + dc for dr in steps for dc in steps if dr or dc])
-    there = padded_pixels[None, :] + shifts[:, None]
-    other = padded.reshape(-1)[there]
-    near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
+    offsets = np.array([(dr, dc) for dr in steps for dc in steps if dr or dc])
+    there, inside = _neighbours(labels.shape, pixels, offsets)
+    other = np.where(inside, labels.reshape(-1)[there], 0)  # label 0 beyond the image
+    gaps = _row_distance_squared(points.reshape(-1, 3), pixels, there)
+    near = gaps <= config.part_contact_distance**2
     own = labels.reshape(-1)[pixels]
     touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own][None, :])
     here = np.broadcast_to(pixels[None, :], touch.shape)[touch]
     pixel_pairs = np.unique(here.astype(np.int64) * count + other[touch])
     parts = labels.reshape(-1)[pixel_pairs // count].astype(np.int64)
     return np.unique(parts * count + pixel_pairs % count, return_counts=True)
+
+
+def _neighbours(
+    shape: tuple[int, ...], pixels: NDArray[np.intp], offsets: NDArray[np.intp]
+) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """(S, L) flat indices of the pixels at the S (row, column) ``offsets`` from each of the L
+    flat ``pixels`` of an image of ``shape``, and whether each lies in the image (those that do
+    not get their own pixel's index)."""
+    rows, cols = np.divmod(pixels, shape[1])
+    there_rows = rows[None, :] + offsets[:, :1]
+    there_cols = cols[None, :] + offsets[:, 1:]
+    inside = (there_rows >= 0) & (there_rows < shape[0]) & (there_cols >= 0)
+    inside &= there_cols < shape[1]
+    there = np.where(inside, there_rows * shape[1] + there_cols, pixels[None, :])
+    return there, inside
+
+
+def _row_distance_squared(
+    points: NDArray[np.float32], pixels: NDArray[np.intp], there: NDArray[np.intp]
+) -> NDArray[np.float32]:
+    """:func:`_distance_squared` (the same float32 operations) with the positions as rows of
+    ``points`` (N, 3): no channel planes of a window to copy."""
+    here = np.take(points, pixels, axis=0)
+    far = np.take(points, there.reshape(-1), axis=0).reshape(*there.shape, 3)
+    offset = [far[..., k] - here[None, :, k] for k in range(3)]
+    return offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]
 
 
 def _window(
