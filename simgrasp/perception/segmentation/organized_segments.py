@@ -43,7 +43,7 @@ def grid_components(
         groups = candidate_groups(candidates, config)
     else:  # the normals' blocks anchored at the one box of all candidates, as ever
         margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
-        rows, cols = _bounding_slices(candidates, margin)
+        rows, cols = bounding_slices(candidates, margin)
         groups = [(rows, cols, candidates[rows, cols])]
     for rows, cols, group in groups:
         if np.count_nonzero(group) < config.min_object_points:
@@ -79,15 +79,36 @@ def candidate_groups(
     grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
     ids, _ = ndimage.label(grown if dilation else blocks, np.ones((3, 3), bool))
     ids *= blocks
-    pixel_ids = np.repeat(np.repeat(ids, size, axis=0), size, axis=1)[:height, :width]
     groups = []
     for group, found in enumerate(ndimage.find_objects(ids), start=1):
         if found is None:
             continue
         rows = slice(max(found[0].start * size - margin, 0), found[0].stop * size + margin)
         cols = slice(max(found[1].start * size - margin, 0), found[1].stop * size + margin)
-        groups.append((rows, cols, candidates[rows, cols] & (pixel_ids[rows, cols] == group)))
+        groups.append(
+            (
+                rows,
+                cols,
+                candidates[rows, cols] & _group_pixels(ids, group, rows, cols, (height, width)),
+            )
+        )
     return groups
+
+
+def _group_pixels(
+    ids: NDArray[np.int32], group: int, rows: slice, cols: slice, shape: tuple[int, int]
+) -> NDArray[np.bool_]:
+    """Whether each pixel of the ``rows`` and ``cols`` of an image of ``shape`` (cut at its
+    edge) lies in a ``GROUP_BLOCK`` block of ``group`` (``ids`` per block)."""
+    size = GROUP_BLOCK
+    top, left = rows.start // size, cols.start // size
+    bottom, right = min(rows.stop, shape[0]), min(cols.stop, shape[1])
+    blocks = ids[top : -(-bottom // size), left : -(-right // size)] == group
+    pixels = np.repeat(np.repeat(blocks, size, axis=0), size, axis=1)
+    return pixels[
+        rows.start - top * size : bottom - top * size,
+        cols.start - left * size : right - left * size,
+    ]
 
 
 def _blocks_any(padded: NDArray[np.bool_]) -> NDArray[np.bool_]:
@@ -98,34 +119,7 @@ def _blocks_any(padded: NDArray[np.bool_]) -> NDArray[np.bool_]:
     return np.bitwise_or.reduce(words, axis=1) != 0
 
 
-def inner_floors(
-    table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig
-) -> NDArray[np.int32]:
-    """Patch ids (H, W; 0 elsewhere) of the plane inliers ``table`` that are an object's
-    floor instead (the inner bottom of a bowl or pot, level with the table): connected patches
-    smaller than ``floor_share`` of the largest patch whose one-pixel ring lies at least
-    ``floor_enclosed`` above the table (``above``)."""
-    patches, count = ndimage.label(table)
-    if count < 2:
-        return np.zeros(table.shape, dtype=np.int32)
-    sizes = np.bincount(patches.reshape(-1), minlength=count + 1)
-    sizes[0] = 0
-    small = (sizes < config.floor_share * sizes.max()) & (sizes >= config.min_object_points)
-    small[0] = False
-    if not small.any():
-        return np.zeros(table.shape, dtype=np.int32)
-    floors = np.where(small[patches], patches, 0).astype(np.int32)
-    rows, cols = _bounding_slices(floors > 0, 1)
-    box = floors[rows, cols]
-    grown = ndimage.maximum_filter(box, size=3, mode="constant")
-    ring = (grown > 0) & (box == 0)
-    ring_size = np.bincount(grown[ring], minlength=count + 1)
-    ring_above = np.bincount(grown[ring & above[rows, cols]], minlength=count + 1)
-    enclosed = small & (ring_above >= config.floor_enclosed * np.maximum(ring_size, 1))
-    return np.where(enclosed[floors], floors, 0).astype(np.int32)
-
-
-def _bounding_slices(mask: NDArray[np.bool_], margin: int) -> tuple[slice, slice]:
+def bounding_slices(mask: NDArray[np.bool_], margin: int) -> tuple[slice, slice]:
     """Row and column slices of the bounding box of ``mask`` grown by ``margin`` pixels."""
     rows = np.flatnonzero(mask.any(axis=1))
     cols = np.flatnonzero(mask.any(axis=0))
@@ -161,9 +155,7 @@ def _crop_components(
     segments, _ = ndimage.label(interior)
     segments = segments.astype(np.int32, copy=False)
     flat_planes = _padded_planes(planes, config.attach_radius_px)
-    for _ in range(config.attach_passes):
-        segments = _attach_edges(segments, flat_planes, candidates, config)
-    return segments
+    return _attach_edges(segments, flat_planes, candidates, config)
 
 
 def _planes(points: Grid) -> Grid:
@@ -218,8 +210,10 @@ def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
     """Unit normals (3, H, W) from central differences over ``step`` pixels of ``smooth``
     (3, H, W), turned toward ``eye`` (3, 1, 1); NaN where a neighbour is missing. Written
     into reused buffers (the float32 operations of the cross product and ``_dot``)."""
-    du = np.full_like(smooth, np.nan)
-    dv = np.full_like(smooth, np.nan)
+    du, dv = np.empty_like(smooth), np.empty_like(smooth)
+    for border in (slice(None, step), slice(-step, None)):  # NaN where a neighbour is missing
+        du[:, :, border] = np.nan
+        dv[:, border] = np.nan
     np.subtract(smooth[:, :, 2 * step :], smooth[:, :, : -2 * step], out=du[:, :, step:-step])
     np.subtract(smooth[:, 2 * step :], smooth[:, : -2 * step], out=dv[:, step:-step])
     normals = np.empty_like(smooth)
@@ -302,27 +296,36 @@ def _attach_edges(
     """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
     those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
     0; the first in row-major offset order on a tie), when within ``attach_distance`` (m): a
-    mixed pixel at an occluding edge joins the side whose depth it is nearer.
-    ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions padded by r = ``attach_radius_px``
-    (:func:`_padded_planes`); every offset is tried at once, one (pixels, offsets) array."""
+    mixed pixel at an occluding edge joins the side whose depth it is nearer. Repeated
+    ``attach_passes`` times, each pass on the pixels still loose, so a run of mixed pixels
+    joins one pixel-step at a time. ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions
+    padded by r = ``attach_radius_px`` (:func:`_padded_planes`); every offset is tried at
+    once, one (pixels, offsets) array, the 3-D gap computed only to labeled pixels."""
     reach = config.attach_radius_px
     loose_mask = candidates & (segments == 0)
     if not segments.any() or not loose_mask.any():
         return segments
-    labels = _padded(segments, reach)
+    labels = zero_padded(segments, reach)
     flat_labels = labels.reshape(-1)
     loose = np.flatnonzero(loose_mask)  # flat in the crop, then in the padded crop
     loose += 2 * reach * (loose // segments.shape[1]) + reach * (labels.shape[1] + 1)
     steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
     shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
-    around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
-    label = flat_labels[around]
-    gap = _squared_gaps(flat_planes, around, loose[:, None])
-    gap[label <= 0] = np.inf
-    nearest = gap.argmin(axis=1)
-    rows = np.arange(len(loose))
-    near = gap[rows, nearest] <= config.attach_distance**2
-    flat_labels[loose[near]] = label[rows[near], nearest[near]]
+    for _ in range(config.attach_passes):
+        around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
+        label = flat_labels[around]
+        pairs = np.flatnonzero(label > 0)
+        gap = np.full(around.shape, np.inf, dtype=flat_planes.dtype)
+        gap.reshape(-1)[pairs] = _squared_gaps(
+            flat_planes, around.reshape(-1)[pairs], loose[pairs // len(shifts)]
+        )
+        nearest = gap.argmin(axis=1)
+        rows = np.arange(len(loose))
+        near = gap[rows, nearest] <= config.attach_distance**2
+        flat_labels[loose[near]] = label[rows[near], nearest[near]]
+        loose = loose[~near]
+        if len(loose) == 0:
+            break
     return labels[reach:-reach, reach:-reach]
 
 
@@ -349,10 +352,10 @@ def _squared_gaps(
 def _padded_planes(planes: Grid, reach: int) -> Grid:
     """(3, (H + 2 reach) (W + 2 reach)) the channel planes (3, H, W) padded with zeros, each
     flattened."""
-    return _padded(planes, reach).reshape(3, -1)
+    return zero_padded(planes, reach).reshape(3, -1)
 
 
-def _padded(grid: NDArray[Scalar], reach: int) -> NDArray[Scalar]:
+def zero_padded(grid: NDArray[Scalar], reach: int) -> NDArray[Scalar]:
     """``grid`` (..., H, W) with ``reach`` zeros around its last two axes (``np.pad``'s
     result, without its per-call overhead)."""
     *lead, height, width = grid.shape

@@ -25,47 +25,24 @@ from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.camera import TRANSFORM_BLOCK
 from simgrasp.perception.scene_cloud import SceneCloud
-from simgrasp.perception.segmentation.organized_segments import grid_components, inner_floors
+from simgrasp.perception.segmentation.organized_segments import grid_components
 from simgrasp.perception.segmentation.segment_config import (
-    FIRST_OBJECT,
-    INVALID,
-    TABLE,
-    SegmentConfig,
+    FIRST_OBJECT as FIRST_OBJECT,  # re-exported: the plots and the evaluation read it here
 )
-from simgrasp.perception.segmentation.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segmentation.segment_config import TABLE, SegmentConfig
+from simgrasp.perception.segmentation.segment_floors import inner_floors
+from simgrasp.perception.segmentation.segment_objects import (
+    LabelPixels,
+    SegmentedObject,
+    label_pixels,
+    objects_of,
+    ordered_labels,
+)
+from simgrasp.perception.segmentation.segment_parts import part_parents, table_edge_claims
 from simgrasp.perception.segmentation.segment_rims import rim_parents
 from simgrasp.seeding import rng_for
 
 Method = Literal["auto", "grid", "dbscan"]
-
-
-@dataclass(frozen=True)
-class SegmentedObject:
-    """One object on the table.
-
-    Attributes:
-        label: its label in :attr:`Segmentation.labels` (2, 3, ...).
-        points: its number of points.
-        center: (3,) centroid (m, cloud frame).
-        extent: (3,) edge lengths of its axis-aligned bounding box (m, cloud frame).
-        part_of: the label of the object this one is a thin side part of (a pot's tab:
-            :mod:`simgrasp.perception.segmentation.segment_parts`), its own label otherwise.
-    """
-
-    label: int
-    points: int
-    center: NDArray[np.float64]
-    extent: NDArray[np.float64]
-    part_of: int = 0
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "label": self.label,
-            "points": self.points,
-            "center": self.center.tolist(),
-            "extent": self.extent.tolist(),
-            "part_of": self.part_of,
-        }
 
 
 @dataclass(frozen=True)
@@ -125,15 +102,17 @@ def segment_scene(
     cluster = _grid_segments if method == "grid" else _dbscan_segments
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
-        floors = _timed(timings, "floors", lambda: _floor_segments(scene, table, above, config))
-        raw = np.where(floors > 0, floors + raw.max(), raw)
-        table &= floors == 0
-    labels, objects = _timed(
-        timings, "order", lambda: _ordered_labels(raw, table, points, scene.viewpoint, config)
+        _timed(timings, "floors", lambda: _floors(scene, raw, table, above, config))
+    labels, objects, pixels = _timed(
+        timings,
+        "order",
+        lambda: ordered_labels(raw, table, points, scene.viewpoint, config.min_object_points),
     )
     if method == "grid":
-        labels, objects = _timed(
-            timings, "parts", lambda: _parts(scene, labels, height, plane, objects, config)
+        objects = _timed(
+            timings,
+            "parts",
+            lambda: _parts(scene, labels, height, plane, (objects, pixels), config),
         )
         table = labels == TABLE
     timings["total"] = time.perf_counter() - start
@@ -187,9 +166,9 @@ def fit_table_plane(
     if len(index) < 3:
         raise SimgraspError(f"{name}: too few valid points ({len(index)}) to find a table plane")
     rng = rng_for(config.seed, "segment", "plane")
-    sample = points[index[rng.integers(0, len(index), config.plane_samples)]]
+    sample = np.take(points, index[rng.integers(0, len(index), config.plane_samples)], axis=0)
     plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
-    refine = points[index[rng.integers(0, len(index), config.refine_samples)]]
+    refine = np.take(points, index[rng.integers(0, len(index), config.refine_samples)], axis=0)
     plane = _refined_plane(refine, plane, config)
     _check_table(np.abs(refine @ plane[:3] + plane[3]), config, name)
     if plane[:3] @ scene.viewpoint + plane[3] < 0:
@@ -260,45 +239,64 @@ def _parts(
     labels: NDArray[np.int32],
     height: NDArray[np.float32],
     plane: NDArray[np.float64],
-    objects: tuple[SegmentedObject, ...],
+    found: tuple[tuple[SegmentedObject, ...], LabelPixels],
     config: SegmentConfig,
-) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
-    """``labels`` with the side parts' table edges claimed and ``objects`` with ``part_of``
-    set (:mod:`simgrasp.perception.segmentation.segment_parts`, on the image grid; with
+) -> tuple[SegmentedObject, ...]:
+    """The ``found`` objects (with their pixels) with ``part_of`` set, and ``labels`` (N,)
+    with the side parts' table edges claimed, in place
+    (:mod:`simgrasp.perception.segmentation.segment_parts`, on the image grid; with
     ``rim_band``, a round container's inside joined to its outside, :mod:`.segment_rims`)."""
+    objects, pixels = found
     shape = (scene.height, scene.width)
-    grid, height_grid = scene.grid(), height.reshape(shape)
-    parents = part_parents(labels.reshape(shape), grid, height_grid, config)
-    claimed = claim_table_edges(labels.reshape(shape), grid, height_grid, parents, config)
-    claimed = claimed.reshape(-1)
-    parents = rim_parents(claimed, scene.points, height, plane, parents, config)
-    redone = _objects_of(claimed, scene.points, np.unique(claimed[claimed != labels]))
-    return claimed, tuple(
+    grid, height_grid, image = scene.grid(), height.reshape(shape), labels.reshape(shape)
+    parents = part_parents(image, grid, height_grid, config, pixels)
+    claims = table_edge_claims(image, grid, height_grid, parents, config, pixels)
+    redone: dict[int, SegmentedObject] = {}
+    if claims is not None:
+        rows, cols, window = claims
+        changed = np.unique(window[window != image[rows, cols]])
+        image[rows, cols] = window
+        redone = _objects_in(window, (rows.start, cols.start), scene, changed)
+    parents = rim_parents(labels, scene.points, height, plane, parents, config)
+    return tuple(
         replace(redone.get(obj.label, obj), part_of=int(parents[obj.label])) for obj in objects
     )
 
 
-def _objects_of(
-    labels: NDArray[np.int32], points: NDArray[np.float32], wanted: NDArray[np.int32]
+def _objects_in(
+    window: NDArray[np.int32],
+    corner: tuple[int, int],
+    scene: SceneCloud,
+    wanted: NDArray[np.int32],
 ) -> dict[int, SegmentedObject]:
-    """The objects of the ``wanted`` labels among ``labels`` (N,), their ``points`` (N, 3)
-    in ascending index order as :func:`_object` takes them, from one pass over the labels."""
+    """The objects of the ``wanted`` labels, all of whose pixels lie in ``window``, the labels
+    of the rows and columns of the scene's image from ``corner`` on."""
     if len(wanted) == 0:
         return {}
-    index = np.flatnonzero(np.isin(labels, wanted))
-    index = index[np.argsort(labels[index], kind="stable")]
-    ends = np.cumsum(np.bincount(labels[index], minlength=int(wanted.max()) + 1))
-    return {
-        int(label): _object(int(label), points[index[ends[label - 1] : ends[label]]])
-        for label in wanted.tolist()
-    }
+    local = np.flatnonzero(np.isin(window, wanted))
+    rows, cols = np.divmod(local, window.shape[1])
+    index = (rows + corner[0]) * scene.width + cols + corner[1]
+    count = int(wanted.max()) + 1
+    pixels = label_pixels(window.reshape(-1)[local], index, count)
+    return {obj.label: obj for obj in objects_of(pixels, scene.points, wanted.astype(np.intp))}
 
 
-def _floor_segments(
-    scene: SceneCloud, table: NDArray[np.bool_], above: NDArray[np.bool_], config: SegmentConfig
-) -> NDArray[np.int32]:
+def _floors(
+    scene: SceneCloud,
+    raw: NDArray[np.int32],
+    table: NDArray[np.bool_],
+    above: NDArray[np.bool_],
+    config: SegmentConfig,
+) -> None:
+    """The objects' inner floors (:func:`inner_floors`) moved from ``table`` (N,) to segments
+    of their own in ``raw`` (N,; ids after its largest), in place."""
     shape = (scene.height, scene.width)
-    return inner_floors(table.reshape(shape), above.reshape(shape), config).reshape(-1)
+    rows, cols, floors = inner_floors(table.reshape(shape), above.reshape(shape), config)
+    if floors.size == 0:
+        return
+    floor = floors > 0
+    np.copyto(raw.reshape(shape)[rows, cols], floors + raw.max(), where=floor)
+    table.reshape(shape)[rows, cols] &= ~floor
 
 
 def _grid_segments(
@@ -329,36 +327,3 @@ def _dbscan_segments(
     clusters = np.asarray(cloud.cluster_dbscan(config.cluster_eps, config.cluster_min_points))
     segments[index] = clusters[voxel_of.reshape(-1)] + 1
     return segments
-
-
-def _ordered_labels(
-    raw: NDArray[np.int32],
-    table: NDArray[np.bool_],
-    points: NDArray[np.float32],
-    viewpoint: NDArray[np.float64],
-    config: SegmentConfig,
-) -> tuple[NDArray[np.int32], tuple[SegmentedObject, ...]]:
-    """Final labels: table 1, segments of at least ``min_object_points`` 2.. by the distance
-    of their centroid to the sensor, the rest 0."""
-    labels = np.where(table, TABLE, INVALID).astype(np.int32)
-    index = np.flatnonzero(raw)
-    ids = raw[index]
-    counts = np.bincount(ids)
-    sums = np.stack([np.bincount(ids, points[index, k], len(counts)) for k in range(3)], axis=1)
-    kept = np.flatnonzero(counts >= config.min_object_points)
-    kept = kept[kept > 0]
-    centers = sums[kept] / counts[kept, None]
-    order = np.argsort(np.linalg.norm(centers - viewpoint, axis=1), kind="stable")
-    relabel = np.zeros(len(counts), dtype=np.int32)
-    relabel[kept[order]] = np.arange(FIRST_OBJECT, FIRST_OBJECT + len(kept), dtype=np.int32)
-    labels[index] = np.where(relabel[ids] > 0, relabel[ids], labels[index])
-    order_of = np.argsort(labels[index], kind="stable")
-    ends = np.cumsum(np.bincount(labels[index], minlength=FIRST_OBJECT + len(kept)))
-    members = np.split(index[order_of], ends[FIRST_OBJECT - 1 : -1])
-    objects = tuple(_object(FIRST_OBJECT + k, points[members[k + 1]]) for k in range(len(kept)))
-    return labels, objects
-
-
-def _object(label: int, points: NDArray[np.float32]) -> SegmentedObject:
-    pts = points.astype(np.float64)
-    return SegmentedObject(label, len(pts), pts.mean(axis=0), np.ptp(pts, axis=0), label)

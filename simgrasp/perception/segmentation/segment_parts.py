@@ -21,7 +21,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp.perception.segmentation.organized_segments import zero_padded
 from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, TABLE, SegmentConfig
+from simgrasp.perception.segmentation.segment_objects import LabelPixels
 
 
 def part_parents(
@@ -29,23 +31,29 @@ def part_parents(
     points: NDArray[np.float32],
     height: NDArray[np.float32],
     config: SegmentConfig,
+    grouped: LabelPixels | None = None,
 ) -> NDArray[np.int32]:
     """The object each label belongs to, indexed by label (labels below 2 map to themselves).
 
     ``labels`` is the (H, W) label image (objects >= 2), ``points`` the (H, W, 3) position
-    image (m) and ``height`` the (H, W) height above the table (m). A thin side part maps to
-    the root of the larger segment it touches most (module docstring), every other label to
+    image (m) and ``height`` the (H, W) height above the table (m); ``grouped``, when given,
+    the pixels of its objects grouped by label (no pass over the image). A thin side part maps
+    to the root of the larger segment it touches most (module docstring), every other label to
     itself.
     """
-    count = max(int(labels.max()) + 1 if labels.size else 0, FIRST_OBJECT)
+    if grouped is None:
+        count = max(int(labels.max()) + 1 if labels.size else 0, FIRST_OBJECT)
+    else:
+        count = len(grouped[1]) - 1
     parents = np.arange(count, dtype=np.int32)
     if count <= FIRST_OBJECT + 1 or config.part_min_contact <= 0:
         return parents
     flat = labels.reshape(-1)
-    sizes = np.bincount(flat, minlength=count)
+    # with grouped, labels 0 and 1 (never parts nor wholes) get size 0, never read
+    sizes = np.bincount(flat, minlength=count) if grouped is None else np.diff(grouped[1])
     small = sizes <= config.part_max_points
     small[:FIRST_OBJECT] = False
-    pixels = np.flatnonzero(small[flat])
+    pixels = _pixels_of(flat, small, grouped)
     spread = _spread(flat[pixels], height.reshape(-1)[pixels], count)
     thin = small & (spread <= config.part_max_thickness)
     pixels = pixels[thin[flat[pixels]]]
@@ -60,6 +68,19 @@ def part_parents(
             break
         parents = roots
     return parents
+
+
+def _pixels_of(
+    flat: NDArray[np.int32], chosen: NDArray[np.bool_], grouped: LabelPixels | None
+) -> NDArray[np.intp]:
+    """Ascending flat indices of the pixels of the ``chosen`` labels (a mask over labels) of
+    the label image ``flat`` (labels past the mask count as its last), from ``grouped`` (its
+    object pixels by label) when given."""
+    if grouped is None:
+        return np.flatnonzero(chosen[np.minimum(flat, len(chosen) - 1)])
+    pixels, starts = grouped
+    runs = np.repeat(chosen[: len(starts) - 1], np.diff(starts))
+    return np.sort(pixels[runs])
 
 
 def _spread(own: NDArray[np.int32], height: NDArray[np.float32], count: int) -> NDArray[np.float64]:
@@ -90,21 +111,43 @@ def _contacts(
     ``part_contact_distance`` (m). Every offset at once, on grids padded with label 0."""
     count, reach = len(sizes), config.part_contact_px
     steps = sorted({-reach, -1, 0, 1, reach})
-    rows, cols, inner = _window(labels.shape, pixels, reach)
-    padded, flat_planes, padded_pixels = _padded(
-        labels[rows, cols], points[rows, cols], inner, reach
-    )
-    width = padded.shape[1]
-    shifts = np.array([dr * width + dc for dr in steps for dc in steps if dr or dc])
-    there = padded_pixels[None, :] + shifts[:, None]
-    other = padded.reshape(-1)[there]
-    near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
+    offsets = np.array([(dr, dc) for dr in steps for dc in steps if dr or dc])
+    there, inside = _neighbours(labels.shape, pixels, offsets)
+    other = np.where(inside, labels.reshape(-1)[there], 0)  # label 0 beyond the image
+    gaps = _row_distance_squared(points.reshape(-1, 3), pixels, there)
+    near = gaps <= config.part_contact_distance**2
     own = labels.reshape(-1)[pixels]
     touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own][None, :])
     here = np.broadcast_to(pixels[None, :], touch.shape)[touch]
     pixel_pairs = np.unique(here.astype(np.int64) * count + other[touch])
     parts = labels.reshape(-1)[pixel_pairs // count].astype(np.int64)
     return np.unique(parts * count + pixel_pairs % count, return_counts=True)
+
+
+def _neighbours(
+    shape: tuple[int, ...], pixels: NDArray[np.intp], offsets: NDArray[np.intp]
+) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """(S, L) flat indices of the pixels at the S (row, column) ``offsets`` from each of the L
+    flat ``pixels`` of an image of ``shape``, and whether each lies in the image (those that do
+    not get their own pixel's index)."""
+    rows, cols = np.divmod(pixels, shape[1])
+    there_rows = rows[None, :] + offsets[:, :1]
+    there_cols = cols[None, :] + offsets[:, 1:]
+    inside = (there_rows >= 0) & (there_rows < shape[0]) & (there_cols >= 0)
+    inside &= there_cols < shape[1]
+    there = np.where(inside, there_rows * shape[1] + there_cols, pixels[None, :])
+    return there, inside
+
+
+def _row_distance_squared(
+    points: NDArray[np.float32], pixels: NDArray[np.intp], there: NDArray[np.intp]
+) -> NDArray[np.float32]:
+    """:func:`_distance_squared` (the same float32 operations) with the positions as rows of
+    ``points`` (N, 3): no channel planes of a window to copy."""
+    here = np.take(points, pixels, axis=0)
+    far = np.take(points, there.reshape(-1), axis=0).reshape(*there.shape, 3)
+    offset = [far[..., k] - here[None, :, k] for k in range(3)]
+    return offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]
 
 
 def _window(
@@ -127,8 +170,8 @@ def _padded(
     """``labels`` (H, W) padded by ``reach`` pixels of label 0, the (H, W, 3) ``points`` as
     three flat channel planes padded alike (3, (H + 2 reach) (W + 2 reach)), and the flat
     ``pixels`` as indices into the padded grid."""
-    padded = np.pad(labels, reach)
-    planes = np.pad(np.moveaxis(points, 2, 0), ((0, 0), (reach, reach), (reach, reach)))
+    padded = zero_padded(labels, reach)
+    planes = zero_padded(np.moveaxis(points, 2, 0), reach)
     rows, cols = np.divmod(pixels, labels.shape[1])
     return padded, planes.reshape(3, -1), (rows + reach) * padded.shape[1] + cols + reach
 
@@ -166,12 +209,33 @@ def claim_table_edges(
 ) -> NDArray[np.int32]:
     """``labels`` (H, W) with the table pixels at a side part's edge (module docstring) given
     that part's label; ``parents`` as :func:`part_parents` returns them."""
+    claims = table_edge_claims(labels, points, height, parents, config)
+    if claims is None:
+        return labels
+    rows, cols, window = claims
+    claimed = labels.copy()
+    claimed[rows, cols] = window
+    return claimed
+
+
+def table_edge_claims(
+    labels: NDArray[np.int32],
+    points: NDArray[np.float32],
+    height: NDArray[np.float32],
+    parents: NDArray[np.int32],
+    config: SegmentConfig,
+    grouped: LabelPixels | None = None,
+) -> tuple[slice, slice, NDArray[np.int32]] | None:
+    """What :func:`claim_table_edges` changes: the row and column slices of a window of
+    ``labels`` holding every pixel of every side part, and the window's labels after the
+    claims; None when there is no side part (``grouped`` as :func:`part_parents` takes it)."""
     is_part = parents != np.arange(len(parents))
     reach = config.part_edge_px
     if not is_part.any() or reach <= 0:
-        return labels
+        return None
     flat = labels.reshape(-1)
-    pixels = np.flatnonzero(is_part[np.minimum(flat, len(parents) - 1)] & (flat >= FIRST_OBJECT))
+    is_part[:FIRST_OBJECT] = False
+    pixels = _pixels_of(flat, is_part, grouped)
     rows, cols, inner = _window(labels.shape, pixels, reach)
     padded, flat_planes, padded_pixels = _padded(
         labels[rows, cols], points[rows, cols], inner, reach
@@ -181,7 +245,7 @@ def claim_table_edges(
     shifts = (steps[:, None] * width + steps[None, :]).reshape(-1)
     there = padded_pixels[None, :] + shifts[:, None]
     near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
-    padded_height = np.pad(height[rows, cols], reach).reshape(-1)
+    padded_height = zero_padded(height[rows, cols], reach).reshape(-1)
     edge = (
         near
         & (padded.reshape(-1)[there] == TABLE)
@@ -189,6 +253,4 @@ def claim_table_edges(
     )
     window = padded.reshape(-1).copy()
     window[there[edge]] = np.broadcast_to(flat[pixels][None, :], edge.shape)[edge]
-    claimed = labels.copy()
-    claimed[rows, cols] = window.reshape(padded.shape)[reach:-reach, reach:-reach]
-    return claimed
+    return rows, cols, window.reshape(padded.shape)[reach:-reach, reach:-reach]
