@@ -33,8 +33,9 @@ def cluster_handles(
         min_support: clusters with fewer candidates are dropped.
         object_center, centrality_length: the cloud's centroid and a length (m). When given,
             a handle's score is weighted by its centrality exp(-(d / length)^2), d being the
-            distance from the handle center to the centroid: the torque of the object's
-            weight about the grasp grows with d (the detector's config sets the length).
+            distance from the centroid to the nearest point of the handle's covered stretch
+            (:func:`_span_distance`): the torque of the object's weight about the grasp grows
+            with d (the detector's config sets the length).
         max_opening: the gripper's maximum opening (m). When given, a handle's score is
             weighted by its jaw clearance min(1, (max_opening - width) / (max_opening / 2)):
             a part barely narrower than the open jaws (a mug's body) leaves no room for
@@ -92,12 +93,22 @@ def _weighted(
     """``handle`` with its score weighted by centrality and jaw clearance, each when its
     parameters are given (see :func:`cluster_handles`)."""
     if object_center is not None and centrality_length:
-        offset = np.linalg.norm(handle.center - object_center) / centrality_length
+        offset = _span_distance(handle, object_center) / centrality_length
         handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
     if max_opening:
         clearance = np.clip((max_opening - handle.width) / (max_opening / 2), 0.0, 1.0)
         handle = _rescored(handle, handle.score * float(clearance))
     return handle
+
+
+def _span_distance(handle: Handle, point: NDArray[np.float64]) -> float:
+    """Distance (m) from ``point`` to the nearest point of the stretch of the handle's axis its
+    candidates cover (``handle.span`` around ``handle.center``): the planner grasps a handle
+    there too (the point nearest the cloud's centroid), so that is the grasp's lever arm. A
+    pan's long handle, its center 15 cm from the centroid, ranked below arcs of its thin rim
+    with a twentieth of its support when scored by its center's distance."""
+    along = float(np.clip((point - handle.center) @ handle.axis, *handle.span))
+    return float(np.linalg.norm(handle.center + along * handle.axis - point))
 
 
 def _rescored(handle: Handle, score: float) -> Handle:

@@ -121,8 +121,10 @@ class QuadricDetectorConfig(Checked):
     """A handle hypothesis needs at least this many candidates."""
     prefer_central: bool = True
     """Weight handle scores by closeness to the cloud's centroid (grasps near the center of
-    mass lift with less torque): exp(-(d / L)^2), d in meters, with the length
-    L = max(centrality_min_length, centrality_scale x the cloud's RMS radius)."""
+    mass lift with less torque): exp(-(d / L)^2), d the distance (m) from the centroid to the
+    nearest point of the stretch of axis the handle's candidates cover (where the planner
+    grasps it), with the length L = max(centrality_min_length, centrality_scale x the cloud's
+    RMS radius)."""
     centrality_scale: Positive = 0.7
     """Multiple of the cloud's RMS radius giving the centrality length L (``prefer_central``)."""
     centrality_min_length: Positive = 0.06
