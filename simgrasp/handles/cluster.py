@@ -19,6 +19,7 @@ def cluster_handles(
     min_support: int,
     object_center: NDArray[np.float64] | None = None,
     centrality_length: float | None = None,
+    centrality_to_stretch: bool = False,
     max_opening: float | None = None,
     min_relative_score: float = 0.0,
     anchors: NDArray[np.float64] | None = None,
@@ -32,14 +33,13 @@ def cluster_handles(
         distance: single-linkage cut distance (m).
         min_support: clusters with fewer candidates are dropped.
         object_center, centrality_length: the cloud's centroid and a length (m). When given,
-            a handle's score is weighted by its centrality exp(-(d / length)^2), d being the
-            distance from the centroid to the nearest point of the handle's covered stretch
-            (:func:`_span_distance`): the torque of the object's weight about the grasp grows
-            with d (the detector's config sets the length).
+            a handle's score is weighted by its centrality exp(-(d / length)^2), d the distance
+            from the centroid to the handle's center (with ``centrality_to_stretch``: to the
+            nearest point of its covered stretch, :func:`_span_distance`).
         max_opening: the gripper's maximum opening (m). When given, a handle's score is
             weighted by its jaw clearance min(1, (max_opening - width) / (max_opening / 2)):
-            a part barely narrower than the open jaws (a mug's body) leaves no room for
-            pose error, a handle half the opening or narrower is not penalized.
+            a part barely narrower than the open jaws (a mug's body) leaves no room for pose
+            error, a handle half the opening or narrower is not penalized.
         min_relative_score: handles scoring below this fraction of the best are dropped.
         anchors: (M, 3) points to take the handle centers from instead of ``handle_points``
             (the candidates' seen surface points); the clustering still joins handle points.
@@ -65,7 +65,10 @@ def cluster_handles(
             continue
         centers = handle_points if anchors is None else anchors
         handle = _handle_from_members(centers[members], axes[members], widths[members], count)
-        found.append((_weighted(handle, object_center, centrality_length, max_opening), members))
+        weighted = _weighted(
+            handle, object_center, centrality_length, centrality_to_stretch, max_opening
+        )
+        found.append((weighted, members))
     return best_first(found, min_relative_score)
 
 
@@ -88,12 +91,17 @@ def _weighted(
     handle: Handle,
     object_center: NDArray[np.float64] | None,
     centrality_length: float | None,
+    to_stretch: bool,
     max_opening: float | None,
 ) -> Handle:
     """``handle`` with its score weighted by centrality and jaw clearance, each when its
     parameters are given (see :func:`cluster_handles`)."""
     if object_center is not None and centrality_length:
-        offset = _span_distance(handle, object_center) / centrality_length
+        offset = (
+            _span_distance(handle, object_center)
+            if to_stretch
+            else float(np.linalg.norm(handle.center - object_center))
+        ) / centrality_length
         handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
     if max_opening:
         clearance = np.clip((max_opening - handle.width) / (max_opening / 2), 0.0, 1.0)

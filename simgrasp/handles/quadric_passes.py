@@ -101,6 +101,7 @@ def cluster_passes(
             centrality_length=max(
                 config.centrality_min_length, config.centrality_scale * rms_radius
             ),
+            centrality_to_stretch=config.centrality_to_stretch,
             max_opening=config.gripper_max_opening if config.prefer_clearance else None,
             min_relative_score=config.min_relative_score,
             anchors=accepted.centers if config.handle_anchor == "surface" else None,
