@@ -15,8 +15,9 @@ from simgrasp.evaluation.segment_eval import part_ious, score_scene
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segmentation.segment import segment_scene
-from simgrasp.perception.segmentation.segment_config import SegmentConfig
-from simgrasp.perception.segmentation.segment_parts import claim_table_edges, part_parents
+from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, SegmentConfig
+from simgrasp.perception.segmentation.segment_objects import LabelPixels, label_pixels
+from simgrasp.perception.segmentation.segment_parts import part_parents, table_edge_claims
 
 OSD = default_real_dir() / "osd-learn"
 needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
@@ -51,6 +52,14 @@ def tabletop(sphere_radii: tuple[float, ...] = (0.05, 0.04)) -> np.ndarray:
     points = depth[..., None] * rays
     points[~np.isfinite(depth)] = np.nan
     return points
+
+
+def _object_pixels(labels: np.ndarray) -> LabelPixels:
+    """The object pixels (labels >= 2) of a label image grouped by label, as the segmenter
+    hands them to its side-part step."""
+    flat = labels.reshape(-1)
+    index = np.flatnonzero(flat >= FIRST_OBJECT)
+    return label_pixels(flat[index], index, int(flat.max()) + 1)
 
 
 def _save_npy(tmp_path: Path, points: np.ndarray, name: str = "scene.npy") -> Path:
@@ -160,9 +169,10 @@ def test_thin_small_segments_touching_a_larger_one_are_its_parts() -> None:
     points[labels == 4, 2] += 0.2
     height = np.where(labels == 2, rows * 0.002, 0.05).astype(np.float32)
     height[labels == 5] = 0.05 + rows[labels == 5] * 0.004  # 3 cm tall
-    parents = part_parents(labels, points, height, SegmentConfig())
+    grouped = _object_pixels(labels)
+    parents = part_parents(labels, points, height, SegmentConfig(), grouped)
     np.testing.assert_array_equal(parents, [0, 1, 2, 2, 4, 5, 2])
-    off = part_parents(labels, points, height, SegmentConfig(part_min_contact=0))
+    off = part_parents(labels, points, height, SegmentConfig(part_min_contact=0), grouped)
     np.testing.assert_array_equal(off, np.arange(7))
 
 
@@ -178,7 +188,13 @@ def test_a_side_part_claims_the_raised_table_pixels_at_its_edge() -> None:
     height[:, 21] = 0.001  # table level: stays table
     points[15:, 10:20, 2] += 0.05  # 5 cm behind in depth: stays table
     parents = np.array([0, 1, 2, 2], dtype=np.int32)
-    claimed = claim_table_edges(labels, points, height, parents, SegmentConfig())
+    claims = table_edge_claims(
+        labels, points, height, parents, SegmentConfig(), _object_pixels(labels)
+    )
+    assert claims is not None
+    rows, cols, window = claims
+    claimed = labels.copy()
+    claimed[rows, cols] = window
     gained = (claimed == 3) & (labels == 1)
     expected = np.zeros_like(gained)
     expected[2:18, 20:23] = True

@@ -31,29 +31,25 @@ def part_parents(
     points: NDArray[np.float32],
     height: NDArray[np.float32],
     config: SegmentConfig,
-    grouped: LabelPixels | None = None,
+    grouped: LabelPixels,
 ) -> NDArray[np.int32]:
     """The object each label belongs to, indexed by label (labels below 2 map to themselves).
 
     ``labels`` is the (H, W) label image (objects >= 2), ``points`` the (H, W, 3) position
-    image (m) and ``height`` the (H, W) height above the table (m); ``grouped``, when given,
-    the pixels of its objects grouped by label (no pass over the image). A thin side part maps
+    image (m) and ``height`` the (H, W) height above the table (m); ``grouped`` the pixels of
+    its objects grouped by label (no pass over the image). A thin side part maps
     to the root of the larger segment it touches most (module docstring), every other label to
     itself.
     """
-    if grouped is None:
-        count = max(int(labels.max()) + 1 if labels.size else 0, FIRST_OBJECT)
-    else:
-        count = len(grouped[1]) - 1
+    count = len(grouped[1]) - 1
     parents = np.arange(count, dtype=np.int32)
     if count <= FIRST_OBJECT + 1 or config.part_min_contact <= 0:
         return parents
     flat = labels.reshape(-1)
-    # with grouped, labels 0 and 1 (never parts nor wholes) get size 0, never read
-    sizes = np.bincount(flat, minlength=count) if grouped is None else np.diff(grouped[1])
+    sizes = np.diff(grouped[1])  # labels 0 and 1 (never parts nor wholes): 0, never read
     small = sizes <= config.part_max_points
     small[:FIRST_OBJECT] = False
-    pixels = _pixels_of(flat, small, grouped)
+    pixels = _pixels_of(small, grouped)
     spread = _spread(flat[pixels], height.reshape(-1)[pixels], count)
     thin = small & (spread <= config.part_max_thickness)
     pixels = pixels[thin[flat[pixels]]]
@@ -70,14 +66,9 @@ def part_parents(
     return parents
 
 
-def _pixels_of(
-    flat: NDArray[np.int32], chosen: NDArray[np.bool_], grouped: LabelPixels | None
-) -> NDArray[np.intp]:
-    """Ascending flat indices of the pixels of the ``chosen`` labels (a mask over labels) of
-    the label image ``flat`` (labels past the mask count as its last), from ``grouped`` (its
-    object pixels by label) when given."""
-    if grouped is None:
-        return np.flatnonzero(chosen[np.minimum(flat, len(chosen) - 1)])
+def _pixels_of(chosen: NDArray[np.bool_], grouped: LabelPixels) -> NDArray[np.intp]:
+    """Ascending flat indices of the pixels of the ``chosen`` labels (a mask over labels),
+    from ``grouped`` (the object pixels by label)."""
     pixels, starts = grouped
     runs = np.repeat(chosen[: len(starts) - 1], np.diff(starts))
     return np.sort(pixels[runs])
@@ -200,42 +191,25 @@ def _best_pairs(
     return [(int(c // count), int(c % count)) for c in chosen]
 
 
-def claim_table_edges(
-    labels: NDArray[np.int32],
-    points: NDArray[np.float32],
-    height: NDArray[np.float32],
-    parents: NDArray[np.int32],
-    config: SegmentConfig,
-) -> NDArray[np.int32]:
-    """``labels`` (H, W) with the table pixels at a side part's edge (module docstring) given
-    that part's label; ``parents`` as :func:`part_parents` returns them."""
-    claims = table_edge_claims(labels, points, height, parents, config)
-    if claims is None:
-        return labels
-    rows, cols, window = claims
-    claimed = labels.copy()
-    claimed[rows, cols] = window
-    return claimed
-
-
 def table_edge_claims(
     labels: NDArray[np.int32],
     points: NDArray[np.float32],
     height: NDArray[np.float32],
     parents: NDArray[np.int32],
     config: SegmentConfig,
-    grouped: LabelPixels | None = None,
+    grouped: LabelPixels,
 ) -> tuple[slice, slice, NDArray[np.int32]] | None:
-    """What :func:`claim_table_edges` changes: the row and column slices of a window of
-    ``labels`` holding every pixel of every side part, and the window's labels after the
-    claims; None when there is no side part (``grouped`` as :func:`part_parents` takes it)."""
+    """The table pixels at a side part's edge (module docstring) given that part's label: the
+    row and column slices of a window of ``labels`` holding every pixel of every side part,
+    and the window's labels after the claims; None when there is no side part. ``parents`` as
+    :func:`part_parents` returns them, ``grouped`` as it takes it."""
     is_part = parents != np.arange(len(parents))
     reach = config.part_edge_px
     if not is_part.any() or reach <= 0:
         return None
     flat = labels.reshape(-1)
     is_part[:FIRST_OBJECT] = False
-    pixels = _pixels_of(flat, is_part, grouped)
+    pixels = _pixels_of(is_part, grouped)
     rows, cols, inner = _window(labels.shape, pixels, reach)
     padded, flat_planes, padded_pixels = _padded(
         labels[rows, cols], points[rows, cols], inner, reach
