@@ -1,13 +1,16 @@
-"""Handle ranking by centrality measures the lever arm to the nearest point of a handle's
-covered stretch, where the planner grasps it, not to its center: a pan's long handle against
-a short arc of its rim (synthetic candidates, no ../shared data), with
-``centrality_to_stretch``; by default the center's distance is measured, as before."""
+"""Handle ranking by centrality measures the lever arm to where the planner grasps a handle:
+with ``centrality_measure`` ``"stretch"`` (the nearest point of its covered stretch) or
+``"grasps"`` (the default: the mean square of that and its center's distance) a pan's long
+handle outranks a short arc of its rim, which the center's distance alone ranked first
+(synthetic candidates, no ../shared data); and a second part ranked by its stretch must pass
+the relative cut by its center's distance too."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from simgrasp.handles.cluster import cluster_handles
+from simgrasp.handles.cluster import best_first, cluster_handles, ranked_clusters
+from simgrasp.handles.config import CentralityMeasure
 
 
 def test_a_long_handle_far_from_the_centroid_outranks_a_short_near_arc() -> None:
@@ -22,7 +25,7 @@ def test_a_long_handle_far_from_the_centroid_outranks_a_short_near_arc() -> None
     points = np.concatenate([handle_points, arc_points])
     axes = np.concatenate([np.tile([1.0, 0.0, 0.0], (60, 1)), np.tile([0.0, 0.0, 1.0], (4, 1))])
 
-    def rank(to_stretch: bool):
+    def rank(measure: CentralityMeasure):
         return cluster_handles(
             points,
             axes,
@@ -31,14 +34,45 @@ def test_a_long_handle_far_from_the_centroid_outranks_a_short_near_arc() -> None
             min_support=2,
             object_center=np.array([0.0, 0.0, 0.03]),
             centrality_length=0.074,
-            centrality_to_stretch=to_stretch,
+            centrality_measure=measure,
             max_opening=0.085,
             min_relative_score=0.5,
         )
 
-    by_center, _ = rank(False)
+    by_center, _ = rank("center")
     assert len(by_center) == 1 and by_center[0].center[0] < 0.01  # the arc alone
-    handles, members = rank(True)
-    assert len(handles) == 1 and len(members[0]) == 60
-    assert handles[0].center[0] > 0.1 and np.allclose(np.abs(handles[0].axis), [1.0, 0.0, 0.0])
-    assert np.isclose(handles[0].center[0] + handles[0].span[0], 0.08)
+    for measure in ("stretch", "grasps"):
+        handles, members = rank(measure)
+        assert len(handles) == 1 and len(members[0]) == 60
+        assert handles[0].center[0] > 0.1
+        assert np.allclose(np.abs(handles[0].axis), [1.0, 0.0, 0.0])
+        assert np.isclose(handles[0].center[0] + handles[0].span[0], 0.08)
+
+
+def test_a_second_part_must_pass_the_cut_by_its_center_too() -> None:
+    """A drill-like object: a grip of 40 candidates standing 2-6 cm below the centroid and a
+    barrel of 40 along x from 4 to 20 cm, 2 cm above it, its center 12 cm off but its
+    stretch's near end 4.5 cm off. By the stretch alone the barrel scores 0.66 of the grip
+    and would survive the relative cut; by its center 0.03 of the grip: it is dropped (the
+    center's rule alone drops it too), and the grip is the only handle kept."""
+    grip = np.stack([np.full(40, 0.01), np.zeros(40), np.linspace(-0.02, -0.06, 40)], axis=1)
+    barrel = np.stack([np.linspace(0.04, 0.20, 40), np.zeros(40), np.full(40, 0.02)], axis=1)
+    axes = np.concatenate([np.tile([0.0, 0.0, 1.0], (40, 1)), np.tile([1.0, 0.0, 0.0], (40, 1))])
+    scored = ranked_clusters(
+        np.concatenate([grip, barrel]),
+        axes,
+        np.full(80, 0.03),
+        distance=0.02,
+        min_support=2,
+        object_center=np.zeros(3),
+        centrality_length=0.06,
+        centrality_measure="stretch",
+        max_opening=0.085,
+    )
+    grip_ranked, barrel_ranked = sorted(scored, key=lambda r: -r.handle.score)
+    assert len(grip_ranked.members) == 40 and barrel_ranked.members.min() >= 40
+    assert barrel_ranked.handle.score > 0.5 * grip_ranked.handle.score
+    assert barrel_ranked.guard < 0.5 * grip_ranked.guard
+    kept = best_first(scored, 0.5)
+    assert [len(r.members) for r in kept] == [40]
+    assert np.allclose(np.abs(kept[0].handle.axis), [0.0, 0.0, 1.0])

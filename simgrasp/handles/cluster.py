@@ -3,11 +3,33 @@ them and keep the plausible ones."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.cluster.hierarchy import fcluster, linkage
 
+from simgrasp.handles.config import CentralityMeasure
 from simgrasp.handles.detection import Handle
+
+
+@dataclass(frozen=True)
+class Ranked:
+    """A handle hypothesis, the indices of its candidates and its guard score.
+
+    ``handle.score`` ranks it. ``guard`` is its score with the centrality measured to the
+    handle's center: a handle other than the best must keep within the relative score cut by
+    both (:func:`best_first`); with the ``"center"`` measure ``guard`` equals the score.
+    """
+
+    handle: Handle
+    members: NDArray[np.int64]
+    guard: float
+
+    def scaled(self, factor: float, offset: int = 0) -> Ranked:
+        """Both scores times ``factor``, the member indices shifted by ``offset``."""
+        handle = _rescored(self.handle, self.handle.score * factor)
+        return Ranked(handle, self.members + offset, self.guard * factor)
 
 
 def cluster_handles(
@@ -19,7 +41,7 @@ def cluster_handles(
     min_support: int,
     object_center: NDArray[np.float64] | None = None,
     centrality_length: float | None = None,
-    centrality_to_stretch: bool = False,
+    centrality_measure: CentralityMeasure = "center",
     max_opening: float | None = None,
     min_relative_score: float = 0.0,
     anchors: NDArray[np.float64] | None = None,
@@ -33,14 +55,15 @@ def cluster_handles(
         distance: single-linkage cut distance (m).
         min_support: clusters with fewer candidates are dropped.
         object_center, centrality_length: the cloud's centroid and a length (m). When given,
-            a handle's score is weighted by its centrality exp(-(d / length)^2), d the distance
-            from the centroid to the handle's center (with ``centrality_to_stretch``: to the
-            nearest point of its covered stretch, :func:`_span_distance`).
+            a handle's score is weighted by its centrality exp(-(d / length)^2), d the lever
+            arm from the centroid to the handle by ``centrality_measure``
+            (:func:`_lever_arm_sq`).
         max_opening: the gripper's maximum opening (m). When given, a handle's score is
             weighted by its jaw clearance min(1, (max_opening - width) / (max_opening / 2)):
             a part barely narrower than the open jaws (a mug's body) leaves no room for pose
             error, a handle half the opening or narrower is not penalized.
-        min_relative_score: handles scoring below this fraction of the best are dropped.
+        min_relative_score: handles scoring below this fraction of the best are dropped
+            (see :func:`best_first`).
         anchors: (M, 3) points to take the handle centers from instead of ``handle_points``
             (the candidates' seen surface points); the clustering still joins handle points.
 
@@ -50,63 +73,105 @@ def cluster_handles(
         center the candidate point nearest the cluster's median, its score its share of all
         candidates times that direction's coherence (mean squared cosine) times centrality.
     """
+    ranked = ranked_clusters(
+        handle_points,
+        axes,
+        widths,
+        distance=distance,
+        min_support=min_support,
+        object_center=object_center,
+        centrality_length=centrality_length,
+        centrality_measure=centrality_measure,
+        max_opening=max_opening,
+        anchors=anchors,
+    )
+    kept = best_first(ranked, min_relative_score)
+    return tuple(r.handle for r in kept), tuple(r.members for r in kept)
+
+
+def ranked_clusters(
+    handle_points: NDArray[np.float64],
+    axes: NDArray[np.float64],
+    widths: NDArray[np.float64],
+    *,
+    distance: float,
+    min_support: int,
+    object_center: NDArray[np.float64] | None = None,
+    centrality_length: float | None = None,
+    centrality_measure: CentralityMeasure = "center",
+    max_opening: float | None = None,
+    anchors: NDArray[np.float64] | None = None,
+) -> list[Ranked]:
+    """Every cluster of at least ``min_support`` candidates as a scored :class:`Ranked`, in
+    cluster order, before any relative score cut (arguments as :func:`cluster_handles`)."""
     count = len(handle_points)
     if count == 0:
-        return (), ()
+        return []
     labels = (
         np.ones(1, dtype=int)
         if count == 1
         else fcluster(linkage(handle_points, method="single"), t=distance, criterion="distance")
     )
+    centers = handle_points if anchors is None else anchors
     found = []
     for label in np.unique(labels):
         members = np.flatnonzero(labels == label)
         if len(members) < min_support:
             continue
-        centers = handle_points if anchors is None else anchors
         handle = _handle_from_members(centers[members], axes[members], widths[members], count)
         weighted = _weighted(
-            handle, object_center, centrality_length, centrality_to_stretch, max_opening
+            handle, object_center, centrality_length, centrality_measure, max_opening
         )
-        found.append((weighted, members))
-    return best_first(found, min_relative_score)
+        guard = _weighted(handle, object_center, centrality_length, "center", max_opening).score
+        found.append(Ranked(weighted, members, guard))
+    return found
 
 
-def best_first(
-    found: list[tuple[Handle, NDArray[np.int64]]], min_relative_score: float
-) -> tuple[tuple[Handle, ...], tuple[NDArray[np.int64], ...]]:
-    """The handles scoring at least ``min_relative_score`` of the best, best first, with
-    their member indices."""
+def best_first(found: list[Ranked], min_relative_score: float) -> list[Ranked]:
+    """The best handle and those scoring at least ``min_relative_score`` of the best both by
+    score and by guard score (:class:`Ranked`), best first. With the stretch centrality a
+    power drill's barrel, whose stretch passes near the centroid, came within the cut of its
+    grip (0.76 of its score) but its center lies far off (0.26 of the grip's guard score)."""
     if not found:
-        return (), ()
-    best = max(h.score for h, _ in found)
-    kept = sorted(
-        ((h, m) for h, m in found if h.score >= min_relative_score * best),
-        key=lambda x: -x[0].score,
-    )
-    return tuple(h for h, _ in kept), tuple(m for _, m in kept)
+        return []
+    ordered = sorted(found, key=lambda r: -r.handle.score)
+    best = ordered[0].handle.score
+    best_guard = max(r.guard for r in found)
+    return ordered[:1] + [
+        r
+        for r in ordered[1:]
+        if r.handle.score >= min_relative_score * best
+        and r.guard >= min_relative_score * best_guard
+    ]
 
 
 def _weighted(
     handle: Handle,
     object_center: NDArray[np.float64] | None,
     centrality_length: float | None,
-    to_stretch: bool,
+    measure: CentralityMeasure,
     max_opening: float | None,
 ) -> Handle:
     """``handle`` with its score weighted by centrality and jaw clearance, each when its
     parameters are given (see :func:`cluster_handles`)."""
     if object_center is not None and centrality_length:
-        offset = (
-            _span_distance(handle, object_center)
-            if to_stretch
-            else float(np.linalg.norm(handle.center - object_center))
-        ) / centrality_length
-        handle = _rescored(handle, handle.score * float(np.exp(-(offset**2))))
+        offset_sq = _lever_arm_sq(handle, object_center, measure) / centrality_length**2
+        handle = _rescored(handle, handle.score * float(np.exp(-offset_sq)))
     if max_opening:
         clearance = np.clip((max_opening - handle.width) / (max_opening / 2), 0.0, 1.0)
         handle = _rescored(handle, handle.score * float(clearance))
     return handle
+
+
+def _lever_arm_sq(handle: Handle, point: NDArray[np.float64], measure: CentralityMeasure) -> float:
+    """The squared lever arm (m^2) from ``point`` (the centroid) to the handle by
+    ``measure``: to its center, to the nearest point of its covered stretch, or the mean of
+    the two squares (``"grasps"``: the planner's two grasp points on it)."""
+    to_center = float(np.sum((handle.center - point) ** 2))
+    if measure == "center":
+        return to_center
+    to_stretch = _span_distance(handle, point) ** 2
+    return to_stretch if measure == "stretch" else (to_center + to_stretch) / 2
 
 
 def _span_distance(handle: Handle, point: NDArray[np.float64]) -> float:

@@ -16,6 +16,9 @@ from simgrasp.config.checks import (
 )
 
 FitMethod = Literal["birdal", "taubin", "algebraic"]
+CentralityMeasure = Literal["center", "stretch", "grasps"]
+"""Where a handle's lever arm to the centroid is measured
+(``QuadricDetectorConfig.centrality_measure``)."""
 
 
 @dataclass(frozen=True)
@@ -122,14 +125,16 @@ class QuadricDetectorConfig(Checked):
     prefer_central: bool = True
     """Weight handle scores by closeness to the cloud's centroid (grasps near the center of
     mass lift with less torque): exp(-(d / L)^2), d the distance (m) from the centroid to the
-    handle's center (see ``centrality_to_stretch``), with the length
+    handle (see ``centrality_measure``), with the length
     L = max(centrality_min_length, centrality_scale x the cloud's RMS radius)."""
-    centrality_to_stretch: bool = False
-    """Measure d to the nearest point of the stretch of axis the handle's candidates cover
-    (where the planner grasps it) instead of to its center. A pan's long handle then outranks
-    arcs of its rim (clutter kinect: gen_pan 4 -> 10 of 10 on the handle), but a power drill's
-    second part then survives the relative score cut (detection accuracy on the mesh drill 0.99
-    -> 0.37): off by default; docs/results/clutter-stretch/."""
+    centrality_measure: CentralityMeasure = "grasps"
+    """Where d is measured to: ``"center"``, the handle's center; ``"stretch"``, the nearest
+    point of the stretch of axis its candidates cover; ``"grasps"``, both, d^2 the mean of
+    the two squares: the planner grasps a handle at those two points. A pan's long handle,
+    its center 15 cm off the centroid and its near end 8 cm, ranked below arcs of its rim by
+    the center. Unless ``"center"``, a handle other than the best must also pass the relative
+    score cut by its center's distance (a power drill's barrel, whose stretch passes near the
+    centroid)."""
     centrality_scale: Positive = 0.7
     """Multiple of the cloud's RMS radius giving the centrality length L (``prefer_central``)."""
     centrality_min_length: Positive = 0.06

@@ -5,13 +5,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.handles.cluster import best_first, cluster_handles
+from simgrasp.handles.cluster import Ranked, best_first, ranked_clusters
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Handle
 from simgrasp.quadric import Quadric, QuadricAnalysis, QuadricFit
@@ -88,10 +88,10 @@ def cluster_passes(
     centroid = pts.mean(axis=0)
     rms_radius = float(np.sqrt(((pts - centroid) ** 2).sum(axis=1).mean()))
     joined = Accepted.joined([p.accepted for p in passes])
-    found: list[tuple[Handle, NDArray[np.int64]]] = []
+    found: list[Ranked] = []
     offset = 0
     for weight, accepted in zip(_pass_weights(passes), (p.accepted for p in passes), strict=True):
-        handles, members = cluster_handles(
+        ranked = ranked_clusters(
             accepted.on_axis,
             accepted.axes,
             2 * accepted.half_widths,
@@ -101,19 +101,17 @@ def cluster_passes(
             centrality_length=max(
                 config.centrality_min_length, config.centrality_scale * rms_radius
             ),
-            centrality_to_stretch=config.centrality_to_stretch,
+            centrality_measure=config.centrality_measure,
             max_opening=config.gripper_max_opening if config.prefer_clearance else None,
-            min_relative_score=config.min_relative_score,
             anchors=accepted.centers if config.handle_anchor == "surface" else None,
         )
-        pass_found = [
-            (replace(h, score=h.score * weight), m + offset)
-            for h, m in zip(handles, members, strict=True)
-        ]
-        found += _elsewhere(pass_found, found, joined.on_axis, config.cluster_distance)
+        kept = [r.scaled(weight, offset) for r in best_first(ranked, config.min_relative_score)]
+        found += _elsewhere(kept, found, joined.on_axis, config.cluster_distance)
         offset += len(accepted.centers)
-    handles, members = best_first(found, config.min_relative_score)
-    return handles, _candidates(joined, members, config)
+    kept = best_first(found, config.min_relative_score)
+    return tuple(r.handle for r in kept), _candidates(
+        joined, tuple(r.members for r in kept), config
+    )
 
 
 def _pass_weights(passes: list[Pass]) -> list[float]:
@@ -127,22 +125,22 @@ def _pass_weights(passes: list[Pass]) -> list[float]:
 
 
 def _elsewhere(
-    new: list[tuple[Handle, NDArray[np.int64]]],
-    earlier: list[tuple[Handle, NDArray[np.int64]]],
+    new: list[Ranked],
+    earlier: list[Ranked],
     on_axis: NDArray[np.float64],
     distance: float,
-) -> list[tuple[Handle, NDArray[np.int64]]]:
+) -> list[Ranked]:
     """The ``new`` handles none of whose candidates' handle points (rows of ``on_axis``)
     lies within ``distance`` (m) of an ``earlier`` handle's: a part the first pass holds
     keeps the first pass's handle, and so its grasp (a fork's or spatula's handle, found by
     the fine pass too, narrower and placed elsewhere along it)."""
     if not earlier or not new:
         return new
-    tree = cKDTree(on_axis[np.concatenate([m for _, m in earlier])])
+    tree = cKDTree(on_axis[np.concatenate([r.members for r in earlier])])
     return [
-        (h, m)
-        for h, m in new
-        if np.isinf(tree.query(on_axis[m], distance_upper_bound=distance)[0]).all()
+        r
+        for r in new
+        if np.isinf(tree.query(on_axis[r.members], distance_upper_bound=distance)[0]).all()
     ]
 
 

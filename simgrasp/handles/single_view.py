@@ -137,7 +137,7 @@ def detect_single_view(
         min_support=quadric.min_support,
         object_center=centroid if quadric.prefer_central else None,
         centrality_length=max(quadric.centrality_min_length, quadric.centrality_scale * rms),
-        centrality_to_stretch=quadric.centrality_to_stretch,
+        centrality_measure=quadric.centrality_measure,
         max_opening=quadric.gripper_max_opening if quadric.prefer_clearance else None,
         min_relative_score=quadric.min_relative_score,
         anchors=_anchors(kept, config, spacing),
