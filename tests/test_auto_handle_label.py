@@ -58,6 +58,10 @@ def test_mesh_in_millimetres_needs_units(tmp_path: Path, capsys: pytest.CaptureF
     args = ["label-handles", str(mesh_path), "--units", "mm", "--out", str(out)]
     assert main([*args, "--label.scan.views", "12"]) == 0
     assert _iou(load_handle_label(out), asset.handle, asset.mesh) >= 0.6
+    # the hint counts the scale given: millimetres read at half scale still need --units mm
+    assert main(["label-handles", str(mesh_path), "--scale", "0.5", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "at scale 0.5" in err and "--units mm" in err and len(err.splitlines()) == 1
 
 
 def test_handle_less_bodies_get_no_handle_region() -> None:

@@ -162,7 +162,7 @@ def _read_mesh(spec: MeshObjectSpec) -> trimesh.Trimesh:
     try:
         validate_mesh(raw, path.stem, path)
     except MeshError as exc:
-        raise SimgraspError(_size_hint(str(exc), raw, spec)) from None
+        raise SimgraspError(size_hint(str(exc), raw, spec.path, spec.factor)) from None
     mesh = outward(trimesh.Trimesh(raw.vertices, raw.faces, process=True))
     parts = mesh.body_count
     if parts > MAX_LOOSE_PARTS:
@@ -173,20 +173,21 @@ def _read_mesh(spec: MeshObjectSpec) -> trimesh.Trimesh:
     return mesh
 
 
-def _size_hint(message: str, mesh: trimesh.Trimesh, spec: MeshObjectSpec) -> str:
-    """``message`` with the scale that would make ``mesh`` (m) a hand-sized object."""
+def size_hint(message: str, mesh: trimesh.Trimesh, path: Path | str, factor: float) -> str:
+    """``message`` with the units or scale that would make ``mesh`` (m, the file at ``path``
+    times ``factor``) a hand-sized object, when its size is what is wrong."""
     largest = float(np.ptp(mesh.vertices, axis=0).max())
     if largest > MAX_PLAUSIBLE_EXTENT_M or largest < MIN_PLAUSIBLE_EXTENT_M:
-        for units, factor in (("mm", 0.001), ("cm", 0.01), ("m", 1.0)):
-            size = largest / spec.factor * factor
+        for units, unit_factor in (("mm", 0.001), ("cm", 0.01), ("m", 1.0)):
+            size = largest / factor * unit_factor
             if MIN_PLAUSIBLE_EXTENT_M * 4 <= size <= MAX_PLAUSIBLE_EXTENT_M / 3:
                 return (
-                    f"object mesh {spec.path}: largest extent {largest:.4g} m at scale "
-                    f"{spec.factor:g} is not a graspable object; if the file is in {units}, "
-                    f"pass --units {units} (or --scale {factor:g})"
+                    f"object mesh {path}: largest extent {largest:.4g} m at scale "
+                    f"{factor:g} is not a graspable object; if the file is in {units}, "
+                    f"pass --units {units} (or --scale {unit_factor:g})"
                 )
         return (
-            f"object mesh {spec.path}: largest extent {largest:.4g} m at scale {spec.factor:g} "
+            f"object mesh {path}: largest extent {largest:.4g} m at scale {factor:g} "
             f"is not a graspable object; pass --scale S so that it measures 5 mm-3 m"
         )
     return message

@@ -74,6 +74,7 @@ def load_scaled_mesh(path: Path, scale: float, units: str, name: str) -> trimesh
     import trimesh
 
     from simgrasp.assets.mesh_check import MeshError, validate_mesh
+    from simgrasp.assets.mesh_object import size_hint
 
     if not scale > 0 or not np.isfinite(scale):
         raise SimgraspError(f"--scale must be a positive number, got {scale}")
@@ -87,9 +88,11 @@ def load_scaled_mesh(path: Path, scale: float, units: str, name: str) -> trimesh
         raise SimgraspError(f"cannot read mesh {path}: {type(exc).__name__}: {exc}") from exc
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise SimgraspError(f"mesh {path} is empty (no faces)")
-    loaded.apply_scale(scale * METERS_PER_UNIT[units])
+    factor = scale * METERS_PER_UNIT[units]
+    loaded.apply_scale(factor)
     try:
         validate_mesh(loaded, name, path)
     except MeshError as exc:
-        raise SimgraspError(f"{exc} (check --scale / --units)") from exc
+        hint = size_hint(f"{exc} (check --scale / --units)", loaded, path, factor)
+        raise SimgraspError(hint) from exc
     return loaded
