@@ -2,8 +2,8 @@
 
 Two sets of frames: the 45 real osd-learn scenes (``$SIMGRASP_REAL_DIR/osd-learn``; skipped
 with a line when absent; default settings) and the kinect views of simulated clutter scenes (a
-generated tool among five generated distractors, four views each, rendered once through the
-chain's own scene, render and sensor code, segmented with the chain's settings,
+generated tool among five generated distractors, ``--distractors``, four views each, rendered
+once through the chain's own scene, render and sensor code, segmented with the chain's settings,
 ``SegmentConfig.simulated``: the ``segment`` perception of ``simgrasp evaluate --clutter``).
 Per frame the least CPU time of ``--repeats`` runs is taken; medians over the frames are
 printed with their stage medians (``Segmentation.timings_s``). The same-run baseline is back-
@@ -11,7 +11,7 @@ projecting the frame's depth image to camera-frame points (``depth_to_points_cam
 cheapest whole-frame step every cut needs; its ratio tells a slow machine from a slow segmenter.
 CPU time (not wall) because the machine is shared; BLAS and OpenMP are held to one thread.
 
-    python benchmarks/bench_segment.py [--repeats 3] [--clutter-scenes 3]
+    python benchmarks/bench_segment.py [--repeats 3] [--clutter-scenes 3] [--distractors 5]
 
 Goal (issue 26): <= 50 ms per frame on one core.
 """
@@ -57,9 +57,9 @@ def osd_frames() -> list[Frame]:
     return frames
 
 
-def clutter_frames(scenes: int) -> list[Frame]:
-    """Kinect views of ``scenes`` generated-tool clutter scenes (seeds 0..), as perceive cuts
-    them."""
+def clutter_frames(scenes: int, distractors: int) -> list[Frame]:
+    """Kinect views of ``scenes`` generated-tool clutter scenes (seeds 0..) with
+    ``distractors`` distractors each, as perceive cuts them."""
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grippers import make_gripper
@@ -69,7 +69,7 @@ def clutter_frames(scenes: int) -> list[Frame]:
     from simgrasp.scenes.scene import build_scene
 
     config = ChainConfig.of(
-        scene__clutter=5, scene__clutter_objects="generated", sensor__kind="kinect"
+        scene__clutter=distractors, scene__clutter_objects="generated", sensor__kind="kinect"
     )
     gripper, frames = make_gripper("builtin"), []
     for index in range(scenes):
@@ -115,6 +115,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--clutter-scenes", type=int, default=3)
+    parser.add_argument("--distractors", type=int, default=5, help="per clutter scene, 0-12")
     args = parser.parse_args()
     osd = osd_frames()
     if osd:
@@ -125,7 +126,13 @@ def main() -> None:
             "(set SIMGRASP_REAL_DIR)"
         )
     if args.clutter_scenes > 0:
-        report("kinect clutter views", clutter_frames(args.clutter_scenes), args.repeats, SIMULATED)
+        frames = clutter_frames(args.clutter_scenes, args.distractors)
+        report(
+            f"kinect clutter views ({args.distractors} distractors)",
+            frames,
+            args.repeats,
+            SIMULATED,
+        )
 
 
 if __name__ == "__main__":
