@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from simgrasp.handles.cluster import best_first, cluster_handles, ranked_clusters
+from simgrasp.handles.cluster import best_first, cluster_handles
 from simgrasp.handles.config import CentralityMeasure
 
 
@@ -26,7 +26,7 @@ def test_a_long_handle_far_from_the_centroid_outranks_a_short_near_arc() -> None
     axes = np.concatenate([np.tile([1.0, 0.0, 0.0], (60, 1)), np.tile([0.0, 0.0, 1.0], (4, 1))])
 
     def rank(measure: CentralityMeasure):
-        return cluster_handles(
+        ranked = cluster_handles(
             points,
             axes,
             np.full(64, 0.03),
@@ -38,6 +38,7 @@ def test_a_long_handle_far_from_the_centroid_outranks_a_short_near_arc() -> None
             max_opening=0.085,
             min_relative_score=0.5,
         )
+        return [r.handle for r in ranked], [r.members for r in ranked]
 
     by_center, _ = rank("center")
     assert len(by_center) == 1 and by_center[0].center[0] < 0.01  # the arc alone
@@ -58,7 +59,7 @@ def test_a_second_part_must_pass_the_cut_by_its_center_too() -> None:
     grip = np.stack([np.full(40, 0.01), np.zeros(40), np.linspace(-0.02, -0.06, 40)], axis=1)
     barrel = np.stack([np.linspace(0.04, 0.20, 40), np.zeros(40), np.full(40, 0.02)], axis=1)
     axes = np.concatenate([np.tile([0.0, 0.0, 1.0], (40, 1)), np.tile([1.0, 0.0, 0.0], (40, 1))])
-    scored = ranked_clusters(
+    scored = cluster_handles(  # min_relative_score 0: every cluster
         np.concatenate([grip, barrel]),
         axes,
         np.full(80, 0.03),

@@ -45,7 +45,7 @@ def cluster_handles(
     max_opening: float | None = None,
     min_relative_score: float = 0.0,
     anchors: NDArray[np.float64] | None = None,
-) -> tuple[tuple[Handle, ...], tuple[NDArray[np.int64], ...]]:
+) -> list[Ranked]:
     """Group candidates whose handle points chain within ``distance`` (m) into handles.
 
     Args:
@@ -60,50 +60,17 @@ def cluster_handles(
             (:func:`_lever_arm_sq`).
         max_opening: the gripper's maximum opening (m). When given, a handle's score is
             weighted by its jaw clearance min(1, (max_opening - width) / (max_opening / 2)):
-            a part barely narrower than the open jaws (a mug's body) leaves no room for pose
-            error, a handle half the opening or narrower is not penalized.
-        min_relative_score: handles scoring below this fraction of the best are dropped
-            (see :func:`best_first`).
+            a part barely narrower than the open jaws (a mug's body) ranks low.
+        min_relative_score: the relative score cut of :func:`best_first` (0: keep all).
         anchors: (M, 3) points to take the handle centers from instead of ``handle_points``
             (the candidates' seen surface points); the clustering still joins handle points.
 
     Returns:
-        Handles sorted by decreasing score, and for each the indices of its candidates. A
+        The kept handles (:class:`Ranked`: each with its candidates' indices), best first. A
         handle's axis is the dominant direction of its candidates' axes (sign-free), its
         center the candidate point nearest the cluster's median, its score its share of all
         candidates times that direction's coherence (mean squared cosine) times centrality.
     """
-    ranked = ranked_clusters(
-        handle_points,
-        axes,
-        widths,
-        distance=distance,
-        min_support=min_support,
-        object_center=object_center,
-        centrality_length=centrality_length,
-        centrality_measure=centrality_measure,
-        max_opening=max_opening,
-        anchors=anchors,
-    )
-    kept = best_first(ranked, min_relative_score)
-    return tuple(r.handle for r in kept), tuple(r.members for r in kept)
-
-
-def ranked_clusters(
-    handle_points: NDArray[np.float64],
-    axes: NDArray[np.float64],
-    widths: NDArray[np.float64],
-    *,
-    distance: float,
-    min_support: int,
-    object_center: NDArray[np.float64] | None = None,
-    centrality_length: float | None = None,
-    centrality_measure: CentralityMeasure = "center",
-    max_opening: float | None = None,
-    anchors: NDArray[np.float64] | None = None,
-) -> list[Ranked]:
-    """Every cluster of at least ``min_support`` candidates as a scored :class:`Ranked`, in
-    cluster order, before any relative score cut (arguments as :func:`cluster_handles`)."""
     count = len(handle_points)
     if count == 0:
         return []
@@ -124,7 +91,7 @@ def ranked_clusters(
         )
         guard = _weighted(handle, object_center, centrality_length, "center", max_opening).score
         found.append(Ranked(weighted, members, guard))
-    return found
+    return best_first(found, min_relative_score)
 
 
 def best_first(found: list[Ranked], min_relative_score: float) -> list[Ranked]:

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.handles.cluster import Ranked, best_first, ranked_clusters
+from simgrasp.handles.cluster import Ranked, best_first, cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Handle
 from simgrasp.quadric import Quadric, QuadricAnalysis, QuadricFit
@@ -91,7 +91,7 @@ def cluster_passes(
     found: list[Ranked] = []
     offset = 0
     for weight, accepted in zip(_pass_weights(passes), (p.accepted for p in passes), strict=True):
-        ranked = ranked_clusters(
+        ranked = cluster_handles(
             accepted.on_axis,
             accepted.axes,
             2 * accepted.half_widths,
@@ -103,9 +103,10 @@ def cluster_passes(
             ),
             centrality_measure=config.centrality_measure,
             max_opening=config.gripper_max_opening if config.prefer_clearance else None,
+            min_relative_score=config.min_relative_score,
             anchors=accepted.centers if config.handle_anchor == "surface" else None,
         )
-        kept = [r.scaled(weight, offset) for r in best_first(ranked, config.min_relative_score)]
+        kept = [r.scaled(weight, offset) for r in ranked]
         found += _elsewhere(kept, found, joined.on_axis, config.cluster_distance)
         offset += len(accepted.centers)
     kept = best_first(found, config.min_relative_score)

@@ -129,7 +129,7 @@ def detect_single_view(
         return replace(raw, candidates=(), handles=())
     centroid = cloud.mean(axis=0)
     rms = float(np.sqrt(((cloud - centroid) ** 2).sum(axis=1).mean()))
-    handles, members = cluster_handles(
+    ranked = cluster_handles(
         np.stack([c.handle_point for c in kept]),
         np.stack([c.axis for c in kept]),
         np.array([c.width for c in kept]),
@@ -142,5 +142,6 @@ def detect_single_view(
         min_relative_score=quadric.min_relative_score,
         anchors=_anchors(kept, config, spacing),
     )
-    supporting = sorted({int(i) for m in members for i in m})
+    supporting = sorted({int(i) for r in ranked for i in r.members})
+    handles = tuple(r.handle for r in ranked)
     return replace(raw, candidates=tuple(kept[i] for i in supporting), handles=handles)
