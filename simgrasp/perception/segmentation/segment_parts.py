@@ -105,7 +105,7 @@ def _contacts(
     offsets = np.array([(dr, dc) for dr in steps for dc in steps if dr or dc])
     there, inside = _neighbours(labels.shape, pixels, offsets)
     other = np.where(inside, labels.reshape(-1)[there], 0)  # label 0 beyond the image
-    gaps = _row_distance_squared(points.reshape(-1, 3), pixels, there)
+    gaps = _distance_squared(points.reshape(-1, 3), pixels, there)
     near = gaps <= config.part_contact_distance**2
     own = labels.reshape(-1)[pixels]
     touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own][None, :])
@@ -130,11 +130,11 @@ def _neighbours(
     return there, inside
 
 
-def _row_distance_squared(
+def _distance_squared(
     points: NDArray[np.float32], pixels: NDArray[np.intp], there: NDArray[np.intp]
 ) -> NDArray[np.float32]:
-    """:func:`_distance_squared` (the same float32 operations) with the positions as rows of
-    ``points`` (N, 3): no channel planes of a window to copy."""
+    """(S, L) squared 3-D distance (m^2) from each of the L ``pixels`` to its S pixels
+    ``there`` (flat indices into the rows of ``points`` (N, 3))."""
     here = np.take(points, pixels, axis=0)
     far = np.take(points, there.reshape(-1), axis=0).reshape(*there.shape, 3)
     offset = [far[..., k] - here[None, :, k] for k in range(3)]
@@ -158,22 +158,13 @@ def _window(
 def _padded(
     labels: NDArray[np.int32], points: NDArray[np.float32], pixels: NDArray[np.int64], reach: int
 ) -> tuple[NDArray[np.int32], NDArray[np.float32], NDArray[np.int64]]:
-    """``labels`` (H, W) padded by ``reach`` pixels of label 0, the (H, W, 3) ``points`` as
-    three flat channel planes padded alike (3, (H + 2 reach) (W + 2 reach)), and the flat
-    ``pixels`` as indices into the padded grid."""
+    """``labels`` (H, W) padded by ``reach`` pixels of label 0, the (H, W, 3) ``points``
+    padded alike as rows ((H + 2 reach) (W + 2 reach), 3), and the flat ``pixels`` as
+    indices into the padded grid."""
     padded = zero_padded(labels, reach)
     planes = zero_padded(np.moveaxis(points, 2, 0), reach)
     rows, cols = np.divmod(pixels, labels.shape[1])
-    return padded, planes.reshape(3, -1), (rows + reach) * padded.shape[1] + cols + reach
-
-
-def _distance_squared(
-    flat_planes: NDArray[np.float32], pixels: NDArray[np.int64], there: NDArray[np.int64]
-) -> NDArray[np.float32]:
-    """(S, L) squared 3-D distance (m^2) from each of the L ``pixels`` to its S pixels
-    ``there`` (flat indices into the channel planes (3, M))."""
-    offset = [plane[there] - plane[pixels] for plane in flat_planes]
-    return offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]
+    return padded, planes.reshape(3, -1).T, (rows + reach) * padded.shape[1] + cols + reach
 
 
 def _best_pairs(
@@ -211,14 +202,14 @@ def table_edge_claims(
     is_part[:FIRST_OBJECT] = False
     pixels = _pixels_of(is_part, grouped)
     rows, cols, inner = _window(labels.shape, pixels, reach)
-    padded, flat_planes, padded_pixels = _padded(
+    padded, padded_points, padded_pixels = _padded(
         labels[rows, cols], points[rows, cols], inner, reach
     )
     width = padded.shape[1]
     steps = np.arange(-reach, reach + 1)
     shifts = (steps[:, None] * width + steps[None, :]).reshape(-1)
     there = padded_pixels[None, :] + shifts[:, None]
-    near = _distance_squared(flat_planes, padded_pixels, there) <= config.part_contact_distance**2
+    near = _distance_squared(padded_points, padded_pixels, there) <= config.part_contact_distance**2
     padded_height = zero_padded(height[rows, cols], reach).reshape(-1)
     edge = (
         near
