@@ -10,16 +10,14 @@ a box-filtered position image, so every step is a few whole-image numpy / scipy.
 
 from __future__ import annotations
 
-from typing import TypeVar
-
 import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
+from simgrasp.perception.segmentation.segment_attach import attach_edges
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 Grid = NDArray[np.float32]
-Scalar = TypeVar("Scalar", bound=np.generic)
 
 
 def grid_components(
@@ -31,18 +29,20 @@ def grid_components(
     """Segment ids (H, W) of the ``candidates`` pixels (0 elsewhere), in no particular order.
 
     ``points`` is the (H, W, 3) position image (m, NaN where invalid). The candidates are cut
-    group by group (:func:`candidate_groups`), each in its bounding box: groups lie too far
-    apart for any step to see two at once, and a group with fewer than ``min_object_points``
-    pixels can only give segments that are dropped, so it is skipped. With
-    ``normal_bin_px`` > 1 the normals' blocks are anchored at the corner of the bounding box
-    of all candidates, so all are cut in that one box.
+    group by group (:func:`candidate_groups`, at the reach of every step together), each in
+    its bounding box: groups lie too far apart for any step to see two at once, and a group
+    with fewer than ``min_object_points`` pixels can only give segments that are dropped, so
+    it is skipped. Within a group the cuts are taken sub-group by sub-group
+    (:func:`_split_cuts`). With ``normal_bin_px`` > 1 the normals' blocks are anchored at the
+    corner of the bounding box of all candidates, so all are cut in that one box.
     """
     segments = np.zeros(candidates.shape, dtype=np.int32)
     next_id = 0
+    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
     if config.normal_bin_px == 1:
-        groups = candidate_groups(candidates, config)
+        reach = margin + config.concave_step_px + config.attach_radius_px
+        groups = candidate_groups(candidates, margin, reach)
     else:  # the normals' blocks anchored at the one box of all candidates, as ever
-        margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
         rows, cols = bounding_slices(candidates, margin)
         groups = [(rows, cols, candidates[rows, cols])]
     for rows, cols, group in groups:
@@ -61,22 +61,20 @@ or 8, since :func:`_blocks_any` reads a block row of booleans as one unsigned wo
 
 
 def candidate_groups(
-    candidates: NDArray[np.bool_], config: SegmentConfig
+    candidates: NDArray[np.bool_], margin: int, reach: int
 ) -> list[tuple[slice, slice, NDArray[np.bool_]]]:
-    """The ``candidates`` (H, W) split into groups whose pixels lie farther apart than any
-    step of the cut reaches (the normals' window and baseline, the concave baseline and the
-    attach radius): ``GROUP_BLOCK`` blocks holding a candidate, joined when one block of
-    dilation makes them touch (pixels of two groups are then at least 3 blocks + 1 apart).
-    Each group as the row and column slices of its blocks grown by the normals' margin and
-    its pixels within them."""
-    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
-    reach = margin + config.normal_bin_px * config.concave_step_px + config.attach_radius_px
+    """The ``candidates`` (H, W) split into groups whose pixels lie more than ``reach`` (px)
+    apart: ``GROUP_BLOCK`` blocks holding a candidate, joined when dilations of the blocks
+    make them touch (with no dilation, pixels of two groups are at least one block + 1
+    apart; with one, 3 blocks + 1). Each group as the row and column slices of its blocks
+    grown by ``margin`` (px) and its pixels within them."""
     dilation = max(0, -(-(reach - GROUP_BLOCK) // (2 * GROUP_BLOCK)))
     (height, width), size = candidates.shape, GROUP_BLOCK
     padded = np.zeros((-(-height // size) * size, -(-width // size) * size), dtype=bool)
     padded[:height, :width] = candidates
     blocks = _blocks_any(padded)
-    grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
+    if dilation:  # (iterations=0 would dilate until nothing changes)
+        grown = ndimage.binary_dilation(blocks, np.ones((3, 3), bool), iterations=dilation)
     ids, _ = ndimage.label(grown if dilation else blocks, np.ones((3, 3), bool))
     ids *= blocks
     groups = []
@@ -137,35 +135,83 @@ def _crop_components(
     viewpoint: NDArray[np.float64],
     config: SegmentConfig,
 ) -> NDArray[np.int32]:
-    """Segment ids of the ``candidates`` pixels of the (H, W, 3) crop ``points``. The steps
-    work on channel planes (3, H, W): each coordinate a contiguous image, sums of products
-    written out component by component (the same float32 operations as ``einsum``)."""
+    """Segment ids of the ``candidates`` pixels of the (H, W, 3) crop ``points``: the
+    connected pixels left between the cuts (:func:`_split_cuts`, or :func:`_cuts` of the
+    whole crop with ``normal_bin_px`` > 1), numbered in raster order, then the cut pixels
+    attached (:func:`attach_edges`)."""
     if candidates.size == 0:
         return np.zeros(candidates.shape, dtype=np.int32)
+    if config.normal_bin_px == 1:
+        cut, kept = _split_cuts(points, candidates, viewpoint, config)
+    else:
+        cut, kept = _cuts(points, candidates, viewpoint, config), candidates
+    segments, _ = ndimage.label(kept & ~cut)
+    segments = segments.astype(np.int32, copy=False)
+    flat_planes = _masked_planes(points, kept, config.attach_radius_px).reshape(3, -1)
+    return attach_edges(segments, flat_planes, kept, config)
+
+
+def _split_cuts(
+    points: Grid,
+    candidates: NDArray[np.bool_],
+    viewpoint: NDArray[np.float64],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """The cut pixels (H, W) of the ``candidates`` of the (H, W, 3) crop ``points``, taken
+    sub-group by sub-group (:func:`candidate_groups` at the reach of the cuts' own steps and
+    of the attach radius, 7 px by default: a group's bounding box is mostly empty when sensor
+    speckles chain its objects), and the candidates kept: those of sub-groups of at least
+    ``min_object_points`` pixels (the others can only give segments that are dropped, and no
+    other pixel attaches to them). A pixel's cut reads the candidates within the normals'
+    half window + baseline + the concave baseline of it, all of its own sub-group, and lies
+    that far inside its sub-group's box (the normals' margin, 9 px by default), so it is the
+    same as in the group's box."""
+    margin = config.normal_window_px + 2 * config.normal_step_px
+    reach = config.normal_window_px // 2 + config.normal_step_px + config.concave_step_px
+    cut = np.zeros(candidates.shape, dtype=bool)
+    kept = candidates.copy()
+    for rows, cols, group in candidate_groups(
+        candidates, margin, max(reach, config.attach_radius_px)
+    ):
+        if np.count_nonzero(group) < config.min_object_points:
+            kept[rows, cols] &= ~group
+            continue
+        crop_cut = _cuts(points[rows, cols], group, viewpoint, config)
+        cut[rows, cols] |= crop_cut & group
+    return cut, kept
+
+
+def _cuts(
+    points: Grid,
+    candidates: NDArray[np.bool_],
+    viewpoint: NDArray[np.float64],
+    config: SegmentConfig,
+) -> NDArray[np.bool_]:
+    """Cut pixels (H, W) of the ``candidates`` of the (H, W, 3) crop ``points``: depth steps
+    and concave creases. The steps work on channel planes (3, H, W): each coordinate a
+    contiguous image, zero outside the candidates, sums of products written out component
+    by component (the same float32 operations as ``einsum``)."""
     eye = viewpoint.astype(np.float32)[:, None, None]
-    planes = _planes(points)
+    planes = _masked_planes(points, candidates, 0)
     binned, binned_mask = _binned(points, candidates, config.normal_bin_px)
-    binned_planes = planes if binned is points else _planes(binned)
+    binned_planes = planes if binned is points else _masked_planes(binned, binned_mask, 0)
     smooth = _box_mean(binned_planes, binned_mask, config.normal_window_px)
     normals = _grid_normals(smooth, eye, config.normal_step_px)
     concave = _concave_cuts(smooth, normals, config.concave_step_px, config.concave_threshold)
     cut = _depth_cuts(planes, candidates, eye, config.depth_jump)
     cut |= _unbinned(concave, config.normal_bin_px, candidates.shape)
-    interior = candidates & ~cut
-    segments, _ = ndimage.label(interior)
-    segments = segments.astype(np.int32, copy=False)
-    flat_planes = _padded_planes(planes, config.attach_radius_px)
-    return _attach_edges(segments, flat_planes, candidates, config)
+    return cut
 
 
-def _planes(points: Grid) -> Grid:
-    """(H, W, 3) positions as three contiguous (H, W) channel planes, (3, H, W)."""
-    return np.ascontiguousarray(np.moveaxis(points, 2, 0))
-
-
-def _dot(a: Grid, b: Grid) -> Grid:
-    """Per-pixel dot product of two (3, ...) channel stacks."""
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+def _masked_planes(points: Grid, mask: NDArray[np.bool_], reach: int) -> Grid:
+    """(3, H + 2 reach, W + 2 reach) the (H, W, 3) positions as three contiguous channel
+    planes, zero outside ``mask`` (H, W) and in a border of ``reach`` pixels."""
+    height, width = mask.shape
+    planes = np.zeros((3, height + 2 * reach, width + 2 * reach), dtype=points.dtype)
+    inner = planes[:, reach : reach + height, reach : reach + width]
+    for channel in range(3):
+        np.copyto(inner[channel], points[..., channel], where=mask)
+    return planes
 
 
 def _binned(points: Grid, mask: NDArray[np.bool_], size: int) -> tuple[Grid, NDArray[np.bool_]]:
@@ -194,11 +240,9 @@ def _unbinned(blocks: NDArray[np.bool_], size: int, shape: tuple[int, ...]) -> N
 
 def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
     """Mean position (3, H, W) over each ``size`` x ``size`` window of the masked pixels of
-    ``planes`` (3, H, W; NaN if none)."""
-    weight = mask.astype(np.float32)
-    summed = np.where(mask, planes, np.float32(0.0))
-    count = ndimage.uniform_filter(weight, size, mode="constant")
-    mean = ndimage.uniform_filter1d(summed, size, axis=1, mode="constant")
+    ``planes`` (3, H, W; zero outside ``mask``; NaN where a window holds none)."""
+    count = ndimage.uniform_filter(mask.view(np.uint8), size, np.float32, mode="constant")
+    mean = ndimage.uniform_filter1d(planes, size, axis=1, mode="constant")
     mean = ndimage.uniform_filter1d(mean, size, axis=2, mode="constant")
     with np.errstate(invalid="ignore", divide="ignore"):
         mean /= count
@@ -209,7 +253,7 @@ def _box_mean(planes: Grid, mask: NDArray[np.bool_], size: int) -> Grid:
 def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
     """Unit normals (3, H, W) from central differences over ``step`` pixels of ``smooth``
     (3, H, W), turned toward ``eye`` (3, 1, 1); NaN where a neighbour is missing. Written
-    into reused buffers (the float32 operations of the cross product and ``_dot``)."""
+    into reused buffers (the float32 operations of the cross product and :func:`_dot_into`)."""
     du, dv = np.empty_like(smooth), np.empty_like(smooth)
     for border in (slice(None, step), slice(-step, None)):  # NaN where a neighbour is missing
         du[:, :, border] = np.nan
@@ -232,7 +276,8 @@ def _grid_normals(smooth: Grid, eye: NDArray[np.float32], step: int) -> Grid:
 
 
 def _dot_into(a: Grid, b: Grid, out: Grid, scratch: Grid) -> Grid:
-    """``_dot(a, b)`` (the same float32 operations, in the same order) written into ``out``,
+    """Per-pixel dot product ``a[0] b[0] + a[1] b[1] + a[2] b[2]`` of two (3, ...) channel
+    stacks (float32, in that order) written into ``out``,
     with ``scratch`` a buffer of its shape."""
     np.multiply(a[0], b[0], out=out)
     for channel in (1, 2):
@@ -285,80 +330,3 @@ def _concave_cuts(smooth: Grid, normals: Grid, step: int, threshold: float) -> N
             span[axis - 1] = slice(shift, shift + concave.shape[axis - 1])
             cut[tuple(span)] |= concave
     return cut
-
-
-def _attach_edges(
-    segments: NDArray[np.int32],
-    flat_planes: Grid,
-    candidates: NDArray[np.bool_],
-    config: SegmentConfig,
-) -> NDArray[np.int32]:
-    """Give each cut-edge candidate pixel the segment of the pixel nearest to it in 3-D among
-    those up to ``attach_radius_px`` away in the image (rows and columns at odd offsets and
-    0; the first in row-major offset order on a tie), when within ``attach_distance`` (m): a
-    mixed pixel at an occluding edge joins the side whose depth it is nearer. Repeated
-    ``attach_passes`` times, each pass on the pixels still loose, so a run of mixed pixels
-    joins one pixel-step at a time. ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions
-    padded by r = ``attach_radius_px`` (:func:`_padded_planes`); every offset is tried at
-    once, one (pixels, offsets) array, the 3-D gap computed only to labeled pixels."""
-    reach = config.attach_radius_px
-    loose_mask = candidates & (segments == 0)
-    if not segments.any() or not loose_mask.any():
-        return segments
-    labels = zero_padded(segments, reach)
-    flat_labels = labels.reshape(-1)
-    loose = np.flatnonzero(loose_mask)  # flat in the crop, then in the padded crop
-    loose += 2 * reach * (loose // segments.shape[1]) + reach * (labels.shape[1] + 1)
-    steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
-    shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
-    for _ in range(config.attach_passes):
-        around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
-        label = flat_labels[around]
-        pairs = np.flatnonzero(label > 0)
-        gap = np.full(around.shape, np.inf, dtype=flat_planes.dtype)
-        gap.reshape(-1)[pairs] = _squared_gaps(
-            flat_planes, around.reshape(-1)[pairs], loose[pairs // len(shifts)]
-        )
-        nearest = gap.argmin(axis=1)
-        rows = np.arange(len(loose))
-        near = gap[rows, nearest] <= config.attach_distance**2
-        flat_labels[loose[near]] = label[rows[near], nearest[near]]
-        loose = loose[~near]
-        if len(loose) == 0:
-            break
-    return labels[reach:-reach, reach:-reach]
-
-
-def _squared_gaps(
-    flat_planes: Grid, around: NDArray[np.intp], loose: NDArray[np.intp]
-) -> NDArray[np.float32]:
-    """Squared 3-D distance (m^2) from each ``loose`` pixel to each pixel ``around`` it (flat
-    indices into ``flat_planes``' channels, broadcast against each other), channel by channel
-    in place: the same float32 operations as ``_dot(offset, offset)`` of the stacked offsets,
-    without the stack."""
-    gap = np.empty(around.shape, dtype=flat_planes.dtype)
-    channel = np.empty_like(gap)
-    for index, plane in enumerate(flat_planes):
-        np.take(plane, around, out=channel)
-        channel -= plane[loose]
-        channel *= channel
-        if index == 0:
-            gap, channel = channel, gap
-        else:
-            gap += channel
-    return gap
-
-
-def _padded_planes(planes: Grid, reach: int) -> Grid:
-    """(3, (H + 2 reach) (W + 2 reach)) the channel planes (3, H, W) padded with zeros, each
-    flattened."""
-    return zero_padded(planes, reach).reshape(3, -1)
-
-
-def zero_padded(grid: NDArray[Scalar], reach: int) -> NDArray[Scalar]:
-    """``grid`` (..., H, W) with ``reach`` zeros around its last two axes (``np.pad``'s
-    result, without its per-call overhead)."""
-    *lead, height, width = grid.shape
-    padded = np.zeros((*lead, height + 2 * reach, width + 2 * reach), dtype=grid.dtype)
-    padded[..., reach : reach + height, reach : reach + width] = grid
-    return padded

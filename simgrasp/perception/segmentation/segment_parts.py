@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.perception.segmentation.organized_segments import zero_padded
+from simgrasp.perception.segmentation.segment_attach import zero_padded
 from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, TABLE, SegmentConfig
 from simgrasp.perception.segmentation.segment_objects import LabelPixels
 
