@@ -76,9 +76,15 @@ def _pixels_of(chosen: NDArray[np.bool_], grouped: LabelPixels) -> NDArray[np.in
 
 def _spread(own: NDArray[np.int32], height: NDArray[np.float32], count: int) -> NDArray[np.float64]:
     """Per label, the 5th-95th percentile span of the ``height`` (m) of its pixels, given the
-    label ``own`` of each; infinite for labels without pixels."""
-    order = np.lexsort((height, own))
-    sorted_height = height[order]
+    label ``own`` of each; infinite for labels without pixels. One sort of int64 keys: the
+    label in the high word, the height's float32 bits made order-preserving in the low."""
+    bits = height.view(np.int32).astype(np.int64)
+    keys = np.where(bits < 0, ~bits & 0x7FFFFFFF, bits | 0x80000000)
+    keys |= own.astype(np.int64) << 32
+    keys.sort()
+    low = keys & 0xFFFFFFFF
+    bits = np.where(low & 0x80000000, low & 0x7FFFFFFF, (~low & 0x7FFFFFFF) | 0x80000000)
+    sorted_height = bits.astype(np.uint32).view(np.float32)
     sizes = np.bincount(own, minlength=count)
     starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
     span = np.full(count, np.inf)
@@ -99,19 +105,21 @@ def _contacts(
     """Codes ``part * count + whole`` of (thin segment, larger segment) pairs and, for each,
     how many of the thin segment's ``pixels`` (flat indices) have a pixel of the larger one
     within ``part_contact_px`` (rows and columns at offsets -r, -1, 0, 1, r) and
-    ``part_contact_distance`` (m). Every offset at once, on grids padded with label 0."""
+    ``part_contact_distance`` (m). Every offset at once, on grids padded with label 0; the
+    3-D distance only to pixels of larger segments."""
     count, reach = len(sizes), config.part_contact_px
     steps = sorted({-reach, -1, 0, 1, reach})
     offsets = np.array([(dr, dc) for dr in steps for dc in steps if dr or dc])
+    flat = labels.reshape(-1)
     there, inside = _neighbours(labels.shape, pixels, offsets)
-    other = np.where(inside, labels.reshape(-1)[there], 0)  # label 0 beyond the image
-    gaps = _distance_squared(points.reshape(-1, 3), pixels, there)
+    other = np.where(inside, flat[there], 0).reshape(-1)  # label 0 beyond the image
+    larger = (other >= FIRST_OBJECT) & (sizes[other] > np.tile(sizes[flat[pixels]], len(offsets)))
+    slots = np.flatnonzero(larger)  # (offset, pixel) pairs, row-major
+    here = pixels[slots % len(pixels)]
+    gaps = _pair_gaps(points.reshape(-1, 3), here, there.reshape(-1)[slots])
     near = gaps <= config.part_contact_distance**2
-    own = labels.reshape(-1)[pixels]
-    touch = near & (other >= FIRST_OBJECT) & (sizes[other] > sizes[own][None, :])
-    here = np.broadcast_to(pixels[None, :], touch.shape)[touch]
-    pixel_pairs = np.unique(here.astype(np.int64) * count + other[touch])
-    parts = labels.reshape(-1)[pixel_pairs // count].astype(np.int64)
+    pixel_pairs = np.unique(here[near].astype(np.int64) * count + other[slots[near]])
+    parts = flat[pixel_pairs // count].astype(np.int64)
     return np.unique(parts * count + pixel_pairs % count, return_counts=True)
 
 
@@ -130,14 +138,14 @@ def _neighbours(
     return there, inside
 
 
-def _distance_squared(
-    points: NDArray[np.float32], pixels: NDArray[np.intp], there: NDArray[np.intp]
+def _pair_gaps(
+    points: NDArray[np.float32], here: NDArray[np.intp], there: NDArray[np.intp]
 ) -> NDArray[np.float32]:
-    """(S, L) squared 3-D distance (m^2) from each of the L ``pixels`` to its S pixels
-    ``there`` (flat indices into the rows of ``points`` (N, 3))."""
-    here = np.take(points, pixels, axis=0)
-    far = np.take(points, there.reshape(-1), axis=0).reshape(*there.shape, 3)
-    offset = [far[..., k] - here[None, :, k] for k in range(3)]
+    """(P,) squared 3-D distance (m^2) from each of the rows ``here`` (P,) of ``points``
+    (N, 3) to the row ``there`` (P,) paired with it, channel by channel in float32."""
+    near = np.take(points, here, axis=0)
+    far = np.take(points, there, axis=0)
+    offset = [far[:, k] - near[:, k] for k in range(3)]
     return offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]
 
 
@@ -208,14 +216,13 @@ def table_edge_claims(
     width = padded.shape[1]
     steps = np.arange(-reach, reach + 1)
     shifts = (steps[:, None] * width + steps[None, :]).reshape(-1)
-    there = padded_pixels[None, :] + shifts[:, None]
-    near = _distance_squared(padded_points, padded_pixels, there) <= config.part_contact_distance**2
+    there = (padded_pixels[None, :] + shifts[:, None]).reshape(-1)  # (offset, pixel) pairs
     padded_height = zero_padded(height[rows, cols], reach).reshape(-1)
-    edge = (
-        near
-        & (padded.reshape(-1)[there] == TABLE)
-        & (padded_height[there] > config.part_edge_height)
-    )
     window = padded.reshape(-1).copy()
-    window[there[edge]] = np.broadcast_to(flat[pixels][None, :], edge.shape)[edge]
+    table = (window[there] == TABLE) & (padded_height[there] > config.part_edge_height)
+    slots = np.flatnonzero(table)
+    part = slots % len(pixels)
+    gaps = _pair_gaps(padded_points, padded_pixels[part], there[slots])
+    edge = gaps <= config.part_contact_distance**2
+    window[there[slots[edge]]] = flat[pixels][part[edge]]
     return rows, cols, window.reshape(padded.shape)[reach:-reach, reach:-reach]
