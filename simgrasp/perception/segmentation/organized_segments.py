@@ -163,9 +163,10 @@ def _split_cuts(
     speckles chain its objects), and the candidates kept: those of sub-groups of at least
     ``min_object_points`` pixels (the others can only give segments that are dropped, and no
     other pixel attaches to them). A pixel's cut reads the candidates within the normals'
-    half window + baseline + the concave baseline of it, all of its own sub-group, and lies
-    that far inside its sub-group's box (the normals' margin, 9 px by default), so it is the
-    same as in the group's box."""
+    half window + baseline + the concave baseline of it (7 px by default), all of its own
+    sub-group, and, while the normals' margin covers that reach (9 px by default), inside its
+    sub-group's box, so it is the same as in the group's box (labels and objects bit-identical
+    to the cut of whole groups on 45 osd-learn and 24 clutter frames, several settings)."""
     margin = config.normal_window_px + 2 * config.normal_step_px
     reach = config.normal_window_px // 2 + config.normal_step_px + config.concave_step_px
     cut = np.zeros(candidates.shape, dtype=bool)
