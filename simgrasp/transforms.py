@@ -50,7 +50,7 @@ def rotations_to_quats_wxyz(rotations: NDArray[np.float64]) -> NDArray[np.float6
     """``[w, x, y, z]`` quaternions ``(N, 4)`` of ``N`` rotation matrices ``(N, 3, 3)`` (either
     sign), row for row the same bits as :func:`rotation_to_quat_wxyz`, in one SciPy call when
     every matrix passes its test."""
-    if all(_is_rotation(matrix) for matrix in rotations):
+    if _are_rotations(rotations):
         return Rotation.from_matrix(rotations, assume_valid=True).as_quat(scalar_first=True)
     return np.stack([rotation_to_quat_wxyz(matrix) for matrix in rotations])
 
@@ -62,6 +62,16 @@ def _is_rotation(matrix: NDArray[np.float64]) -> bool:
         return False
     (a, b, c), (d, e, f), (g, h, i) = matrix.tolist()
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) > 0
+
+
+def _are_rotations(matrices: NDArray[np.float64]) -> bool:
+    """Whether every matrix of ``(N, 3, 3)`` passes :func:`_is_rotation`'s test (in one pass of
+    array operations)."""
+    gram = matrices @ matrices.transpose(0, 2, 1)
+    if not np.all(np.abs(gram - np.eye(3)) <= _ORTHOGONAL_TOLERANCE):
+        return False
+    (a, b, c), (d, e, f), (g, h, i) = np.moveaxis(matrices, 0, -1)
+    return bool(np.all(a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) > 0))
 
 
 def matrix_to_pos_quat(

@@ -204,3 +204,30 @@ def test_export_acronym_read_back(acronym_dir: Path, tmp_path: Path) -> None:
         cwd=tmp_path,
     )
     assert json.loads(compared.stdout)["groups"]["overall"]["grasps"] <= 4
+
+
+def test_restored_start_gives_the_same_records_in_fewer_steps(tmp_path: Path) -> None:
+    """The labeler restores a free-floating trial's start (settle and jaw opening) after its
+    first trial: records bit for bit those of trials that step it, apart from the steps."""
+    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
+    name = f"{tmp_path / 'box.stl'}?mass=0.2"
+    config = LabelConfig(object=name, gripper="franka_panda", protocol="acronym")
+    labeler = GraspLabeler(model_for(name), config)
+    turned = OBJECT_T_TCP @ np.diag([-1.0, -1.0, 1.0, 1.0])  # the same grasp, jaws swapped
+    aside = OBJECT_T_TCP.copy()
+    aside[0, 3] = 0.1  # beside the box: closes on nothing
+    grasps = [OBJECT_T_TCP, turned, aside, OBJECT_T_TCP]
+    cached = [labeler.label(i, g, np.nan) for i, g in enumerate(grasps)]
+    stepped = []
+    for i, g in enumerate(grasps):
+        labeler.starts.states.clear()  # nothing to restore: every trial steps its start
+        stepped.append(labeler.label(i, g, np.nan))
+    assert [r["failure"] for r in cached] == [None, None, "missed", None]
+    assert len(labeler.starts.states) == 1  # one width (the full opening)
+    saved = [s["steps"] - c["steps"] for c, s in zip(cached, stepped, strict=True)]
+    assert saved[0] == 0 and saved[1] > 100 and saved == [0] + [saved[1]] * 3
+    for first, second in zip(cached, stepped, strict=True):
+        for record in (first, second):
+            record.pop("timings_s")
+            record.pop("steps")
+        assert first == second

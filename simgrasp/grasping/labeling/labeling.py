@@ -78,6 +78,7 @@ class GraspLabeler:
     """Labels grasps of one object with one gripper and protocol on one compiled scene."""
 
     def __init__(self, object_model: ObjectModel, config: LabelConfig) -> None:
+        from simgrasp.grasping.trials.start_states import StartStates
         from simgrasp.grasping.trials.trial import initial_object_pose
         from simgrasp.grippers import make_gripper
         from simgrasp.scenes.config import SceneConfig
@@ -90,6 +91,9 @@ class GraspLabeler:
         self.scene: Scene = build_scene(object_model, self.gripper, scene_config, config.seed)
         self.world_T_object = initial_object_pose(self.scene, self.trial_config)
         """Where the object starts (world frame): the grasps are placed relative to it."""
+        self.starts = StartStates()
+        """Free-floating trials' starts, simulated once per width (their records are those of
+        trials that step them): change ``scene.model`` only before the first label."""
 
     def label(self, index: int, object_T_tcp: NDArray[np.float64], width: float) -> dict[str, Any]:
         """The trial record of one grasp (object frame; ``width`` NaN: fully open), with its
@@ -104,7 +108,7 @@ class GraspLabeler:
             opening,
             source=GRASP_SOURCE,
         )
-        record = run_trial(self.scene, grasp, self.trial_config).to_json()
+        record = run_trial(self.scene, grasp, self.trial_config, starts=self.starts).to_json()
         return {"index": int(index), "protocol": self.config.protocol, **record}
 
 

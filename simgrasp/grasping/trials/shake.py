@@ -56,6 +56,18 @@ def _axis_angle(axis: int, angle: float) -> NDArray[np.float64]:
     return rotation
 
 
+def _motion(shake: ShakeConfig, t: float) -> tuple[float, float]:
+    """(displacement along TCP z (m), rotation about TCP y (rad)) of :func:`tcp_offset` at time
+    ``t`` (s), the same numbers."""
+    period = shake.cycles / shake.frequency
+    if t >= 2 * period:
+        return 0.0, 0.0
+    phase = math.sin(2 * math.pi * shake.frequency * t)
+    if t < period:
+        return shake.linear_amplitude * phase, 0.0
+    return 0.0, shake.angular_amplitude * phase
+
+
 def tcp_offset(shake: ShakeConfig, t: float) -> NDArray[np.float64]:
     """``tcp0_T_tcp`` (4 x 4) of the shaking motion at time ``t`` (s) since it began: first the
     translation along TCP z, then the rotation about TCP y; identity after both."""
@@ -66,6 +78,20 @@ def tcp_offset(shake: ShakeConfig, t: float) -> NDArray[np.float64]:
     if t < 2 * period:
         return make_transform(_axis_angle(1, shake.angular_amplitude * phase), np.zeros(3))
     return np.eye(4)
+
+
+def _offsets(shake: ShakeConfig, control_dt: float, steps: int) -> NDArray[np.float64]:
+    """``tcp_offset(shake, k * control_dt)`` for ``k = 1 .. steps``, stacked ``(steps, 4, 4)``
+    (entry for entry the same numbers, without a matrix per step)."""
+    offsets = np.tile(np.eye(4), (steps, 1, 1))
+    motions = np.array([_motion(shake, k * control_dt) for k in range(1, steps + 1)])
+    angles = motions[:, 1]
+    cosines = np.array([math.cos(a) for a in angles.tolist()])
+    sines = np.array([math.sin(a) for a in angles.tolist()])
+    offsets[:, 2, 3] = motions[:, 0]
+    offsets[:, 0, 0] = offsets[:, 2, 2] = cosines
+    offsets[:, 0, 2], offsets[:, 2, 0] = sines, 0.0 - sines  # +0.0 where no rotation
+    return offsets
 
 
 def shake_targets(
@@ -79,9 +105,7 @@ def shake_targets(
     (world frame, m) and ``[w, x, y, z]`` quaternions ``(steps, 4)`` (w >= 0) of the gripper
     root at control steps ``1 .. steps`` of ``control_dt`` seconds; row ``k - 1`` has the same
     bits as ``Mount.command_tcp(world_T_tcp0 @ tcp_offset(shake, k * control_dt))``."""
-    world_T_root = np.stack(
-        [world_T_tcp0 @ tcp_offset(shake, k * control_dt) @ tcp_T_root for k in range(1, steps + 1)]
-    )
+    world_T_root = world_T_tcp0 @ _offsets(shake, control_dt, steps) @ tcp_T_root
     quats = rotations_to_quats_wxyz(world_T_root[:, :3, :3])
     quats[quats[:, 0] < 0] *= -1.0
     return world_T_root[:, :3, 3].copy(), quats

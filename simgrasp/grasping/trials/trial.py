@@ -58,6 +58,7 @@ from simgrasp.grasping.trials.scoring import (
     relative_pose,
     slip_distance,
 )
+from simgrasp.grasping.trials.start_states import StartStates
 from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.scenes.scene import Scene
 
@@ -104,6 +105,7 @@ def run_trial(
     grasp: Grasp,
     config: TrialConfig | None = None,
     on_phase: Callable[[Phase, Scene], None] | None = None,
+    starts: StartStates | None = None,
 ) -> TrialResult:
     """Execute ``grasp`` (world frame) in ``scene`` and score it.
 
@@ -111,11 +113,13 @@ def run_trial(
     are independent and identical for identical inputs: this is the one trial code path of
     ``trial``, ``evaluate``, the env and ``label-grasps``. ``on_phase`` is called at the key
     moments (pre-grasp, closed, lifted, perturbed), e.g. to render frames; it must not change
-    the simulation state.
+    the simulation state. With ``starts``, a free-floating trial restores its start from it
+    (recorded by the first trial of its width): the same record in fewer steps.
     """
     config = config or TrialConfig()
     _start(scene, config)
     trial = _Trial(scene, grasp, config, Runner(scene, config), on_phase)
+    trial.starts = starts if starts is not None and starts.applies(config) else None
     if config.shake is not None:
         trial.record["score"] = 0.0
     start = trial.clock = time.perf_counter()
@@ -164,6 +168,8 @@ class _Trial:
         }
     )
     clock: float = 0.0
+    starts: StartStates | None = None
+    """Where a free-floating trial's start is kept and restored from (see ``run_trial``)."""
     world_T_object_settled: NDArray[np.float64] | None = None
     tcp_T_object_closed: NDArray[np.float64] | None = None
     object_z_closed: float = 0.0
@@ -209,13 +215,17 @@ def _execute(trial: _Trial) -> Failure | None:
 
 
 def _settle(trial: _Trial) -> None:
-    """1. The object settles while the parked gripper opens to the grasp width."""
-    gripper, grasp = trial.scene.gripper, trial.grasp
-    width = min(grasp.width, gripper.gripper.max_opening)
-    gripper.set_opening(trial.scene.data, width)
-    trial.runner.wait(trial.config.settle_time)
-    if trial.config.free_floating:  # no approach follows, during which the jaws finish opening
-        _open_jaws(trial, width)
+    """1. The object settles while the parked gripper opens to the grasp width (restored from
+    ``trial.starts`` where it holds this start)."""
+    scene, config, starts = trial.scene, trial.config, trial.starts
+    width = min(trial.grasp.width, scene.gripper.gripper.max_opening)
+    if starts is None or not starts.restore(scene, config, width):
+        scene.gripper.set_opening(scene.data, width)
+        trial.runner.wait(config.settle_time)
+        if config.free_floating:  # no approach follows, during which the jaws finish opening
+            _open_jaws(trial, width)
+        if starts is not None:
+            starts.record(scene, config, width)
     trial.world_T_object_settled = trial.scene.object_pose()
     trial.lap("settle")
 
