@@ -96,9 +96,7 @@ def segment_scene(
     points = scene.points
     valid = _timed(timings, "valid", lambda: _valid_points(scene, config))
     plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, config))
-    height = row_dot(points, plane[:3].astype(np.float32)) + np.float32(plane[3])
-    table = valid & (np.abs(height) <= config.table_distance)
-    above = valid & (height > config.table_distance) & (height < config.max_object_height)
+    height, table, above = _heights(points, valid, plane, config)
     cluster = _grid_segments if method == "grid" else _dbscan_segments
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
@@ -117,6 +115,28 @@ def segment_scene(
         table = labels == TABLE
     timings["total"] = time.perf_counter() - start
     return Segmentation(labels, plane, int(table.sum()), objects, timings)
+
+
+def _heights(
+    points: NDArray[np.float32],
+    valid: NDArray[np.bool_],
+    plane: NDArray[np.float64],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.float32], NDArray[np.bool_], NDArray[np.bool_]]:
+    """(N,) float32 height of each point above ``plane`` (m), and which ``valid`` points are
+    the table (within ``table_distance`` of it) and which above it (below
+    ``max_object_height``), in place: a valid point's height is finite, so ``|h| <= d`` is
+    ``h >= -d`` and not ``h > d``."""
+    height = row_dot(points, plane[:3].astype(np.float32))
+    height += np.float32(plane[3])
+    high = height > config.table_distance
+    table = height >= -config.table_distance
+    table &= valid
+    table &= ~high
+    above = height < config.max_object_height
+    above &= valid
+    above &= high
+    return height, table, above
 
 
 def row_dot(points: NDArray[np.float32], vector: NDArray[np.float32]) -> NDArray[np.float32]:
