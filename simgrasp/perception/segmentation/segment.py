@@ -159,18 +159,10 @@ def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any
 def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
     """(N,) whether each point is finite, not at the sensor and within ``max_range`` (m) of
     it; ``ValueError`` naming the scene when none is finite or their median range says the
-    units are not meters. The squared range is ``x x + y y + z z`` (then ``+ e.e - 2 p.e``
-    with the sensor at ``e`` off the origin) in float32, the squares taken in one contiguous
-    pass and summed column by column in place."""
+    units are not meters."""
     name = scene.source or "scene"
     points, eye = scene.points, scene.viewpoint.astype(np.float32)
-    squares = np.multiply(points, points)
-    squared = np.add(squares[:, 0], squares[:, 1])
-    squared += squares[:, 2]
-    if eye.any():
-        toward = row_dot(points, eye)
-        toward *= 2.0
-        squared += np.subtract(eye @ eye, toward, out=toward)
+    squared = _squared_ranges(points, eye)
     finite = np.isfinite(squared)
     if not finite.any():
         raise SimgraspError(f"{name}: no valid point (every point is NaN or inf)")
@@ -183,6 +175,28 @@ def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]
     valid = squared <= config.max_range**2  # False where NaN or inf, as finite is
     valid &= squared > 0
     return valid
+
+
+def _squared_ranges(points: NDArray[np.float32], eye: NDArray[np.float32]) -> NDArray[np.float32]:
+    """(N,) float32 squared distance (m^2) of each of ``points`` (N, 3) from ``eye`` (3,):
+    ``x x + y y + z z``, then ``+ e.e - 2 p.e`` when ``eye`` is off the origin (``p.e`` as
+    :func:`row_dot` takes it), in blocks of ``TRANSFORM_BLOCK`` rows through two reused
+    block buffers (whole-frame temporaries were paged in afresh on every call)."""
+    squared = np.empty(len(points), dtype=np.float32)
+    squares = np.empty((min(len(points), TRANSFORM_BLOCK), 3), dtype=np.float32)
+    toward = np.empty(len(squares), dtype=np.float32)
+    offset = eye @ eye if eye.any() else None
+    for start in range(0, len(points), TRANSFORM_BLOCK):
+        block = points[start : start + TRANSFORM_BLOCK]
+        rows, out = len(block), squared[start : start + TRANSFORM_BLOCK]
+        np.multiply(block, block, out=squares[:rows])
+        np.add(squares[:rows, 0], squares[:rows, 1], out=out)
+        out += squares[:rows, 2]
+        if offset is not None:
+            np.matmul(block, eye, out=toward[:rows])
+            toward[:rows] *= 2.0
+            out += np.subtract(offset, toward[:rows], out=toward[:rows])
+    return squared
 
 
 def fit_table_plane(
