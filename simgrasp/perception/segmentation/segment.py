@@ -181,7 +181,7 @@ def _squared_ranges(points: NDArray[np.float32], eye: NDArray[np.float32]) -> ND
     """(N,) float32 squared distance (m^2) of each of ``points`` (N, 3) from ``eye`` (3,):
     ``x x + y y + z z``, then ``+ e.e - 2 p.e`` when ``eye`` is off the origin (``p.e`` as
     :func:`row_dot` takes it), in blocks of ``TRANSFORM_BLOCK`` rows through two reused
-    block buffers (whole-frame temporaries were paged in afresh on every call)."""
+    block buffers: no (N, 3) temporary, each block's squares summed while in cache."""
     squared = np.empty(len(points), dtype=np.float32)
     squares = np.empty((min(len(points), TRANSFORM_BLOCK), 3), dtype=np.float32)
     toward = np.empty(len(squares), dtype=np.float32)
