@@ -96,9 +96,7 @@ def segment_scene(
     points = scene.points
     valid = _timed(timings, "valid", lambda: _valid_points(scene, config))
     plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, config))
-    height = row_dot(points, plane[:3].astype(np.float32)) + np.float32(plane[3])
-    table = valid & (np.abs(height) <= config.table_distance)
-    above = valid & (height > config.table_distance) & (height < config.max_object_height)
+    height, table, above = _heights(points, valid, plane, config)
     cluster = _grid_segments if method == "grid" else _dbscan_segments
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
@@ -119,6 +117,28 @@ def segment_scene(
     return Segmentation(labels, plane, int(table.sum()), objects, timings)
 
 
+def _heights(
+    points: NDArray[np.float32],
+    valid: NDArray[np.bool_],
+    plane: NDArray[np.float64],
+    config: SegmentConfig,
+) -> tuple[NDArray[np.float32], NDArray[np.bool_], NDArray[np.bool_]]:
+    """(N,) float32 height of each point above ``plane`` (m), and which ``valid`` points are
+    the table (within ``table_distance`` of it) and which above it (below
+    ``max_object_height``), in place: a valid point's height is finite, so ``|h| <= d`` is
+    ``h >= -d`` and not ``h > d``."""
+    height = row_dot(points, plane[:3].astype(np.float32))
+    height += np.float32(plane[3])
+    high = height > config.table_distance
+    table = height >= -config.table_distance
+    table &= valid
+    table &= ~high
+    above = height < config.max_object_height
+    above &= valid
+    above &= high
+    return height, table, above
+
+
 def row_dot(points: NDArray[np.float32], vector: NDArray[np.float32]) -> NDArray[np.float32]:
     """(N,) ``points @ vector`` in blocks of ``TRANSFORM_BLOCK`` rows (one BLAS thread's worth;
     the same result per row)."""
@@ -137,22 +157,46 @@ def _timed(timings: dict[str, float], step: str, work: Callable[[], Any]) -> Any
 
 
 def _valid_points(scene: SceneCloud, config: SegmentConfig) -> NDArray[np.bool_]:
+    """(N,) whether each point is finite, not at the sensor and within ``max_range`` (m) of
+    it; ``ValueError`` naming the scene when none is finite or their median range says the
+    units are not meters."""
     name = scene.source or "scene"
     points, eye = scene.points, scene.viewpoint.astype(np.float32)
-    squared = points[:, 0] * points[:, 0] + points[:, 1] * points[:, 1]
-    squared += points[:, 2] * points[:, 2]
-    if eye.any():
-        squared += eye @ eye - 2.0 * row_dot(points, eye)
+    squared = _squared_ranges(points, eye)
     finite = np.isfinite(squared)
     if not finite.any():
         raise SimgraspError(f"{name}: no valid point (every point is NaN or inf)")
-    median = float(np.sqrt(np.median(squared[finite][::97])))
+    median = float(np.sqrt(np.median(np.take(squared, np.flatnonzero(finite)[::97]))))
     if median > config.max_range:
         raise SimgraspError(
             f"{name}: points lie a median {median:.4g} units from the sensor, beyond "
             f"max_range {config.max_range} m: coordinates must be meters (millimetres?)"
         )
-    return finite & (squared <= config.max_range**2) & (squared > 0)
+    valid = squared <= config.max_range**2  # False where NaN or inf, as finite is
+    valid &= squared > 0
+    return valid
+
+
+def _squared_ranges(points: NDArray[np.float32], eye: NDArray[np.float32]) -> NDArray[np.float32]:
+    """(N,) float32 squared distance (m^2) of each of ``points`` (N, 3) from ``eye`` (3,):
+    ``x x + y y + z z``, then ``+ e.e - 2 p.e`` when ``eye`` is off the origin (``p.e`` as
+    :func:`row_dot` takes it), in blocks of ``TRANSFORM_BLOCK`` rows through two reused
+    block buffers: no (N, 3) temporary, each block's squares summed while in cache."""
+    squared = np.empty(len(points), dtype=np.float32)
+    squares = np.empty((min(len(points), TRANSFORM_BLOCK), 3), dtype=np.float32)
+    toward = np.empty(len(squares), dtype=np.float32)
+    offset = eye @ eye if eye.any() else None
+    for start in range(0, len(points), TRANSFORM_BLOCK):
+        block = points[start : start + TRANSFORM_BLOCK]
+        rows, out = len(block), squared[start : start + TRANSFORM_BLOCK]
+        np.multiply(block, block, out=squares[:rows])
+        np.add(squares[:rows, 0], squares[:rows, 1], out=out)
+        out += squares[:rows, 2]
+        if offset is not None:
+            np.matmul(block, eye, out=toward[:rows])
+            toward[:rows] *= 2.0
+            out += np.subtract(offset, toward[:rows], out=toward[:rows])
+    return squared
 
 
 def fit_table_plane(

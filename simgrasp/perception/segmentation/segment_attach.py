@@ -30,7 +30,8 @@ def attach_edges(
     joins one pixel-step at a time. ``flat_planes`` (3, (H + 2r) (W + 2r)) are the positions
     (m) of the ``candidates`` (H, W) as channel planes padded by r = ``attach_radius_px`` (any
     value elsewhere), each flattened; every offset is tried at once, one (pixels, offsets)
-    array, the 3-D gap computed only to labeled pixels."""
+    array a block of loose pixels (:func:`_nearest_labels`), the 3-D gap computed only to
+    labeled pixels."""
     reach = config.attach_radius_px
     loose_mask = candidates & (segments == 0)
     if not segments.any() or not loose_mask.any():
@@ -42,21 +43,49 @@ def attach_edges(
     steps = np.array([0, *range(1, reach + 1, 2), *range(-1, -reach - 1, -2)])
     shifts = (steps[:, None] * labels.shape[1] + steps[None, :]).reshape(-1)
     for _ in range(config.attach_passes):
-        around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
-        label = flat_labels[around]
-        pairs = np.flatnonzero(label > 0)
-        gap = np.full(around.shape, np.inf, dtype=flat_planes.dtype)
-        gap.reshape(-1)[pairs] = _squared_gaps(
-            flat_planes, around.reshape(-1)[pairs], loose[pairs // len(shifts)]
+        found = np.concatenate(
+            [
+                _nearest_labels(
+                    flat_labels, flat_planes, loose[start : start + ATTACH_BLOCK], shifts, config
+                )
+                for start in range(0, len(loose), ATTACH_BLOCK)
+            ]
         )
-        nearest = gap.argmin(axis=1)
-        rows = np.arange(len(loose))
-        near = gap[rows, nearest] <= config.attach_distance**2
-        flat_labels[loose[near]] = label[rows[near], nearest[near]]
+        near = found > 0
+        flat_labels[loose[near]] = found[near]
         loose = loose[~near]
         if len(loose) == 0:
             break
     return labels[reach:-reach, reach:-reach]
+
+
+ATTACH_BLOCK = 512
+"""Loose pixels per (pixels, offsets) block in :func:`attach_edges`: arrays of ~200 KB that
+stay in cache and that the allocator reuses from block to block, where one array for all the
+loose pixels of a crowded crop takes MBs (256 - 1024 measure alike)."""
+
+
+def _nearest_labels(
+    flat_labels: NDArray[np.int32],
+    flat_planes: Grid,
+    loose: NDArray[np.intp],
+    shifts: NDArray[np.intp],
+    config: SegmentConfig,
+) -> NDArray[np.int32]:
+    """The label of the 3-D nearest labeled pixel among the ``shifts`` (flat offsets, in
+    tie order) around each ``loose`` pixel (flat indices into the padded ``flat_labels`` and
+    ``flat_planes``' channels), when within ``attach_distance`` (m); 0 otherwise."""
+    around = loose[:, None] + shifts[None, :]  # (pixels, offsets): each pixel's row contiguous
+    label = flat_labels[around]
+    pairs = np.flatnonzero(label > 0)
+    gap = np.full(around.shape, np.inf, dtype=flat_planes.dtype)
+    gap.reshape(-1)[pairs] = _squared_gaps(
+        flat_planes, around.reshape(-1)[pairs], loose[pairs // len(shifts)]
+    )
+    nearest = gap.argmin(axis=1)
+    rows = np.arange(len(loose))
+    near = gap[rows, nearest] <= config.attach_distance**2
+    return np.where(near, label[rows, nearest], 0)
 
 
 def _squared_gaps(

@@ -57,7 +57,15 @@ and where each label's run starts (indexed by label 0 .. count; the last entry i
 def label_pixels(own: NDArray[np.integer], index: NDArray[np.intp], count: int) -> LabelPixels:
     """The pixels ``index`` (ascending flat indices) grouped by their labels ``own`` (each
     below ``count``)."""
-    return index[np.argsort(own, kind="stable")], _starts(own, count)
+    return index[stable_order(own, count)], _starts(own, count)
+
+
+def stable_order(own: NDArray[np.integer], count: int) -> NDArray[np.intp]:
+    """``np.argsort(own, kind="stable")`` for labels ``own`` below ``count``: as uint16 keys
+    when they fit, which numpy sorts by radix (the same order, about half the time of an
+    int32 key's merge sort)."""
+    keys = own.astype(np.uint16) if count <= 1 << 16 else own
+    return np.argsort(keys, kind="stable")
 
 
 def _starts(own: NDArray[np.integer], count: int) -> NDArray[np.intp]:
@@ -133,7 +141,7 @@ def ordered_labels(
     on = new > 0
     labels[index[on]] = new[on]
     own = new[on]
-    grouped = np.flatnonzero(on)[np.argsort(own, kind="stable")]
+    grouped = np.flatnonzero(on)[stable_order(own, count)]
     pixels = (index[grouped], _starts(own, count))
     if len(kept) == 0:
         return labels, (), pixels
