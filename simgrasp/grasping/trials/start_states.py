@@ -7,8 +7,9 @@ hand about 270 physics steps of its ~1300 per held grasp). Nothing in those step
 the grasp but its width: every trial resets the scene to the same state, so every trial of
 that width reaches the same state after them. :class:`StartStates` keeps that state
 (``mjSTATE_INTEGRATION``: time, positions, velocities, actuation, controls, mocap targets and
-the solver's warm start) after the first trial and restores it in the next ones, which then
-run bit for bit as if they had stepped the start themselves.
+the solver's warm start) and the number of physics steps it took after the first trial, and
+restores both in the next ones, which then run bit for bit as if they had stepped the start
+themselves: their records (``steps`` included) are those of a lone ``trial --grasp``.
 
 The states belong to one compiled scene as it was when they were recorded: a change of its
 model (a friction, a force limit) after the first trial needs a fresh :class:`StartStates`.
@@ -35,25 +36,31 @@ class StartStates:
     """The states of one scene after a free-floating trial's settle and jaw opening, per trial
     config and grasp width (m)."""
 
-    states: dict[tuple[TrialConfig, float], NDArray[np.float64]] = field(default_factory=dict)
+    states: dict[tuple[TrialConfig, float], tuple[NDArray[np.float64], int]] = field(
+        default_factory=dict
+    )
+    """Per (trial config, width): the state and the physics steps taken to reach it."""
 
     @staticmethod
     def applies(config: TrialConfig) -> bool:
         """Whether trials of ``config`` may reuse their start (free-floating, nothing asleep)."""
         return config.free_floating and not config.sleep
 
-    def restore(self, scene: Scene, config: TrialConfig, width: float) -> bool:
+    def restore(self, scene: Scene, config: TrialConfig, width: float) -> int | None:
         """Put ``scene`` in the recorded start of ``config`` and ``width`` (kinematics
-        updated); False, with the scene untouched, when none is recorded."""
-        state = self.states.get((config, width))
-        if state is None:
-            return False
+        updated) and return the physics steps it stands for; None, with the scene untouched,
+        when none is recorded."""
+        recorded = self.states.get((config, width))
+        if recorded is None:
+            return None
+        state, steps = recorded
         mujoco.mj_setState(scene.model, scene.data, state, _STATE)
         mujoco.mj_forward(scene.model, scene.data)
-        return True
+        return steps
 
-    def record(self, scene: Scene, config: TrialConfig, width: float) -> None:
-        """Keep ``scene``'s state now as the start of ``config`` and ``width``."""
+    def record(self, scene: Scene, config: TrialConfig, width: float, steps: int) -> None:
+        """Keep ``scene``'s state now, reached in ``steps`` physics steps, as the start of
+        ``config`` and ``width``."""
         state = np.empty(mujoco.mj_stateSize(scene.model, _STATE))
         mujoco.mj_getState(scene.model, scene.data, state, _STATE)
-        self.states[(config, width)] = state
+        self.states[(config, width)] = (state, steps)

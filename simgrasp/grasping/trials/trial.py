@@ -114,7 +114,8 @@ def run_trial(
     ``trial``, ``evaluate``, the env and ``label-grasps``. ``on_phase`` is called at the key
     moments (pre-grasp, closed, lifted, perturbed), e.g. to render frames; it must not change
     the simulation state. With ``starts``, a free-floating trial restores its start from it
-    (recorded by the first trial of its width): the same record in fewer steps.
+    (recorded by the first trial of its width): the same record, ``steps`` included (the
+    physics steps the trial stands for), from fewer physics steps.
     """
     config = config or TrialConfig()
     _start(scene, config)
@@ -219,13 +220,16 @@ def _settle(trial: _Trial) -> None:
     ``trial.starts`` where it holds this start)."""
     scene, config, starts = trial.scene, trial.config, trial.starts
     width = min(trial.grasp.width, scene.gripper.gripper.max_opening)
-    if starts is None or not starts.restore(scene, config, width):
+    restored = None if starts is None else starts.restore(scene, config, width)
+    if restored is not None:
+        trial.runner.steps += restored
+    else:
         scene.gripper.set_opening(scene.data, width)
         trial.runner.wait(config.settle_time)
         if config.free_floating:  # no approach follows, during which the jaws finish opening
             _open_jaws(trial, width)
         if starts is not None:
-            starts.record(scene, config, width)
+            starts.record(scene, config, width, trial.runner.steps)
     trial.world_T_object_settled = trial.scene.object_pose()
     trial.lap("settle")
 
