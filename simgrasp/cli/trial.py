@@ -42,8 +42,8 @@ class Options(YcbSource, MeshObjectOptions):
     width: float | None = None
     """Jaw opening before closing for --grasp (m; default the gripper's maximum)."""
     protocol: Protocol | None = None
-    """Trial protocol of --grasp, as label-grasps' (full, fast, acronym), instead of the
-    --trial.* settings (default: those, whose defaults are the full protocol)."""
+    """Trial protocol of --grasp, as label-grasps' (full, fast, acronym, acronym-fast), instead
+    of the --trial.* settings (default: those, whose defaults are the full protocol)."""
     seed: int = 0
     """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
     in an evaluate record: the same object and seed rerun that trial."""

@@ -52,7 +52,9 @@ class LabelConfig(Checked):
             (:mod:`simgrasp.assets.mesh_object`); may be left out for grasp files that name
             their object (ACRONYM, GraspGen).
         gripper: a registered gripper (:func:`simgrasp.grippers.gripper_names`).
-        protocol: trial protocol, ``"full"`` (as ``trial``/``evaluate``) or ``"fast"``.
+        protocol: trial protocol, ``"full"`` (as ``trial``/``evaluate``), ``"fast"``,
+            ``"acronym"`` (ACRONYM's free-floating close and shake) or ``"acronym-fast"`` (its
+            one-cycle shake).
         seed: seed of the scene (the object's rest pose and yaw on the table).
         placement: ``"stable"`` or ``"upright"`` rest poses (:class:`SceneConfig`).
         free_floating: label in free space as ACRONYM does (``TrialConfig.free_floating``):
