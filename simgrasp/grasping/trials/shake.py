@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.config.checks import Checked, NonNegative, Positive, PositiveInt
-from simgrasp.transforms import make_transform, rotations_to_quats_wxyz
+from simgrasp.transforms import rotations_to_quats_wxyz
 
 if TYPE_CHECKING:
     from simgrasp.grasping.trials.result import Failure
@@ -47,18 +47,9 @@ class ShakeConfig(Checked):
     """Motion (m) at which the score is 1/2."""
 
 
-def _axis_angle(axis: int, angle: float) -> NDArray[np.float64]:
-    """Rotation (3 x 3) by ``angle`` about coordinate axis ``axis``."""
-    c, s = math.cos(angle), math.sin(angle)
-    i, j = [(1, 2), (2, 0), (0, 1)][axis]
-    rotation = np.eye(3)
-    rotation[i, i], rotation[i, j], rotation[j, i], rotation[j, j] = c, -s, s, c
-    return rotation
-
-
 def _motion(shake: ShakeConfig, t: float) -> tuple[float, float]:
-    """(displacement along TCP z (m), rotation about TCP y (rad)) of :func:`tcp_offset` at time
-    ``t`` (s), the same numbers."""
+    """(displacement along TCP z (m), rotation about TCP y (rad)) of the shaking motion at
+    time ``t`` (s) since it began: first the translation, then the rotation; zero after both."""
     period = shake.cycles / shake.frequency
     if t >= 2 * period:
         return 0.0, 0.0
@@ -68,30 +59,24 @@ def _motion(shake: ShakeConfig, t: float) -> tuple[float, float]:
     return 0.0, shake.angular_amplitude * phase
 
 
-def tcp_offset(shake: ShakeConfig, t: float) -> NDArray[np.float64]:
-    """``tcp0_T_tcp`` (4 x 4) of the shaking motion at time ``t`` (s) since it began: first the
-    translation along TCP z, then the rotation about TCP y; identity after both."""
-    period = shake.cycles / shake.frequency
-    phase = math.sin(2 * math.pi * shake.frequency * t)
-    if t < period:
-        return make_transform(np.eye(3), np.array([0.0, 0.0, shake.linear_amplitude * phase]))
-    if t < 2 * period:
-        return make_transform(_axis_angle(1, shake.angular_amplitude * phase), np.zeros(3))
-    return np.eye(4)
-
-
-def _offsets(shake: ShakeConfig, control_dt: float, steps: int) -> NDArray[np.float64]:
-    """``tcp_offset(shake, k * control_dt)`` for ``k = 1 .. steps``, stacked ``(steps, 4, 4)``
-    (entry for entry the same numbers, without a matrix per step)."""
-    offsets = np.tile(np.eye(4), (steps, 1, 1))
-    motions = np.array([_motion(shake, k * control_dt) for k in range(1, steps + 1)])
-    angles = motions[:, 1]
-    cosines = np.array([math.cos(a) for a in angles.tolist()])
-    sines = np.array([math.sin(a) for a in angles.tolist()])
+def tcp_offsets(shake: ShakeConfig, times: list[float]) -> NDArray[np.float64]:
+    """``tcp0_T_tcp`` ``(len(times), 4, 4)`` of the shaking motion at each of ``times`` (s)
+    since it began (:func:`_motion`): a translation along TCP z or a rotation about TCP y."""
+    motions = np.array([_motion(shake, t) for t in times]).reshape(-1, 2)
+    offsets = np.tile(np.eye(4), (len(motions), 1, 1))
+    angles = motions[:, 1].tolist()
+    cosines = np.array([math.cos(a) for a in angles])
+    sines = np.array([math.sin(a) for a in angles])
     offsets[:, 2, 3] = motions[:, 0]
     offsets[:, 0, 0] = offsets[:, 2, 2] = cosines
     offsets[:, 0, 2], offsets[:, 2, 0] = sines, 0.0 - sines  # +0.0 where no rotation
     return offsets
+
+
+def tcp_offset(shake: ShakeConfig, t: float) -> NDArray[np.float64]:
+    """``tcp0_T_tcp`` (4 x 4) of the shaking motion at time ``t`` (s): one row of
+    :func:`tcp_offsets`."""
+    return tcp_offsets(shake, [t])[0]
 
 
 def shake_targets(
@@ -105,7 +90,8 @@ def shake_targets(
     (world frame, m) and ``[w, x, y, z]`` quaternions ``(steps, 4)`` (w >= 0) of the gripper
     root at control steps ``1 .. steps`` of ``control_dt`` seconds; row ``k - 1`` has the same
     bits as ``Mount.command_tcp(world_T_tcp0 @ tcp_offset(shake, k * control_dt))``."""
-    world_T_root = world_T_tcp0 @ _offsets(shake, control_dt, steps) @ tcp_T_root
+    times = [k * control_dt for k in range(1, steps + 1)]
+    world_T_root = world_T_tcp0 @ tcp_offsets(shake, times) @ tcp_T_root
     quats = rotations_to_quats_wxyz(world_T_root[:, :3, :3])
     quats[quats[:, 0] < 0] *= -1.0
     return world_T_root[:, :3, 3].copy(), quats
