@@ -19,6 +19,7 @@ from simgrasp.evaluation.sim_views import SimView, score_view
 
 CONFIGS = (
     "default",
+    "multi_view",
     "two_scales",
     "camera_cloud",
     "noisy_camera_cloud",

@@ -49,15 +49,20 @@ def detect_handles(
     config: DetectorConfig | QuadricDetectorConfig | TenPasConfig | None = None,
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
+    single_view: bool = True,
 ) -> Detection:
     """Handles in one object's cloud: ``points`` (N, 3) in meters, any frame; ``normals``
     (N, 3) pointing out of the object, estimated when omitted (toward ``viewpoint``, the
     camera position in the cloud's frame, for a single view). ``config`` picks the detector
     (a :class:`DetectorConfig`, or one detector's own settings); the default is the one
-    ``simgrasp detect`` runs. Results are in the cloud's frame."""
+    ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one camera's
+    view from ``viewpoint`` goes to the single-view detector
+    (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`). Results are in the
+    cloud's frame."""
     from simgrasp.handles import detect
     from simgrasp.handles.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig
+    from simgrasp.handles.single_view import SingleViewConfig
 
     chosen = config if config is not None else DetectorConfig()
     if isinstance(chosen, DetectorConfig):
@@ -65,7 +70,16 @@ def detect_handles(
     else:
         kind = "quadric" if isinstance(chosen, QuadricDetectorConfig) else "tenpas"
         settings = chosen
-    return detect(points, normals, settings, seed, detector=kind, viewpoint=viewpoint)
+    chosen_view = SingleViewConfig.learned() if single_view else None
+    return detect(
+        points,
+        normals,
+        settings,
+        seed,
+        detector=kind,
+        viewpoint=viewpoint,
+        single_view=chosen_view,
+    )
 
 
 def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> ObjectModel:

@@ -77,7 +77,8 @@ def test_the_committed_real_depth_preset_file_is_the_real_depth_preset() -> None
 
     preset = Path(__file__).parents[1] / "docs" / "results" / "real-pots" / "real_depth.toml"
     settings = read_config_file(preset)
-    assert {k.split(".")[0] for k in settings} == {"detector", "segmentation"}
+    assert {k.split(".")[0] for k in settings} == {"single_view", "detector", "segmentation"}
+    assert settings["single_view"] is False
     detector = build(DetectorConfig, section(settings, "detector"))
     assert detector.quadric == QuadricDetectorConfig.real_depth()
     assert build(SegmentConfig, section(settings, "segmentation")) == POT_SEGMENTATION

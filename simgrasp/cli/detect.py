@@ -4,7 +4,9 @@ Every threshold of both detectors is a flag (``--detector.quadric.shell-test fal
 it from a file (``--config detect.toml``); ``--print-config`` lists them all.
 
 Detector defaults: the quadric detector's plain defaults (one pass), the same as
-``detect-eval``'s, whose committed tables (docs/results/detect-eval) they produced. ``trial``
+``detect-eval``'s, whose committed tables (docs/results/detect-eval) they produced; a cloud
+that the data show to be one camera's view from the viewpoint goes to the single-view
+detector instead (``--single-view``, docs/results/real-detect). ``trial``
 and ``evaluate`` add a fine pass for the fused clouds of rendered depth views
 (``--detector.quadric.fine-half-size 0.012``, ``QuadricDetectorConfig.two_scales``), on which
 thin handles (a lying mug's strap) are seen from two sides; give that flag here to detect on a
@@ -26,6 +28,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
@@ -47,6 +50,11 @@ class Options(Checked):
     viewpoint: tuple[float, float, float] | None = setting(None, metavar=("X", "Y", "Z"))
     """Camera position for a single-view cloud (m, the cloud's frame): normals are turned
     toward it."""
+    single_view: bool = True
+    """A cloud measured to be one camera's view from the viewpoint (--viewpoint, or with
+    --segment the file's VIEWPOINT; `simgrasp.handles.view_kind`) is detected with the
+    single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
+    quadric detector only); false: the quadric settings below on every cloud."""
     plot: Path | None = setting(None, metavar="OUT.png")
     """Write a picture of the detection."""
     segment: bool = False
@@ -68,13 +76,12 @@ def run(options: Options) -> int:
 
     with stdout_to_stderr():  # library warnings must not mix with the output (--json)
         detection = _detect(options)
-    kind = options.detector.kind
     if options.json:
         json.dump({**detection.to_json(), "input": _input_record(options)}, sys.stdout)
         sys.stdout.write("\n")
         return 0
     print(
-        f"{kind}: {detection.neighborhoods} neighborhoods, "
+        f"{detection.detector}: {detection.neighborhoods} neighborhoods, "
         f"{len(detection.candidates)} candidates, {len(detection.handles)} handles"
     )
     for i, handle in enumerate(detection.handles):
@@ -107,6 +114,7 @@ def _run_segmented(options: Options) -> int:
             options.seed,
             detector=options.detector.kind,
             viewpoint=options.viewpoint,
+            single_view=_single_view(options),
             only_object=parse_object_choice(options.object),
             segment_config=options.segmentation,
         )
@@ -142,6 +150,11 @@ def _detector_config(options: Options) -> QuadricDetectorConfig | TenPasConfig:
     return replace(config, gripper_max_opening=options.gripper_width)
 
 
+def _single_view(options: Options) -> SingleViewConfig | None:
+    """The single-view detector's settings, None with ``--single-view false``."""
+    return SingleViewConfig.learned() if options.single_view else None
+
+
 def _detect(options: Options) -> Detection:
     from simgrasp.handles import detect
     from simgrasp.perception.cloud_io import read_cloud
@@ -153,9 +166,17 @@ def _detect(options: Options) -> Detection:
     scale = UNIT_SCALE[options.units]
     viewpoint = None if options.viewpoint is None else [v * scale for v in options.viewpoint]
     kind = options.detector.kind
-    detection = detect(points, normals, config, options.seed, detector=kind, viewpoint=viewpoint)
+    detection = detect(
+        points,
+        normals,
+        config,
+        options.seed,
+        detector=kind,
+        viewpoint=viewpoint,
+        single_view=_single_view(options),
+    )
     if options.plot:
         from simgrasp.plots.detection import plot_detection
 
-        plot_detection(detection, options.plot, title=f"{options.cloud} ({kind})")
+        plot_detection(detection, options.plot, title=f"{options.cloud} ({detection.detector})")
     return detection

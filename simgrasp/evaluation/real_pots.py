@@ -22,6 +22,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorName
+from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
@@ -99,6 +100,7 @@ def score_pot(
     cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
     table: NDArray[np.float64] | None = None,
     scene: NDArray[np.float64] | None = None,
+    single_view: SingleViewConfig | None = None,
 ) -> PotResult:
     """Detect handles on one pot cloud and score them against its label; ``cut`` records
     how the cloud was cut (method, IoU with the labeled pot, handle points kept), ``table`` is
@@ -114,6 +116,7 @@ def score_pot(
         viewpoint=SENSOR_ORIGIN,
         table=table,
         scene=scene,
+        single_view=single_view,
     )
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
@@ -146,10 +149,12 @@ def evaluate_real_pots(
     detector: DetectorName = "quadric",
     cut: str = "segment",
     segment_config: SegmentConfig | None = None,
+    single_view: SingleViewConfig | None = None,
 ) -> list[PotResult]:
     """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
     (``cut="segment"``) or by its ground-truth labels (``"labels"``); the table plane
-    comes from the segmentation's plane either way."""
+    comes from the segmentation's plane either way. ``single_view``: as
+    :func:`simgrasp.handles.detect` takes it (``detect``'s default on a single view)."""
     if cut not in ("segment", "labels"):
         raise SimgraspError(f"cut must be 'segment' or 'labels', got {cut!r}")
     labels = labeled_scenes()
@@ -166,7 +171,15 @@ def evaluate_real_pots(
         seen = scene.points[np.isfinite(scene.points).all(axis=1)]
         results += [
             score_pot(
-                points, labels[name], config, s, detector, (cut, iou, float(kept)), plane, seen
+                points,
+                labels[name],
+                config,
+                s,
+                detector,
+                (cut, iou, float(kept)),
+                plane,
+                seen,
+                single_view,
             )
             for s in seeds
         ]

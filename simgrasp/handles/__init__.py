@@ -6,6 +6,8 @@ Platt 2013 style detector behind the same interface, so the harness can compare 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from numpy.typing import ArrayLike
 
 from simgrasp.errors import SimgraspError
@@ -13,8 +15,10 @@ from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
 from simgrasp.handles.quadric_detector import detect_quadric_handles
+from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.handles.tenpas_detector import detect_tenpas_handles
+from simgrasp.handles.view_kind import is_single_view
 
 
 def default_config(
@@ -39,6 +43,7 @@ def detect(
     viewpoint: ArrayLike | None = None,
     table: ArrayLike | None = None,
     scene: ArrayLike | None = None,
+    single_view: SingleViewConfig | None = None,
 ) -> Detection:
     """Detect handles in one object's cloud (N x 3, meters) with the chosen detector.
 
@@ -48,11 +53,26 @@ def detect(
     ``a x + b y + c z + d`` the height above it, cloud frame), lets the quadric detector's
     plate test (``QuadricDetectorConfig.plate_test``) run; ``scene``, the whole cloud the
     object was cut from, is what it checks a plate's free edge is seen against.
+
+    With ``single_view`` given, a cloud measured to be one view from ``viewpoint``
+    (:mod:`simgrasp.handles.view_kind`) goes to the single-view detector
+    (:mod:`simgrasp.handles.single_view`) with those settings and ``config``'s gripper
+    opening, ``normals``, ``table`` and ``scene`` unused; any other cloud to the quadric
+    detector with ``config``.
     """
     config = config if config is not None else default_config(detector)
     if detector == "quadric":
         if not isinstance(config, QuadricDetectorConfig):
             raise SimgraspError("the quadric detector needs a QuadricDetectorConfig")
+        if (
+            single_view is not None
+            and viewpoint is not None
+            and is_single_view(points, viewpoint, single_view.view_test)
+        ):
+            opening = config.gripper_max_opening
+            quadric = replace(single_view.quadric, gripper_max_opening=opening)
+            chosen = replace(single_view, quadric=quadric)
+            return detect_single_view(points, chosen, seed, viewpoint)
         return detect_quadric_handles(points, normals, config, seed, viewpoint, table, scene)
     if detector == "tenpas":
         if not isinstance(config, TenPasConfig):
@@ -67,6 +87,7 @@ __all__ = [
     "Detection",
     "Handle",
     "QuadricDetectorConfig",
+    "SingleViewConfig",
     "TenPasConfig",
     "default_config",
     "detect",

@@ -20,6 +20,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.handles import DetectorName, default_config, detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import TIMING_STEPS, Detection
+from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception.scene_cloud import read_scene
 from simgrasp.perception.segmentation.segment import Segmentation, segment_scene
@@ -44,7 +45,9 @@ class SceneDetection:
         """As ``simgrasp detect --json``, each handle and candidate with its ``object``, plus
         the segmentation (as ``simgrasp segment --json``)."""
         handles = [
-            {**h.to_json(), "object": label} for label, d in self.detections for h in d.handles
+            {**h.to_json(), "object": label, "detector": d.detector}
+            for label, d in self.detections
+            for h in d.handles
         ]
         candidates = [
             {**c.to_json(), "object": label} for label, d in self.detections for c in d.candidates
@@ -87,12 +90,15 @@ def detect_in_scene(
     *,
     detector: DetectorName = "quadric",
     viewpoint: ArrayLike | None = None,
+    single_view: SingleViewConfig | None = None,
     only_object: int | None = None,
     segment_config: SegmentConfig | None = None,
 ) -> SceneDetection:
     """Segment the scene file at ``path`` and detect handles on each whole object with its
     side parts (a pot with its tabs: :attr:`SegmentedObject.part_of`), or only on the object
-    of ``only_object``, a label of the segmentation; ``ValueError`` for an unknown label."""
+    of ``only_object``, a label of the segmentation; ``ValueError`` for an unknown label.
+    ``single_view``: the single-view detector's settings for objects measured to be one view
+    from the sensor (:func:`simgrasp.handles.detect`)."""
     scene = read_scene(path)
     segmentation = segment_scene(scene, segment_config)
     labels = [obj.label for obj in segmentation.objects]
@@ -120,6 +126,7 @@ def detect_in_scene(
                 viewpoint=eye,
                 table=segmentation.plane,
                 scene=seen,
+                single_view=single_view,
             ),
         )
         for label in labels

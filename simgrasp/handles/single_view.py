@@ -23,7 +23,11 @@ from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection
 from simgrasp.handles.quadric_detector import detect_quadric_handles
 from simgrasp.handles.standoff import StandoffConfig, standoff_mask
+from simgrasp.handles.view_kind import ViewKindConfig
 from simgrasp.resources import model_path
+
+SINGLE_VIEW_DETECTOR = "quadric-single-view"
+"""The ``detector`` name of a :func:`detect_single_view` result."""
 
 
 def _single_view_quadric() -> QuadricDetectorConfig:
@@ -57,6 +61,17 @@ class SingleViewConfig:
     trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
     classifier_threshold: float = 0.5
     """With ``classifier``: the least probability of being on a handle a candidate needs."""
+    view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
+    """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
+    only on clouds this test measures to be one view from the viewpoint."""
+
+    @classmethod
+    def learned(cls) -> SingleViewConfig:
+        """The default for single views (``detect``'s, ``detect-eval --real``'s ``default``):
+        the shipped classifier at 0.6, centers on the fitted axis where it is consistent with
+        the seen surface (the named setting ``learned`` of docs/results/real-detect, chosen
+        on the tune knives and simulated views)."""
+        return cls(anchor="consistent", classifier=True, classifier_threshold=0.6)
 
 
 def point_spacing(points: NDArray[np.float64]) -> float:
@@ -121,6 +136,7 @@ def detect_single_view(
     quadric = config.quadric
     eye = np.asarray(viewpoint, dtype=float)
     raw, cloud, spacing = single_view_candidates(points, config, seed, eye)
+    raw = replace(raw, detector=SINGLE_VIEW_DETECTOR)
     if not raw.candidates:
         return raw
     keep = _keep(raw.candidates, cloud, eye, spacing, config)

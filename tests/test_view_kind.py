@@ -1,0 +1,102 @@
+"""One default for every cloud: the single-view test (:mod:`simgrasp.handles.view_kind`)
+tells a camera's view from a cloud seen all around, and ``detect`` with single-view settings
+sends each to its detector. Simulated kinect views of the generated mug (no data needed), the
+real GPD table mug through ``simgrasp detect`` (needs the real clouds)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from simgrasp.api import detect_handles, load_object
+from simgrasp.cli import main
+from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
+from simgrasp.evaluation.sim_views import SimView, capture, score_view
+from simgrasp.handles import SingleViewConfig, detect
+from simgrasp.handles.single_view import SINGLE_VIEW_DETECTOR
+from simgrasp.handles.view_kind import ViewKindConfig, hidden_share, is_single_view
+
+VIEW = SimView(object="gen_mug", pose="upright", distance=0.6, elevation_deg=45.0)
+
+
+@pytest.fixture(scope="module")
+def view_cam() -> np.ndarray:
+    """A kinect view of the generated mug (camera frame, sensor at the origin, m)."""
+    return capture(VIEW, 0).points_cam
+
+
+@pytest.fixture(scope="module")
+def mesh_cloud() -> np.ndarray:
+    """10,000 points sampled all over the generated mug's mesh (object frame, m)."""
+    mesh = load_object("gen_mug").mesh
+    points, _ = trimesh.sample.sample_surface(mesh, 10_000, seed=0)
+    return np.asarray(points)
+
+
+def test_a_sensor_view_is_one_view_and_a_mesh_cloud_is_not(view_cam, mesh_cloud) -> None:  # noqa: ANN001
+    assert hidden_share(view_cam, np.zeros(3)) <= 0.05
+    assert is_single_view(view_cam, np.zeros(3))
+    for eye in ([0.0, -0.5, 0.4], [0.3, 0.2, 0.6], [0.0, 0.0, 1.0]):
+        assert hidden_share(mesh_cloud, eye) >= 0.15, eye
+        assert not is_single_view(mesh_cloud, eye)
+
+
+def test_without_a_viewpoint_or_enough_points_no_cloud_is_a_single_view(view_cam) -> None:  # noqa: ANN001
+    assert not is_single_view(view_cam, None)
+    assert np.isnan(hidden_share(view_cam[:10], np.zeros(3)))
+    assert not is_single_view(view_cam[:10], np.zeros(3))
+    # duplicated points (a capture written several times over) do not change the measure
+    doubled = np.concatenate([view_cam, view_cam])
+    assert hidden_share(doubled, np.zeros(3)) == pytest.approx(hidden_share(view_cam, np.zeros(3)))
+
+
+def test_a_bad_view_test_setting_is_refused() -> None:
+    with pytest.raises(ValueError, match="depth_gap"):
+        ViewKindConfig(depth_gap=0.0)
+
+
+def test_detect_sends_a_view_to_the_single_view_detector_and_a_mesh_cloud_to_the_quadric(
+    view_cam: np.ndarray, mesh_cloud: np.ndarray
+) -> None:
+    settings = SingleViewConfig.learned()
+    seen = detect(view_cam, None, seed=0, viewpoint=np.zeros(3), single_view=settings)
+    assert seen.detector == SINGLE_VIEW_DETECTOR
+    eye = np.array([0.0, -0.5, 0.4])
+    whole = detect(mesh_cloud, None, seed=0, viewpoint=eye, single_view=settings)
+    assert whole.detector == "quadric"
+    assert detect(view_cam, None, seed=0, viewpoint=np.zeros(3)).detector == "quadric"
+    # the public API's default is the same as detect's with the single-view settings
+    api = detect_handles(view_cam, viewpoint=np.zeros(3))
+    assert api.detector == SINGLE_VIEW_DETECTOR
+    assert [h.center.tolist() for h in api.handles] == [h.center.tolist() for h in seen.handles]
+
+
+def test_the_default_holds_a_simulated_kinect_view_of_a_mug_by_its_handle() -> None:
+    """The generated mug at 0.6 m, 45 degrees, kinect model, seed 0 (a training object of the
+    shipped classifier, in a view it was not trained on: 0.6 m at 45 degrees)."""
+    row = score_view(VIEW, "default", 0)
+    assert row.top_on_handle and row.on_handle >= 0.8 * row.candidates > 0
+
+
+@pytest.mark.real
+def test_simgrasp_detect_holds_the_real_table_mug_by_its_handle_by_default(
+    real_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The held-out GPD mug through the CLI's defaults (docs/results/real-detect: 1.00, 5 of 5
+    seeds; before the single-view default 0.24, 0 of 5), seed 0: a record of a measured
+    figure, not a tuned one."""
+    (cloud,) = [c for c in read_manifest(None, real_dir) if c.name == "gpd_table_mug"]
+    path = tmp_path / "mug.npy"
+    np.save(path, load_real_cloud(cloud))
+    assert main(["detect", str(path), "--viewpoint", "0", "0", "0", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["detector"] == SINGLE_VIEW_DETECTOR
+    top = np.array(report["handles"][0]["center"])
+    assert cloud.label.contains(top[None]).all()
+    flags = ["--viewpoint", "0", "0", "0", "--single-view", "false", "--json"]
+    assert main(["detect", str(path), *flags]) == 0
+    assert json.loads(capsys.readouterr().out)["detector"] == "quadric"
