@@ -21,7 +21,7 @@ from simgrasp.evaluation.real_pots import (
     evaluate_real_pots,
     summarize,
 )
-from simgrasp.handles import QuadricDetectorConfig, TenPasConfig
+from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig, TenPasConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 SETTINGS = {
@@ -32,7 +32,12 @@ SETTINGS = {
     ),
     "quadric default": ("quadric", QuadricDetectorConfig()),
     "tenpas default": ("tenpas", TenPasConfig()),
+    "detect default (single view)": ("quadric", QuadricDetectorConfig()),
 }
+"""``detect default (single view)`` is what ``simgrasp detect --segment`` runs since 3
+December 2026: the quadric defaults, and on an object measured to be one view the
+single-view detector (:meth:`SingleViewConfig.learned`); ``quadric default`` is the quadric
+defaults on every object (``--single-view false``)."""
 CUTS = ("segment", "labels")
 """The pot cut by the scene segmentation (simgrasp segment), or by the ground-truth labels."""
 CREASE_KEEPING = SegmentConfig(concave_threshold=2.5, table_distance=0.003)
@@ -60,6 +65,7 @@ def main() -> None:
             detector=detector,
             cut=cut,
             segment_config=POT_SEGMENTATION,
+            single_view=SingleViewConfig.learned() if "single view" in name else None,
         )
         for cut in CUTS
         for name, (detector, config) in SETTINGS.items()

@@ -16,6 +16,7 @@ from simgrasp.cli import main
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles.candidate_features import FEATURES, TreeClassifier, candidate_features
 from simgrasp.handles.detection import Candidate
+from simgrasp.handles.single_view import FALLBACK_DETECTOR
 from simgrasp.quadric.quadric import Quadric
 from simgrasp.resources import model_path
 
@@ -48,6 +49,34 @@ def test_detect_segment_on_a_real_pot_scene_puts_the_top_handle_on_a_labeled_tab
     on_pot = [h for h in report["handles"] if h["object"] == nearest["part_of"]]
     assert on_pot, "no handle on the pot"
     assert label.contains(np.array(on_pot[0]["center"])[None]).all()
+
+
+@pytest.mark.real
+def test_detect_segment_with_its_default_detector_holds_a_real_pot_by_its_tab(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """learn37 through ``detect --segment`` with the detector's defaults and the pots' rim
+    joins (docs/results/real-pots, row ``detect default (single view)``: 5 of 5 seeds): every
+    object is one view, the classifier keeps nothing on the pot's face-on tab and the
+    fallback's plate test finds it; with ``--single-view false`` (the former default) the
+    pot gets no handle on its tab (0 of 5)."""
+    scene = default_real_dir() / "osd-learn" / "learn37.pcd"
+    flags = ["--segment", "--segmentation.rim-band", "0.005", "--json"]
+    label = load_scene_labels()["learn37"].label
+
+    def top_on_tab(extra: list[str]) -> tuple[bool, set[str]]:
+        assert main(["detect", str(scene), *flags, *extra]) == 0
+        report = json.loads(capsys.readouterr().out)
+        tab = label.regions[0].center
+        objects = report["segmentation"]["objects"]
+        pot = min(objects, key=lambda o: float(np.linalg.norm(np.subtract(o["center"], tab))))
+        on_pot = [h for h in report["handles"] if h["object"] == pot["part_of"]]
+        on_tab = bool(on_pot) and bool(label.contains(np.array(on_pot[0]["center"])[None]).all())
+        return on_tab, {h["detector"] for h in on_pot}
+
+    on_tab, detectors = top_on_tab([])
+    assert on_tab and detectors == {FALLBACK_DETECTOR}
+    assert not top_on_tab(["--single-view", "false"])[0]
 
 
 def _bar(width: float) -> Candidate:

@@ -17,7 +17,9 @@ from simgrasp.cli import main
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
 from simgrasp.handles import SingleViewConfig, detect
-from simgrasp.handles.single_view import SINGLE_VIEW_DETECTOR
+from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.quadric_detector import detect_quadric_handles
+from simgrasp.handles.single_view import FALLBACK_DETECTOR, SINGLE_VIEW_DETECTOR
 from simgrasp.handles.view_kind import ViewKindConfig, hidden_share, is_single_view
 
 VIEW = SimView(object="gen_mug", pose="upright", distance=0.6, elevation_deg=45.0)
@@ -73,6 +75,20 @@ def test_detect_sends_a_view_to_the_single_view_detector_and_a_mesh_cloud_to_the
     api = detect_handles(view_cam, viewpoint=np.zeros(3))
     assert api.detector == SINGLE_VIEW_DETECTOR
     assert [h.center.tolist() for h in api.handles] == [h.center.tolist() for h in seen.handles]
+
+
+def test_a_view_the_classifier_keeps_nothing_of_goes_to_the_fallback() -> None:
+    """A flat 20 x 20 cm board 0.5 m in front of the camera: no candidate is a handle, so the
+    detection is the fallback quadric detector's (real_depth settings) on the same view."""
+    x, y = np.meshgrid(np.arange(-0.1, 0.1, 0.002), np.arange(-0.1, 0.1, 0.002))
+    board = np.column_stack([x.ravel(), y.ravel(), np.full(x.size, 0.5)])
+    found = detect(
+        board, None, seed=0, viewpoint=np.zeros(3), single_view=SingleViewConfig.learned()
+    )
+    assert found.detector == FALLBACK_DETECTOR
+    alone = detect_quadric_handles(board, None, QuadricDetectorConfig.real_depth(), 0, np.zeros(3))
+    assert len(found.candidates) == len(alone.candidates)
+    assert len(found.handles) == len(alone.handles)
 
 
 def test_the_default_holds_a_simulated_kinect_view_of_a_mug_by_its_handle() -> None:

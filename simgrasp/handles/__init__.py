@@ -15,7 +15,7 @@ from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
 from simgrasp.handles.quadric_detector import detect_quadric_handles
-from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
+from simgrasp.handles.single_view import FALLBACK_DETECTOR, SingleViewConfig, detect_single_view
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.handles.tenpas_detector import detect_tenpas_handles
 from simgrasp.handles.view_kind import is_single_view
@@ -57,7 +57,8 @@ def detect(
     With ``single_view`` given, a cloud measured to be one view from ``viewpoint``
     (:mod:`simgrasp.handles.view_kind`) goes to the single-view detector
     (:mod:`simgrasp.handles.single_view`) with those settings and ``config``'s gripper
-    opening, ``normals``, ``table`` and ``scene`` unused; any other cloud to the quadric
+    opening, ``normals`` unused (and where it finds no handle, to the quadric detector with
+    the settings' ``fallback``, ``table`` and ``scene``); any other cloud to the quadric
     detector with ``config``.
     """
     config = config if config is not None else default_config(detector)
@@ -69,16 +70,34 @@ def detect(
             and viewpoint is not None
             and is_single_view(points, viewpoint, single_view.view_test)
         ):
-            opening = config.gripper_max_opening
-            quadric = replace(single_view.quadric, gripper_max_opening=opening)
-            chosen = replace(single_view, quadric=quadric)
-            return detect_single_view(points, chosen, seed, viewpoint)
+            return _detect_view(points, config, seed, viewpoint, table, scene, single_view)
         return detect_quadric_handles(points, normals, config, seed, viewpoint, table, scene)
     if detector == "tenpas":
         if not isinstance(config, TenPasConfig):
             raise SimgraspError("the tenpas detector needs a TenPasConfig")
         return detect_tenpas_handles(points, normals, config, seed, viewpoint)
     raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+
+
+def _detect_view(
+    points: ArrayLike,
+    config: QuadricDetectorConfig,
+    seed: int,
+    viewpoint: ArrayLike,
+    table: ArrayLike | None,
+    scene: ArrayLike | None,
+    single_view: SingleViewConfig,
+) -> Detection:
+    """One camera's view: the single-view detector, else its fallback (``config``'s gripper
+    opening for both)."""
+    opening = config.gripper_max_opening
+    quadric = replace(single_view.quadric, gripper_max_opening=opening)
+    detection = detect_single_view(points, replace(single_view, quadric=quadric), seed, viewpoint)
+    if detection.handles or single_view.fallback is None:
+        return detection
+    fallback = replace(single_view.fallback, gripper_max_opening=opening)
+    found = detect_quadric_handles(points, None, fallback, seed, viewpoint, table, scene)
+    return replace(found, detector=FALLBACK_DETECTOR)
 
 
 __all__ = [

@@ -28,6 +28,8 @@ from simgrasp.resources import model_path
 
 SINGLE_VIEW_DETECTOR = "quadric-single-view"
 """The ``detector`` name of a :func:`detect_single_view` result."""
+FALLBACK_DETECTOR = "quadric-single-view-fallback"
+"""The ``detector`` name of a single view's detection by :attr:`SingleViewConfig.fallback`."""
 
 
 def _single_view_quadric() -> QuadricDetectorConfig:
@@ -64,14 +66,25 @@ class SingleViewConfig:
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
+    fallback: QuadricDetectorConfig | None = None
+    """When :func:`simgrasp.handles.detect` runs this detector and it finds no handle: the
+    quadric detector with these settings on the same view (None: no handle)."""
 
     @classmethod
     def learned(cls) -> SingleViewConfig:
         """The default for single views (``detect``'s, ``detect-eval --real``'s ``default``):
         the shipped classifier at 0.6, centers on the fitted axis where it is consistent with
         the seen surface (the named setting ``learned`` of docs/results/real-detect, chosen
-        on the tune knives and simulated views)."""
-        return cls(anchor="consistent", classifier=True, classifier_threshold=0.6)
+        on the tune knives and simulated views); where the classifier keeps nothing, the
+        quadric detector's :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm
+        neighborhoods, the plate test for flat tabs; chosen on the tune osd-learn pots, whose
+        tabs the classifier, trained on bars and loops, rejects)."""
+        return cls(
+            anchor="consistent",
+            classifier=True,
+            classifier_threshold=0.6,
+            fallback=QuadricDetectorConfig.real_depth(),
+        )
 
 
 def point_spacing(points: NDArray[np.float64]) -> float:
