@@ -20,7 +20,12 @@ from simgrasp.handles import SingleViewConfig, detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.quadric_detector import detect_quadric_handles
 from simgrasp.handles.single_view import FALLBACK_DETECTOR, SINGLE_VIEW_DETECTOR
-from simgrasp.handles.view_kind import ViewKindConfig, hidden_share, is_single_view
+from simgrasp.handles.view_kind import (
+    ViewKindConfig,
+    hidden_share,
+    is_single_view,
+    view_half_angle_deg,
+)
 
 VIEW = SimView(object="gen_mug", pose="upright", distance=0.6, elevation_deg=45.0)
 
@@ -45,6 +50,11 @@ def test_a_sensor_view_is_one_view_and_a_mesh_cloud_is_not(view_cam, mesh_cloud)
     for eye in ([0.0, -0.5, 0.4], [0.3, 0.2, 0.6], [0.0, 0.0, 1.0]):
         assert hidden_share(mesh_cloud, eye) >= 0.15, eye
         assert not is_single_view(mesh_cloud, eye)
+    # from inside the cloud every ray meets about one surface, but rays go all around
+    inside = mesh_cloud.mean(axis=0)
+    assert view_half_angle_deg(mesh_cloud, inside) > 120
+    assert view_half_angle_deg(view_cam, np.zeros(3)) < 30
+    assert not is_single_view(mesh_cloud, inside)
 
 
 def test_without_a_viewpoint_or_enough_points_no_cloud_is_a_single_view(view_cam) -> None:  # noqa: ANN001

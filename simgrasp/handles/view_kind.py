@@ -8,20 +8,22 @@ also holds the surfaces behind (a mug's far wall, a hammer's underside). The mea
 share of points lying more than :attr:`ViewKindConfig.depth_gap` behind the nearest point of
 their ray bin; the bins are as wide as a few of the cloud's own point spacings, seen from the
 viewpoint (measured: the median nearest-neighbor distance of the distinct points over their
-median range). Measured figures: real captures and simulated kinect / stereo views 0.000-0.046,
-full clouds of the YCB mug and the generated hammer sampled from their meshes 0.20-0.34 from
-any viewpoint outside them (:mod:`tests.test_view_kind`).
+median range). The points must also lie in one camera's field of view. Measured figures: real
+captures and simulated kinect / stereo views 0.000-0.046, full clouds of the YCB mug and the
+generated hammer sampled from their meshes 0.19-0.34 from any viewpoint outside them
+(:mod:`tests.test_view_kind`); from a viewpoint inside such a cloud, rays go all around.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.config.checks import Checked, Fraction, Positive, PositiveInt
+from simgrasp.config.checks import Checked, Fraction, Positive, PositiveInt, Range
 
 
 @dataclass(frozen=True)
@@ -37,6 +39,10 @@ class ViewKindConfig(Checked):
     """A cloud with at most this share of hidden points is one view."""
     min_points: PositiveInt = 50
     """Fewer distinct points than this: no test, not a single view."""
+    max_half_angle_deg: Annotated[float, Range(gt=0, le=180)] = 75.0
+    """A view lies in one camera's field of view: 99 % of the rays from the viewpoint within
+    this angle (degrees) of their mean. A viewpoint inside a cloud seen from all around (a
+    mesh's samples around the origin) sees one surface per ray too, but all around it."""
 
 
 def hidden_share(
@@ -84,5 +90,20 @@ def is_single_view(
     if viewpoint is None:
         return False
     config = config or ViewKindConfig()
+    if view_half_angle_deg(points, viewpoint) > config.max_half_angle_deg:
+        return False
     share = hidden_share(points, viewpoint, config)
     return bool(share <= config.max_hidden_share)
+
+
+def view_half_angle_deg(points: ArrayLike, viewpoint: ArrayLike) -> float:
+    """The 99th percentile of the angle (degrees) between the rays from ``viewpoint`` to
+    ``points`` (N, 3, m) and their mean direction; 180 when they have none."""
+    rays = np.asarray(points, dtype=np.float64) - np.asarray(viewpoint, dtype=np.float64)
+    lengths = np.linalg.norm(rays, axis=1)
+    directions = rays[lengths > 0] / lengths[lengths > 0, None]
+    mean = directions.sum(axis=0)
+    if len(directions) == 0 or np.linalg.norm(mean) == 0:
+        return 180.0
+    cosines = directions @ (mean / np.linalg.norm(mean))
+    return float(np.degrees(np.arccos(np.clip(np.percentile(cosines, 1), -1.0, 1.0))))
