@@ -56,9 +56,9 @@ def detect_handles(
     camera position in the cloud's frame, for a single view). ``config`` picks the detector
     (a :class:`DetectorConfig`, or one detector's own settings); the default is the one
     ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one camera's
-    view from ``viewpoint`` goes to the single-view detector
-    (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`). Results are in the
-    cloud's frame."""
+    view from ``viewpoint`` (none given: from the origin, a sensor's own frame) goes to the
+    single-view detector (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`).
+    Results are in the cloud's frame."""
     from simgrasp.handles import detect
     from simgrasp.handles.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig

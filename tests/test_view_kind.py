@@ -81,6 +81,9 @@ def test_detect_sends_a_view_to_the_single_view_detector_and_a_mesh_cloud_to_the
     whole = detect(mesh_cloud, None, seed=0, viewpoint=eye, single_view=settings)
     assert whole.detector == "quadric"
     assert detect(view_cam, None, seed=0, viewpoint=np.zeros(3)).detector == "quadric"
+    # no viewpoint: a cloud in its sensor's frame is a view from the origin, a mesh's is not
+    assert detect(view_cam, None, seed=0, single_view=settings).detector == SINGLE_VIEW_DETECTOR
+    assert detect(mesh_cloud, None, seed=0, single_view=settings).detector == "quadric"
     # the public API's default is the same as detect's with the single-view settings
     api = detect_handles(view_cam, viewpoint=np.zeros(3))
     assert api.detector == SINGLE_VIEW_DETECTOR
@@ -126,3 +129,6 @@ def test_simgrasp_detect_holds_the_real_table_mug_by_its_handle_by_default(
     flags = ["--viewpoint", "0", "0", "0", "--single-view", "false", "--json"]
     assert main(["detect", str(path), *flags]) == 0
     assert json.loads(capsys.readouterr().out)["detector"] == "quadric"
+    # the capture is in its sensor's frame: without --viewpoint it is a view from the origin
+    assert main(["detect", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["detector"] == SINGLE_VIEW_DETECTOR

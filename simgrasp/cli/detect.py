@@ -51,8 +51,9 @@ class Options(Checked):
     """Camera position for a single-view cloud (m, the cloud's frame): normals are turned
     toward it."""
     single_view: bool = True
-    """A cloud measured to be one camera's view from the viewpoint (--viewpoint, or with
-    --segment the file's VIEWPOINT; `simgrasp.handles.view_kind`) is detected with the
+    """A cloud measured to be one camera's view from the viewpoint (--viewpoint, with
+    --segment the file's VIEWPOINT, else the origin: a sensor's own frame;
+    `simgrasp.handles.view_kind`) is detected with the
     single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
     quadric detector only); false: the quadric settings below on every cloud."""
     plot: Path | None = setting(None, metavar="OUT.png")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from simgrasp.errors import SimgraspError
@@ -54,8 +55,9 @@ def detect(
     plate test (``QuadricDetectorConfig.plate_test``) run; ``scene``, the whole cloud the
     object was cut from, is what it checks a plate's free edge is seen against.
 
-    With ``single_view`` given, a cloud measured to be one view from ``viewpoint``
-    (:mod:`simgrasp.handles.view_kind`) goes to the single-view detector
+    With ``single_view`` given, a cloud measured to be one view from ``viewpoint`` (or, with
+    none and ``single_view.sensor_origin``, from the origin; see
+    :mod:`simgrasp.handles.view_kind`) goes to the single-view detector
     (:mod:`simgrasp.handles.single_view`) with those settings and ``config``'s gripper
     opening, ``normals`` unused (and where it finds no handle, to the quadric detector with
     the settings' ``fallback``, ``table`` and ``scene``); any other cloud to the quadric
@@ -65,18 +67,24 @@ def detect(
     if detector == "quadric":
         if not isinstance(config, QuadricDetectorConfig):
             raise SimgraspError("the quadric detector needs a QuadricDetectorConfig")
-        if (
-            single_view is not None
-            and viewpoint is not None
-            and is_single_view(points, viewpoint, single_view.view_test)
-        ):
-            return _detect_view(points, config, seed, viewpoint, table, scene, single_view)
+        eye = _camera(viewpoint, single_view)
+        if single_view is not None and is_single_view(points, eye, single_view.view_test):
+            assert eye is not None  # is_single_view is False without a viewpoint
+            return _detect_view(points, config, seed, eye, table, scene, single_view)
         return detect_quadric_handles(points, normals, config, seed, viewpoint, table, scene)
     if detector == "tenpas":
         if not isinstance(config, TenPasConfig):
             raise SimgraspError("the tenpas detector needs a TenPasConfig")
         return detect_tenpas_handles(points, normals, config, seed, viewpoint)
     raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+
+
+def _camera(viewpoint: ArrayLike | None, single_view: SingleViewConfig | None) -> ArrayLike | None:
+    """Where a single view would have been seen from: ``viewpoint``, else with
+    ``single_view.sensor_origin`` the cloud frame's origin."""
+    if viewpoint is not None or single_view is None or not single_view.sensor_origin:
+        return viewpoint
+    return np.zeros(3)
 
 
 def _detect_view(

@@ -66,6 +66,10 @@ class SingleViewConfig:
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
+    sensor_origin: bool = True
+    """When :func:`simgrasp.handles.detect` is given these settings and no viewpoint: test
+    whether the cloud is one view from its frame's origin (a depth camera writes its clouds
+    in its own frame, the sensor at the origin)."""
     fallback: QuadricDetectorConfig | None = None
     """When :func:`simgrasp.handles.detect` runs this detector and it finds no handle: the
     quadric detector with these settings on the same view (None: no handle)."""
