@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import multiprocessing
 from pathlib import Path
 
 import numpy as np
@@ -105,15 +106,26 @@ def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument(
+        "--azimuths",
+        default="0",
+        help="comma-separated camera azimuths (degrees): every view is rendered from each",
+    )
+    parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
-    rows, labels = [], []
-    for obj, view, seed in itertools.product(OBJECTS, VIEWS, range(args.seeds)):
-        pose, distance, elevation, sensor = view
-        sim = SimView(obj, pose, distance, elevation, sensor)  # type: ignore[arg-type]
-        features, on_handle = view_rows(sim, seed)
-        rows.append(features)
-        labels.append(on_handle)
+    azimuths = [float(a) for a in args.azimuths.split(",")]
+    jobs = [
+        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed)  # type: ignore[arg-type]
+        for obj, (pose, distance, elevation, sensor), azimuth, seed in itertools.product(
+            OBJECTS, VIEWS, azimuths, range(args.seeds)
+        )
+    ]
+    with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
+        results = pool.starmap(view_rows, jobs, chunksize=4)
+    rows = [features for features, _ in results]
+    labels = [on_handle for _, on_handle in results]
+    for (sim, seed), on_handle in zip(jobs, labels, strict=True):
         print(f"{sim.name} seed {seed}: {len(on_handle)} candidates, {on_handle.sum()} on handle")
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
@@ -121,6 +133,7 @@ def main() -> None:
     model["trained_on"] = {
         "objects": list(OBJECTS),
         "views": [list(v) for v in VIEWS],
+        "azimuths_deg": azimuths,
         "seeds": args.seeds,
         "candidates": int(len(y)),
         "on_handle": int(y.sum()),

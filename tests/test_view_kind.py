@@ -132,3 +132,27 @@ def test_simgrasp_detect_holds_the_real_table_mug_by_its_handle_by_default(
     # the capture is in its sensor's frame: without --viewpoint it is a view from the origin
     assert main(["detect", str(path), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["detector"] == SINGLE_VIEW_DETECTOR
+
+
+def test_another_classifier_file_is_used_and_a_missing_one_is_one_line(
+    view_cam: np.ndarray, tmp_path: Path
+) -> None:
+    """``SingleViewConfig.classifier_file``: a copy of the shipped model gives the same
+    handles; a missing file is a clear error naming it."""
+    from dataclasses import replace
+
+    from simgrasp.errors import SimgraspError
+    from simgrasp.handles.single_view import detect_single_view
+    from simgrasp.resources import model_path
+
+    copy = tmp_path / "copy.json"
+    copy.write_text(model_path("handles", "candidate_classifier.json").read_text())
+    shipped = detect_single_view(view_cam, SingleViewConfig.learned(), 0, np.zeros(3))
+    copied = replace(SingleViewConfig.learned(), classifier_file=str(copy))
+    again = detect_single_view(view_cam, copied, 0, np.zeros(3))
+    assert [h.center.tolist() for h in again.handles] == [
+        h.center.tolist() for h in shipped.handles
+    ]
+    missing = replace(SingleViewConfig.learned(), classifier_file=str(tmp_path / "none.json"))
+    with pytest.raises(SimgraspError, match="none.json: no such candidate classifier file"):
+        detect_single_view(view_cam, missing, 0, np.zeros(3))

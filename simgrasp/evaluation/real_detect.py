@@ -80,22 +80,40 @@ def config_by_name(name: str) -> Setting:
     return NAMED_CONFIGS[name]()
 
 
-def detect_named(points: np.ndarray, name: str, seed: int, viewpoint: np.ndarray) -> Detection:
-    """Detect on a single view seen from ``viewpoint`` with the named setting."""
+def detect_named(
+    points: np.ndarray,
+    name: str,
+    seed: int,
+    viewpoint: np.ndarray,
+    single_view: SingleViewConfig | None = None,
+) -> Detection:
+    """Detect on a single view seen from ``viewpoint`` with the named setting; for
+    ``default``, ``single_view`` replaces :meth:`SingleViewConfig.learned` (another trained
+    classifier, ``scripts/compare_candidate_classifiers.py``)."""
     config = config_by_name(name)
     if isinstance(config, SingleViewConfig):
         return detect_single_view(points, config, seed, viewpoint)
     kind: DetectorName = "tenpas" if isinstance(config, TenPasConfig) else "quadric"
-    single_view = SingleViewConfig.learned() if name == "default" else None
+    if name != "default":
+        single_view = None
+    elif single_view is None:
+        single_view = SingleViewConfig.learned()
     return detect(
         points, None, config, seed, detector=kind, viewpoint=viewpoint, single_view=single_view
     )
 
 
-def score_cloud(cloud: RealCloud, points: np.ndarray, name: str, seed: int) -> RealDetectRow:
-    """Detect with setting ``name`` and seed ``seed`` on ``points`` (the cloud as loaded)."""
+def score_cloud(
+    cloud: RealCloud,
+    points: np.ndarray,
+    name: str,
+    seed: int,
+    single_view: SingleViewConfig | None = None,
+) -> RealDetectRow:
+    """Detect with setting ``name`` (``single_view`` as :func:`detect_named` takes it) and
+    seed ``seed`` on ``points`` (the cloud as loaded)."""
     start = time.perf_counter()
-    detection = detect_named(points, name, seed, cloud.viewpoint)
+    detection = detect_named(points, name, seed, cloud.viewpoint, single_view)
     elapsed = time.perf_counter() - start
     centers = detection.candidate_centers
     top = detection.handles[0].center[None] if detection.handles else np.zeros((0, 3))

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from simgrasp.assets.labels import HandleLabel
 from simgrasp.errors import SimgraspError
+from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.perception.camera import CameraIntrinsics, depth_to_points_cam
 from simgrasp.seeding import rng_for
 
@@ -41,13 +42,17 @@ class SimView:
     """Camera above the table plane (degrees; 90 looks straight down)."""
     sensor: str = "kinect"
     """Sensor model name (ideal, kinect, stereo)."""
+    azimuth_deg: float = 0.0
+    """The camera's place around the object (degrees about the vertical, counterclockwise
+    seen from above; 0: from the -y side, the handle to the camera's right)."""
     width: int = 640
     height: int = 480
     fovy_deg: float = 58.0
 
     @property
     def name(self) -> str:
-        return f"{self.object} {self.pose} {self.sensor} {self.distance:g} m"
+        turned = f" azimuth {self.azimuth_deg:g}" if self.azimuth_deg else ""
+        return f"{self.object} {self.pose} {self.sensor} {self.distance:g} m{turned}"
 
 
 @dataclass(frozen=True)
@@ -77,10 +82,12 @@ def _world_T_object(mesh_bounds: NDArray[np.float64], pose: Pose) -> NDArray[np.
 
 def _world_T_cam(target: NDArray[np.float64], view: SimView) -> NDArray[np.float64]:
     """OpenCV camera pose (x right, y down, z forward) looking at ``target``."""
-    elevation = np.radians(view.elevation_deg)
-    offset = np.array([0.0, -np.cos(elevation), np.sin(elevation)])
-    if view.elevation_deg > 89.0:  # straight down: keep the image's up along world +y
-        offset = np.array([0.0, -1e-3, 1.0]) / np.linalg.norm([0.0, -1e-3, 1.0])
+    elevation, azimuth = np.radians(view.elevation_deg), np.radians(view.azimuth_deg)
+    side = np.array([np.sin(azimuth), -np.cos(azimuth), 0.0])  # the camera's side, from above
+    offset = np.cos(elevation) * side + np.array([0.0, 0.0, np.sin(elevation)])
+    if view.elevation_deg > 89.0:  # straight down: keep the image's up along the side's
+        offset = 1e-3 * side + np.array([0.0, 0.0, 1.0])
+        offset /= np.linalg.norm(offset)
     position = target + view.distance * offset
     forward = (target - position) / np.linalg.norm(target - position)
     right = np.cross(forward, [0.0, 0.0, 1.0])
@@ -148,10 +155,18 @@ def capture(view: SimView, seed: int, ycb_dir: str | None = None) -> SimCapture:
     return SimCapture(points_cam, object_T_cam, asset.handle)
 
 
-def score_view(view: SimView, config_name: str, seed: int, ycb_dir: str | None = None):  # noqa: ANN201
-    """Detect with the named setting on the view rendered with ``seed`` (normals toward the
-    camera), scored in the mesh frame: a :class:`~simgrasp.evaluation.real_detect.RealDetectRow`
-    with the view's name as its cloud and ``"sim"`` as its data set."""
+def score_view(  # noqa: ANN201
+    view: SimView,
+    config_name: str,
+    seed: int,
+    ycb_dir: str | None = None,
+    single_view: SingleViewConfig | None = None,
+):
+    """Detect with the named setting (``single_view`` as
+    :func:`~simgrasp.evaluation.real_detect.detect_named` takes it) on the view rendered with
+    ``seed`` (normals toward the camera), scored in the mesh frame: a
+    :class:`~simgrasp.evaluation.real_detect.RealDetectRow` with the view's name as its cloud
+    and ``"sim"`` as its data set."""
     import time
 
     from simgrasp.evaluation.real_detect import RealDetectRow, detect_named
@@ -159,7 +174,7 @@ def score_view(view: SimView, config_name: str, seed: int, ycb_dir: str | None =
 
     shot = capture(view, seed, ycb_dir)
     start = time.perf_counter()
-    detection = detect_named(shot.points_cam, config_name, seed, np.zeros(3))
+    detection = detect_named(shot.points_cam, config_name, seed, np.zeros(3), single_view)
     elapsed = time.perf_counter() - start
     moved = moved_detection(detection, shot.object_T_cam)
     centers = moved.candidate_centers

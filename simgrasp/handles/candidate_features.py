@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.errors import SimgraspError
 from simgrasp.handles.detection import Candidate
 from simgrasp.handles.standoff import StandoffConfig, slot_shares
 
@@ -111,6 +112,8 @@ class TreeClassifier:
     @classmethod
     def read(cls, path: Path) -> TreeClassifier:
         """The model written by ``scripts/train_candidate_classifier.py``."""
+        if not path.is_file():
+            raise SimgraspError(f"{path}: no such candidate classifier file")
         raw = json.loads(path.read_text())
         if tuple(raw["features"]) != FEATURES:
             raise ValueError(f"{path}: its features {raw['features']} are not {FEATURES}")

@@ -11,6 +11,7 @@ axis can be trusted as the handle's center (``anchor="consistent"``)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -63,6 +64,9 @@ class SingleViewConfig:
     trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
     classifier_threshold: float = 0.5
     """With ``classifier``: the least probability of being on a handle a candidate needs."""
+    classifier_file: str = ""
+    """With ``classifier``: a model written by ``scripts/train_candidate_classifier.py`` to
+    use instead of the shipped one (a path; empty: the shipped one)."""
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
@@ -140,7 +144,8 @@ def _keep(
     opening = config.quadric.gripper_max_opening
     if not config.classifier:
         return standoff_mask(candidates, cloud, eye, opening, standoff)
-    model = TreeClassifier.read(model_path("handles", "candidate_classifier.json"))
+    shipped = model_path("handles", "candidate_classifier.json")
+    model = TreeClassifier.read(Path(config.classifier_file) if config.classifier_file else shipped)
     features = candidate_features(candidates, cloud, eye, spacing, standoff)
     fits = np.array([c.width <= opening - 2 * standoff.gap for c in candidates])
     return fits & (model.probability(features) >= config.classifier_threshold)

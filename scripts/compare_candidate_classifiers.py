@@ -1,0 +1,101 @@
+"""Compare candidate classifiers as ``detect``'s single-view default would use them, on the
+TUNE data only (never the holdout mugs): the Mech-Mind knives of the real manifest (5 seeds),
+simulated views (the mug views of ``sim_views.md``, the generated hammer, mug and spatula at
+0.6 m, and mug views from azimuths no training set holds; 3 seeds) and the osd-learn pots
+through the segmentation with rim joins and through their labels (5 seeds). A cell is the
+pooled candidate accuracy and (runs with the top handle on a labeled handle / runs).
+
+    python scripts/train_candidate_classifier.py --seeds 2 --azimuths 0,90,180,270 \\
+        --workers 2 --out /tmp/wide.json
+    python scripts/compare_candidate_classifiers.py models/handles/candidate_classifier.json \\
+        /tmp/wide.json
+
+Needs ``SIMGRASP_REAL_DIR`` and ``SIMGRASP_YCB_DIR``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Iterator
+from dataclasses import replace
+from pathlib import Path
+
+from simgrasp.evaluation.real_detect import RealDetectRow, score_cloud
+from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
+from simgrasp.evaluation.real_pots import POT_SEGMENTATION, PotResult, evaluate_real_pots
+from simgrasp.evaluation.sim_views import SimView, score_view
+from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
+
+SIM_VIEWS = (
+    SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),
+    SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="stereo"),
+    SimView(pose="lying", distance=0.30, elevation_deg=90.0, sensor="stereo"),
+    SimView(pose="lying", distance=0.60, elevation_deg=90.0, sensor="kinect"),
+    *(
+        SimView(tool, "upright", 0.6, 45.0, sensor)
+        for tool in ("gen_hammer", "gen_mug", "gen_spatula")
+        for sensor in ("kinect", "stereo")
+    ),
+    *(
+        view
+        for azimuth in (45.0, 135.0, 225.0)
+        for view in (
+            SimView("025_mug", "upright", 0.6, 40.0, "kinect", azimuth_deg=azimuth),
+            SimView("gen_mug", "lying", 0.4, 60.0, "stereo", azimuth_deg=azimuth),
+        )
+    ),
+)
+
+
+def cell(rows: list[RealDetectRow] | list[PotResult]) -> str:
+    candidates = sum(r.candidates for r in rows)
+    accuracy = sum(r.on_handle for r in rows) / candidates if candidates else 0.0
+    return f"{accuracy:.2f} ({sum(r.top_on_handle for r in rows)}/{len(rows)})"
+
+
+def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str]]]:
+    """(row name, a function giving its cell) for every tune item."""
+    for cloud in read_manifest(None, None):
+        if cloud.split == "tune":
+            yield (
+                f"real {cloud.name}",
+                lambda c=cloud: cell(
+                    [score_cloud(c, load_real_cloud(c), "default", s, settings) for s in range(5)]
+                ),
+            )
+    for view in SIM_VIEWS:
+        yield (
+            f"sim {view.name}",
+            lambda v=view: cell([score_view(v, "default", s, None, settings) for s in range(3)]),
+        )
+    for cut in ("segment", "labels"):
+        yield (
+            f"osd-learn pots, {cut} cut",
+            lambda c=cut: cell(
+                evaluate_real_pots(
+                    QuadricDetectorConfig(),
+                    range(5),
+                    cut=c,
+                    segment_config=POT_SEGMENTATION,
+                    single_view=settings,
+                )
+            ),
+        )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("models", type=Path, nargs="+", help="classifier JSON files")
+    args = parser.parse_args()
+    columns = [
+        list(rows_for(replace(SingleViewConfig.learned(), classifier_file=str(path))))
+        for path in args.models
+    ]
+    print("| tune item | " + " | ".join(p.name for p in args.models) + " |")
+    print("|---" * (len(args.models) + 1) + "|")
+    for i, (name, _) in enumerate(columns[0]):
+        print(f"| {name} | " + " | ".join(column[i][1]() for column in columns) + " |")
+
+
+if __name__ == "__main__":
+    main()
