@@ -43,10 +43,12 @@ NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "learned": SingleViewConfig.learned,
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name.
-``default`` is what ``simgrasp detect --viewpoint`` runs: the quadric detector's defaults,
-and on a cloud measured to be one view (every real capture) the single-view detector with
-:meth:`SingleViewConfig.learned`; ``multi_view`` is the quadric detector's defaults on every
-cloud (the ``default`` of runs before 3 December 2026)."""
+``default`` is what ``simgrasp detect`` runs: the quadric detector's defaults, and on a
+cloud measured to be one view (every real capture) the single-view detector with
+:meth:`SingleViewConfig.learned`, its ``real_depth()`` fallback where the classifier keeps
+nothing; ``learned`` is that classifier alone, without the view test or the fallback;
+``multi_view`` is the quadric detector's defaults on every cloud (the ``default`` of runs
+before 3 December 2026)."""
 
 
 @dataclass(frozen=True)
