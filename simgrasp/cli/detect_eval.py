@@ -54,8 +54,10 @@ class Options(YcbSource):
     """Score the real clouds of this manifest instead (TOML, see
     simgrasp/evaluation/real_manifest.py; the shipped one: models/handles/real_detect.toml)."""
     real_configs: tuple[str, ...] = ("default",)
-    """With --real: the named detector settings to compare (default, paper, two_scales,
-    camera_cloud, noisy_camera_cloud, real_depth, tenpas, ...)."""
+    """With --real: the named detector settings to compare (default: what `simgrasp detect`
+    runs; multi_view: the quadric defaults on every cloud, the default before 3 December
+    2026; paper, two_scales, camera_cloud, noisy_camera_cloud, real_depth, tenpas, standoff,
+    standoff_axis, standoff_measured, learned)."""
     real_dir: Path | None = None
     """With --real: folder the manifest's cloud paths are relative to (default:
     $SIMGRASP_REAL_DIR, else ../shared/real)."""
