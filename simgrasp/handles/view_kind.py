@@ -9,9 +9,10 @@ share of points lying more than :attr:`ViewKindConfig.depth_gap` behind the near
 their ray bin; the bins are as wide as a few of the cloud's own point spacings, seen from the
 viewpoint (measured: the median nearest-neighbor distance of the distinct points over their
 median range). The points must also lie in one camera's field of view. Measured figures: real
-captures and simulated kinect / stereo views 0.000-0.046, full clouds of the YCB mug and the
-generated hammer sampled from their meshes 0.19-0.34 from any viewpoint outside them
-(:mod:`tests.test_view_kind`); from a viewpoint inside such a cloud, rays go all around.
+captures and simulated kinect / stereo views 0.000-0.047, full clouds sampled from the YCB
+mug's and the generated hammer's and mug's meshes 0.19-0.45 from viewpoints outside them
+(docs/results/real-detect/README.md, :mod:`tests.test_view_kind`); from a viewpoint inside
+such a cloud, rays go all around.
 """
 
 from __future__ import annotations
