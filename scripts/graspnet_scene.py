@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from simgrasp.assets.graspnet_frame import GRASPNET_EXAMPLE, read_graspnet_frame
-from simgrasp.assets.labels import load_label_file
+from simgrasp.assets.labels import HandleLabel, load_label_file
 from simgrasp.assets.real import default_real_dir
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
 from simgrasp.handles.scene_detect import detect_in_scene
@@ -37,16 +37,16 @@ SETTINGS: dict[str, tuple[QuadricDetectorConfig, SingleViewConfig | None]] = {
 }
 
 
-def score(frame: Path, grid: np.ndarray, name: str, seed: int) -> dict[str, object]:
-    """One ``detect --segment`` run on ``frame`` scored on the drill's grip label."""
-    label = load_label_file(model_path("handles", "graspnet_handles.json"))
-    grip = label["graspnet_example_drill"]
+def score(
+    frame: Path, grip: HandleLabel, in_grip: np.ndarray, name: str, seed: int
+) -> dict[str, object]:
+    """One ``detect --segment`` run on ``frame`` scored on the drill's ``grip`` label
+    (``in_grip``: which of the frame's pixels lie in it)."""
     config, single_view = SETTINGS[name]
     start = time.perf_counter()
     result = detect_in_scene(frame, config, seed, single_view=single_view)
     elapsed = time.perf_counter() - start
     segmentation = result.segmentation
-    in_grip = grip.contains(np.nan_to_num(grid.reshape(-1, 3), nan=1e3))
     parts = {o.label: o.part_of for o in segmentation.objects}
     hits: dict[int, int] = {}
     for part, whole in parts.items():
@@ -78,10 +78,15 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     grid = read_graspnet_frame((args.real_dir or default_real_dir()) / GRASPNET_EXAMPLE)
+    labels = load_label_file(model_path("handles", "graspnet_handles.json"))
+    grip = labels["graspnet_example_drill"]
+    in_grip = grip.contains(np.nan_to_num(grid.reshape(-1, 3), nan=1e3))
     with tempfile.TemporaryDirectory() as folder:  # the derived cloud never leaves it
         frame = Path(folder) / "frame.npy"
         np.save(frame, grid)
-        rows = [score(frame, grid, name, s) for name in SETTINGS for s in range(args.seeds)]
+        rows = [
+            score(frame, grip, in_grip, name, s) for name in SETTINGS for s in range(args.seeds)
+        ]
     with (args.out / "results.csv").open("w", newline="") as stream:
         writer = csv.DictWriter(stream, list(rows[0]))
         writer.writeheader()

@@ -25,14 +25,19 @@ from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig, TenPasConf
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 SETTINGS = {
-    "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth()),
+    "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth(), None),
     "quadric real_depth without plate test": (
         "quadric",
         QuadricDetectorConfig.real_depth(plate_test=False),
+        None,
     ),
-    "quadric default": ("quadric", QuadricDetectorConfig()),
-    "tenpas default": ("tenpas", TenPasConfig()),
-    "detect default (single view)": ("quadric", QuadricDetectorConfig()),
+    "quadric default": ("quadric", QuadricDetectorConfig(), None),
+    "tenpas default": ("tenpas", TenPasConfig(), None),
+    "detect default (single view)": (
+        "quadric",
+        QuadricDetectorConfig(),
+        SingleViewConfig.learned(),
+    ),
 }
 """``detect default (single view)`` is what ``simgrasp detect --segment`` runs since 3
 December 2026: the quadric defaults, and on an object measured to be one view the
@@ -65,10 +70,10 @@ def main() -> None:
             detector=detector,
             cut=cut,
             segment_config=POT_SEGMENTATION,
-            single_view=SingleViewConfig.learned() if "single view" in name else None,
+            single_view=single_view,
         )
         for cut in CUTS
-        for name, (detector, config) in SETTINGS.items()
+        for name, (detector, config, single_view) in SETTINGS.items()
     }
     segmentations = {
         "without rim joins": SegmentConfig(),

@@ -22,9 +22,9 @@ from typing import Annotated
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, Positive, PositiveInt, Range
+from simgrasp.perception.normals import point_spacing
 
 
 @dataclass(frozen=True)
@@ -53,12 +53,14 @@ def hidden_share(
     ``viewpoint`` (3, m, the points' frame); NaN for fewer than ``min_points`` distinct
     points or none apart."""
     config = config or ViewKindConfig()
-    distinct = np.unique(np.round(np.asarray(points, dtype=np.float64), 5), axis=0)
+    distinct: NDArray[np.float64] = np.unique(
+        np.round(np.asarray(points, dtype=np.float64), 5), axis=0
+    )
     rays = distinct - np.asarray(viewpoint, dtype=np.float64)
     ranges = np.linalg.norm(rays, axis=1)
     if len(distinct) < config.min_points or not (ranges > 0).all():
         return float("nan")
-    spacing = float(np.median(cKDTree(distinct).query(distinct, k=2)[0][:, 1]))
+    spacing = point_spacing(distinct, sample=len(distinct))
     if spacing <= 0:
         return float("nan")
     bin_rad = config.bin_spacings * spacing / float(np.median(ranges))
