@@ -53,6 +53,25 @@ def test_under_segment_the_target_is_cut_by_the_segmenter_not_the_mask(hammer) -
     assert not np.array_equal(np.sort(cut, axis=0), np.sort(masked.cloud.points_world, axis=0))
 
 
+def test_a_crowded_table_keeps_its_own_plane(hammer) -> None:
+    """Twenty generated objects on the table, seen by the kinect model, cut with the chain's
+    settings: flat ones (pans, spatula blades) lie within the plane RANSAC's 12 mm band, and a
+    fit of all its inliers tilted toward them (no table found in the first view: 72 % of the
+    inliers within ``table_distance``). The table's own points must decide its plane."""
+    config = ChainConfig.of(
+        scene__clutter=19, scene__clutter_objects="generated", sensor__kind="kinect"
+    )
+    scene = build_scene(hammer, make_gripper("builtin"), config.scene, 0)
+    observation = observe(scene, kept_renderer(scene), 0.0, 0, config.sensor)
+    for frame in observation.frames:
+        cloud = organized_cloud(frame)
+        result = segment_scene(cloud, config.segment)
+        table = (frame.geom_ids == scene.table_geom).reshape(-1) & cloud.valid
+        height = cloud.points[table] @ result.plane[:3] + result.plane[3]
+        assert np.mean(np.abs(height) <= config.segment.table_distance) > 0.95
+        assert np.mean(result.labels[table] == 1) > 0.9
+
+
 def test_a_neighbor_lifted_is_wrong_object(hammer) -> None:
     config = SceneConfig(clutter=1, clutter_objects="gen_fruit")
     gripper = make_gripper("builtin")
@@ -109,7 +128,7 @@ def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap(ycb_dir: 
     axis = detection.handles[0].axis
     assert abs(axis[2]) > 0.95  # the standing strap
     for grasp in grasps:
-        assert grasp.approach_world[2] < -np.sin(np.pi / 4) + 0.05  # 45 degrees down or more
+        assert grasp.approach_world @ axis < -np.sin(np.pi / 4) + 1e-9  # 45+ degrees down the strap
         assert abs(grasp.world_T_tcp[:3, 1] @ axis) < 1e-9  # the jaws close across it
     trial = run_trial(scene, grasps[0], config.trial)
     assert trial.success and trial.on_handle

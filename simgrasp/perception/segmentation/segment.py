@@ -1,7 +1,8 @@
 """Split a whole scene cloud into its supporting plane (the table) and the objects on it.
 
 The table is the dominant plane (RANSAC on a seeded subsample, refined by least squares on
-all its inliers). Above it, an organized cloud is cut into objects on its image grid
+its inliers, then on the points within ``table_distance`` of it). Above it, an organized cloud
+is cut into objects on its image grid
 (:mod:`simgrasp.perception.segmentation.organized_segments`: depth steps and concave creases
 separate stacked and touching objects); an unorganized one, or ``method="dbscan"``, is clustered
 with Open3D's DBSCAN on a voxel grid (the plain baseline).
@@ -204,7 +205,8 @@ def fit_table_plane(
 ) -> NDArray[np.float64]:
     """The dominant plane of the ``valid`` ``points`` (m), unit normal turned toward the sensor:
     RANSAC on ``plane_samples`` seeded points, then least squares on the inliers among
-    ``refine_samples`` seeded points."""
+    ``refine_samples`` seeded points, then ``TABLE_REFITS`` times on those within
+    ``table_distance`` of the plane."""
     name = scene.source or "scene"
     index = np.flatnonzero(valid)
     if len(index) < 3:
@@ -213,7 +215,9 @@ def fit_table_plane(
     sample = np.take(points, index[rng.integers(0, len(index), config.plane_samples)], axis=0)
     plane = _ransac_plane(sample.astype(np.float64), rng, config, name)
     refine = np.take(points, index[rng.integers(0, len(index), config.refine_samples)], axis=0)
-    plane = _refined_plane(refine, plane, config)
+    plane = _refined_plane(refine, plane, config.plane_distance)
+    for _ in range(TABLE_REFITS):
+        plane = _refined_plane(refine, plane, config.table_distance)
     _check_table(np.abs(refine @ plane[:3] + plane[3]), config, name)
     if plane[:3] @ scene.viewpoint + plane[3] < 0:
         plane = -plane
@@ -264,11 +268,18 @@ def _ransac_plane(
     return np.append(normals[best], offsets[best])
 
 
+TABLE_REFITS = 2
+"""Least-squares refits of the table plane on the points within ``table_distance`` of the
+previous plane, after the fit of all the RANSAC plane's inliers: flat objects on a crowded
+table (pans, boards, a spatula's blade) lie within ``plane_distance`` of it and tilt that
+first fit toward them; the refits keep the table's own points."""
+
+
 def _refined_plane(
-    points: NDArray[np.float32], plane: NDArray[np.float64], config: SegmentConfig
+    points: NDArray[np.float32], plane: NDArray[np.float64], band: float
 ) -> NDArray[np.float64]:
-    """Least-squares plane through the inliers of ``plane`` among ``points`` (m)."""
-    inliers = points[np.abs(points @ plane[:3] + plane[3]) <= config.plane_distance]
+    """Least-squares plane through the ``points`` within ``band`` (m) of ``plane`` (m)."""
+    inliers = points[np.abs(points @ plane[:3] + plane[3]) <= band]
     if len(inliers) < 3:
         return plane
     center = inliers.mean(axis=0, dtype=np.float64)

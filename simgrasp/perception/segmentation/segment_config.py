@@ -31,7 +31,8 @@ class SegmentConfig(Checked):
     """RANSAC inlier distance to the table plane (m)."""
     table_distance: Positive = 0.005
     """Points within this distance of the final, least-squares plane (m) are the table; points
-    higher are object candidates (a pan's handle lies 1 cm above the table)."""
+    higher are object candidates (a pan's handle lies 1 cm above the table). The plane is
+    refit on the points within this distance of it (``segment.TABLE_REFITS``)."""
     plane_samples: PositiveInt = 2000
     """Valid points drawn (seeded) for the plane RANSAC."""
     plane_iterations: PositiveInt = 100
