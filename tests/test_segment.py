@@ -8,12 +8,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy import ndimage
 
 from simgrasp.assets.real import default_real_dir
 from simgrasp.cli import main
 from simgrasp.evaluation.segment_eval import part_ious, score_scene
 from simgrasp.perception._arrays import import_open3d
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
+from simgrasp.perception.segmentation.organized_segments import _closed_cuts
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, SegmentConfig
 from simgrasp.perception.segmentation.segment_objects import LabelPixels, label_pixels
@@ -132,6 +134,35 @@ def test_osd_scene_matches_its_labels(name: str) -> None:
     assert ious.min() >= 0.8, ious
     table = scene.labels[(result.labels == 1)]
     assert np.mean((table >= 1) & (table < 10)) > 0.99
+
+
+def test_closing_the_cuts_bridges_a_one_pixel_gap_and_the_outline() -> None:
+    """A cut band three pixels wide (a concave cut spans its step + 1 pixels) with a
+    one-pixel gap, ending a pixel short of the candidates' outline, splits them once closed
+    (``cut_close_px`` 1); a gap of three pixels stays open."""
+    kept = np.zeros((20, 30), dtype=bool)
+    kept[2:18, 2:28] = True
+    cut = np.zeros_like(kept)
+    cut[3:18, 13:16] = True  # from a pixel below the top edge (row 2) to the bottom one (17)
+    cut[9] = False  # a one-pixel gap
+    closed = _closed_cuts(cut, kept, 1)
+    assert ndimage.label(kept & ~cut)[1] == 1
+    assert ndimage.label(kept & ~closed)[1] == 2
+    assert not (closed & ~kept).any() and closed[cut].all()
+    cut[8:11] = False  # a three-pixel gap
+    assert ndimage.label(kept & ~_closed_cuts(cut, kept, 1))[1] == 1
+
+
+@needs_osd
+def test_a_box_lying_across_another_is_two_objects() -> None:
+    """learn25: a cereal box lies across another; their concave crease is traced with
+    one-pixel gaps and ends a pixel short of the outline, so the traced cuts leave the two
+    boxes one segment. Closing the cuts' gaps (``cut_close_px``) separates them."""
+    scene = read_scene(OSD / "learn25.pcd")
+    traced = part_ious(scene.labels, segment_scene(scene, SegmentConfig(cut_close_px=0)).labels)
+    closed = part_ious(scene.labels, segment_scene(scene, SegmentConfig(cut_close_px=1)).labels)
+    assert traced.max() < 0.6, traced
+    assert closed.min() > 0.9, closed
 
 
 @needs_osd

@@ -137,18 +137,30 @@ def _crop_components(
 ) -> NDArray[np.int32]:
     """Segment ids of the ``candidates`` pixels of the (H, W, 3) crop ``points``: the
     connected pixels left between the cuts (:func:`_split_cuts`, or :func:`_cuts` of the
-    whole crop with ``normal_bin_px`` > 1), numbered in raster order, then the cut pixels
-    attached (:func:`attach_edges`)."""
+    whole crop with ``normal_bin_px`` > 1; closed by ``cut_close_px``), numbered in raster
+    order, then the cut pixels attached (:func:`attach_edges`)."""
     if candidates.size == 0:
         return np.zeros(candidates.shape, dtype=np.int32)
     if config.normal_bin_px == 1:
         cut, kept = _split_cuts(points, candidates, viewpoint, config)
     else:
         cut, kept = _cuts(points, candidates, viewpoint, config), candidates
+    if config.cut_close_px:
+        cut = _closed_cuts(cut, kept, config.cut_close_px)
     segments, _ = ndimage.label(kept & ~cut)
     segments = segments.astype(np.int32, copy=False)
     flat_planes = _masked_planes(points, kept, config.attach_radius_px).reshape(3, -1)
     return attach_edges(segments, flat_planes, kept, config)
+
+
+def _closed_cuts(cut: NDArray[np.bool_], kept: NDArray[np.bool_], steps: int) -> NDArray[np.bool_]:
+    """The ``cut`` pixels (H, W) of the ``kept`` candidates with their gaps of up to
+    ``2 steps`` pixels closed: a closing (4-neighbour steps) of the cuts together with all
+    that is not a candidate, the crop's border counted as outside, cut to the candidates."""
+    pad = steps + 1
+    barrier = np.pad(cut | ~kept, pad, constant_values=True)
+    closed = ndimage.binary_closing(barrier, iterations=steps)[pad:-pad, pad:-pad]
+    return closed & kept
 
 
 def _split_cuts(
