@@ -47,10 +47,10 @@ def score(
     result = detect_in_scene(frame, config, seed, single_view=single_view)
     elapsed = time.perf_counter() - start
     segmentation = result.segmentation
-    parts = {o.label: o.part_of for o in segmentation.objects}
-    hits: dict[int, int] = {}
-    for part, whole in parts.items():
-        hits[whole] = hits.get(whole, 0) + int((segmentation.object_mask(part) & in_grip).sum())
+    hits = {  # a whole object's mask holds its side parts
+        whole: int((segmentation.object_mask(whole) & in_grip).sum())
+        for whole in segmentation.whole_objects()
+    }
     drill = max(hits, key=lambda k: hits[k])
     (detection,) = [d for k, d in result.detections if k == drill]
     centers = detection.candidate_centers
