@@ -77,10 +77,10 @@ class SegmentConfig(Checked):
     pixels together with everything outside the candidates: the outline and holes), and the
     closing's pixels are attached back like every cut pixel. A crease traced with a one-pixel
     gap, or ending a pixel short of the outline (a box lying across another), then still
-    separates the two objects. 1 holds out on the Kinect-class osd-learn scenes (leave one
-    group out: mean part IoU 0.930, none under 0.5, against 0.914) but splits objects at their
-    own creases elsewhere (the RealSense GraspNet frame's drill, the simulated pans and
-    clamps; ``docs/results/segment-cv``), so it is off: 0, the cuts as traced."""
+    separates the two objects. 1 holds out on the Kinect-class osd-learn scenes, leaving one
+    scene group out, but splits single objects at their own creases elsewhere (the RealSense
+    GraspNet frame's drill, the simulated pans and clamps; figures in
+    ``docs/results/segment-cv``), so it is off: 0, the cuts as traced."""
     attach_distance: Positive = 0.015
     """A cut-edge pixel joins the segment of its 3-D nearest pixel within
     ``attach_radius_px`` if that pixel is within this distance (m) ..."""
