@@ -254,6 +254,13 @@ def real_band(grid_settings: list[dict[str, float]]) -> list[int]:
     return [i for i, s in enumerate(grid_settings) if all(s[k] == v for k, v in band.items())]
 
 
+def reported(chosen: dict[str, dict[str, int]], named: dict[str, int]) -> list[int]:
+    """The grid indices reported in full: the named settings and every fold's choice."""
+    return sorted(
+        {*named.values(), *(i for by_group in chosen.values() for i in by_group.values())}
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", type=Path, default=default_real_dir() / "osd-learn")
@@ -281,8 +288,7 @@ def main(argv: list[str] | None = None) -> int:
         "defaults": grid_settings.index(_of(SegmentConfig())),
         "simulated": grid_settings.index(_of(SegmentConfig.simulated())),
     }
-    reported = {*named.values(), *(i for by_group in chosen.values() for i in by_group.values())}
-    for index in sorted(reported):  # the settings reported, timed again: least of repeats
+    for index in reported(chosen, named):  # the settings reported, timed again: least of repeats
         grid[index] = evaluate(frames, grid_settings[index], args.repeats)
     args.out.mkdir(parents=True, exist_ok=True)
     _write_grid(args.out / "grid.csv", grid_settings, grid)
@@ -345,9 +351,7 @@ def _summary(
         },
         "settings": {
             label(grid_settings[index]): {g: stats(v) for g, v in _with_osd(grid[index]).items()}
-            for index in sorted(
-                {*named.values(), *(i for by_group in chosen.values() for i in by_group.values())}
-            )
+            for index in reported(chosen, named)
         },
         "names": {name: label(grid_settings[index]) for name, index in named.items()},
     }
