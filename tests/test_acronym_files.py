@@ -99,6 +99,21 @@ def test_graspgen_file_labels_without_object_and_exports(tmp_path: Path) -> None
         assert labels["score"].tolist() == ours["score"]
 
 
+def test_glob_of_one_file_labels_it_as_a_data_set(tmp_path: Path) -> None:
+    _graspgen_file(tmp_path, "a.json", 2)
+    out = tmp_path / "out"
+    pattern = str(tmp_path / "grasps" / "*.json")
+    done = _cli(
+        "label-grasps", "--grasps", pattern, "--gripper", "franka_panda", "--protocol", "acronym",
+        "--mass", "0.1", "--no-picture", "--out", str(out), cwd=tmp_path,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    indices = [json.loads(line)["index"] for line in (out / "a" / "labels.jsonl").open()]
+    assert sorted(indices) == [0, 1]
+    summary = json.loads((out / "summary.json").read_text())
+    assert [row["file"] for row in summary["files"]] == ["a.json"]
+
+
 def test_glob_of_files_resumes_after_sigkill(tmp_path: Path) -> None:
     for name in ("a.json", "b.json"):
         _graspgen_file(tmp_path, name, 12)

@@ -66,7 +66,7 @@ def run(options: Options) -> int:
     if options.max_grasps is not None and options.max_grasps < 1:
         raise SimgraspError(f"--max-grasps must be >= 1, got {options.max_grasps}")
     files = expand_grasp_files(options.grasps)
-    if len(files) > 1 or options.grasps.is_dir():
+    if not options.grasps.is_file():  # a folder or a glob, of any number of files: OUT/<stem>/
         return label_files(files, options, invocation())
     config = object_for(options, files[0])
     grasps = read_grasp_set(options.grasps).first(options.max_grasps)
