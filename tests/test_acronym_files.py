@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 import trimesh
 from data_needs import require_data
+from PIL import Image
 
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import model_for
@@ -35,14 +36,15 @@ def _cli(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run(command, capture_output=True, text=True, env=env, cwd=cwd)
 
 
-def _graspgen_file(folder: Path, name: str, count: int) -> Path:
-    """A GraspGen file on a box mesh (``meshes/box.stl``), ``count`` copies of one grasp."""
+def _graspgen_file(folder: Path, name: str, count: int, held: list[int] | None = None) -> Path:
+    """A GraspGen file on a box mesh (``meshes/box.stl``), ``count`` copies of one grasp
+    labeled ``held`` (default: all held)."""
     (folder / "meshes").mkdir(parents=True, exist_ok=True)
     trimesh.creation.box((0.04, 0.06, 0.10)).export(folder / "meshes" / "box.stl")
     hand = OBJECT_T_TCP @ np.linalg.inv(FRANKA_T_TCP)
     entries = {
         "object": {"file": "meshes/box.stl", "scale": 1.0},
-        "grasps": {"transforms": [hand.tolist()] * count, "object_in_gripper": [1] * count},
+        "grasps": {"transforms": [hand.tolist()] * count, "object_in_gripper": held or [1] * count},
     }
     (folder / "grasps").mkdir(exist_ok=True)
     path = folder / "grasps" / name
@@ -97,6 +99,26 @@ def test_graspgen_file_labels_without_object_and_exports(tmp_path: Path) -> None
     assert all(0 < s <= 1 for s in ours["score"])
     with np.load(out / "labels.npz") as labels:
         assert labels["score"].tolist() == ours["score"]
+
+
+def test_disagreements_are_replayed_with_pictures(tmp_path: Path) -> None:
+    grasp_file = _graspgen_file(tmp_path, "box.json", 3, held=[0, 1, 0])  # we hold all three
+    out, examples = tmp_path / "out", tmp_path / "examples"
+    labeled = _cli(
+        "label-grasps", "--grasps", str(grasp_file), "--gripper", "franka_panda", "--protocol",
+        "acronym", "--mass", "0.1", "--no-picture", "--out", str(out), cwd=tmp_path,
+    )  # fmt: skip
+    assert labeled.returncode == 0, labeled.stderr
+    args = ("compare-labels", str(out), "--reference", str(grasp_file), "--examples")
+    done = _cli(*args, str(examples), "--examples-per-kind", "1", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    (entry,) = json.loads((examples / "examples.json").read_text())
+    assert entry["kind"] == "ours_held" and entry["index"] in (0, 2)
+    assert entry["replay"] == "held" and entry["replay_matches"] is True
+    picture = Image.open(examples / entry["picture"])
+    assert picture.width > 2.5 * picture.height  # three key moments side by side
+    wrong = _cli("compare-labels", str(out), str(out), "--examples", str(examples), cwd=tmp_path)
+    assert wrong.returncode == 2 and "--examples needs --reference" in wrong.stderr
 
 
 def test_glob_of_one_file_labels_it_as_a_data_set(tmp_path: Path) -> None:

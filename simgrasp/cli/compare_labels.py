@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.config import setting
-from simgrasp.config.checks import Checked
+from simgrasp.config.checks import Checked, NonNegativeInt, PositiveInt
 from simgrasp.errors import SimgraspError
 
 
@@ -26,6 +26,14 @@ class Options(Checked):
     REFERENCE's labels with, instead of OTHER."""
     plot: Path | None = None
     """With --reference: write the agreement plot (PNG) here."""
+    examples: Path | None = None
+    """With --reference: replay a few grasps of each kind of disagreement (the reference held
+    the object and we did not, and the other way round) and write a picture of each, with
+    examples.json, to this folder."""
+    examples_per_kind: PositiveInt = 3
+    """With --examples: how many grasps of each kind."""
+    seed: NonNegativeInt = 0
+    """With --examples: the seed of the examples' draw."""
     json: bool = False
     """Print the counts as JSON."""
 
@@ -37,6 +45,8 @@ def run(options: Options) -> int:
         return _against_file(options)
     if options.other is None:
         raise SimgraspError("compare-labels needs OTHER (a second label directory) or --reference")
+    if options.examples is not None:
+        raise SimgraspError("--examples needs --reference (a grasp file with its own labels)")
     comparison = compare_labels(options.reference, options.other)
     if options.json:
         print(json.dumps(comparison))
@@ -61,6 +71,12 @@ def _against_file(options: Options) -> int:
     comparison = compare_with_reference(options.reference, files)
     if options.plot is not None:
         plot_comparison(comparison, options.reference, options.plot)
+    if options.examples is not None:
+        from simgrasp.grasping.labeling.disagreements import write_examples
+
+        write_examples(
+            options.reference, files, options.examples, options.examples_per_kind, options.seed
+        )
     if options.json:
         print(json.dumps(comparison))
     else:

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from simgrasp._mujoco import mujoco
 from simgrasp.errors import SimgraspError
@@ -29,21 +30,43 @@ def check_frames_target(path: Path) -> None:
 class FrameRecorder:
     """Phase callback that renders one RGB picture per key moment of a trial, with the
     process's kept renderer (:mod:`simgrasp.scenes.kept_renderer`; the full chain has already
-    rendered its depth views with it), from a free camera 0.9 m away looking down 25 degrees."""
+    rendered its depth views with it), from a free camera ``distance`` (m) away.
 
-    def __init__(self) -> None:
+    By default the camera looks down 25 degrees at a point 12 cm above where the object is at
+    the first key moment (its rest pose on the table). ``aim_world`` (a world point, m) and
+    ``view_world`` (the camera's viewing direction, world frame) set both instead, e.g. across
+    a grasp's jaws at its TCP."""
+
+    def __init__(
+        self,
+        distance: float = 0.9,
+        aim_world: NDArray[np.float64] | None = None,
+        view_world: NDArray[np.float64] | None = None,
+    ) -> None:
         self.frames: list[np.ndarray] = []
+        self.distance = distance
+        self.aim_world = aim_world
+        self.view_world = view_world
         self._camera: mujoco.MjvCamera | None = None
 
     def __call__(self, _phase: str, scene: Any) -> None:
         if self._camera is None:
-            self._camera = mujoco.MjvCamera()
-            self._camera.type = mujoco.mjtCamera.mjCAMERA_FREE
-            self._camera.distance = 0.9
-            self._camera.azimuth = 135.0
-            self._camera.elevation = -25.0
-            self._camera.lookat[:] = scene.world_T_object[:3, 3] + np.array([0.0, 0.0, 0.12])
+            self._camera = self._placed(scene)
         self.frames.append(kept_renderer(scene).rgb(scene.data, self._camera, *RENDER_SIZE))
+
+    def _placed(self, scene: Any) -> mujoco.MjvCamera:
+        camera = mujoco.MjvCamera()
+        camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+        camera.distance = self.distance
+        camera.azimuth, camera.elevation = 135.0, -25.0
+        if self.view_world is not None:
+            view = np.asarray(self.view_world, dtype=float)
+            view = view / np.linalg.norm(view)
+            camera.azimuth = float(np.degrees(np.arctan2(view[1], view[0])))
+            camera.elevation = float(np.degrees(np.arcsin(np.clip(view[2], -1.0, 1.0))))
+        aim = scene.object_pose()[:3, 3] + [0.0, 0.0, 0.12]
+        camera.lookat[:] = aim if self.aim_world is None else self.aim_world
+        return camera
 
 
 def write_frames(frames: list[np.ndarray], path: Path) -> str | None:

@@ -15,7 +15,7 @@ at the object's starting pose (the scene's seeded rest pose, raised into free sp
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -34,6 +34,7 @@ from simgrasp.runs.engine import RunConfig, Work, run_tasks
 
 if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
+    from simgrasp.grasping.trials.result import Phase
     from simgrasp.scenes.scene import Scene
 
 INVALID = "invalid"
@@ -97,9 +98,16 @@ class GraspLabeler:
         """Free-floating trials' starts, simulated once per width (their records are those of
         trials that step them): change ``scene.model`` only before the first label."""
 
-    def label(self, index: int, object_T_tcp: NDArray[np.float64], width: float) -> dict[str, Any]:
+    def label(
+        self,
+        index: int,
+        object_T_tcp: NDArray[np.float64],
+        width: float,
+        on_phase: Callable[[Phase, Scene], None] | None = None,
+    ) -> dict[str, Any]:
         """The trial record of one grasp (object frame; ``width`` NaN: fully open), with its
-        ``index`` and the ``protocol``."""
+        ``index`` and the ``protocol``; ``on_phase`` as :func:`run_trial` takes it (e.g. a
+        :class:`~simgrasp.scenes.key_frames.FrameRecorder`)."""
         from simgrasp.grasping.grasp import Grasp
         from simgrasp.grasping.trials.trial import run_trial
 
@@ -110,7 +118,8 @@ class GraspLabeler:
             opening,
             source=GRASP_SOURCE,
         )
-        record = run_trial(self.scene, grasp, self.trial_config, starts=self.starts).to_json()
+        result = run_trial(self.scene, grasp, self.trial_config, on_phase, starts=self.starts)
+        record = result.to_json()
         return {"index": int(index), "protocol": self.config.protocol, **record}
 
 

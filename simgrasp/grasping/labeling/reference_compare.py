@@ -19,7 +19,7 @@ from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.grasping.labeling.agreement import agreement
 
 
-def _labels_dir(ours: Path, reference: Path) -> Path:
+def labels_dir_of(ours: Path, reference: Path) -> Path:
     """Where the labels of ``reference`` are under ``ours``."""
     for candidate in (ours / reference.stem, ours):
         if (candidate / "labels.npz").is_file():
@@ -39,7 +39,7 @@ def compare_with_reference(ours: Path, references: list[Path]) -> dict[str, Any]
         labels = reference_labels(reference)
         if labels is None:
             raise SimgraspError(f"{reference} has no reference labels (object_in_gripper)")
-        success, score, scored = _our_labels(_labels_dir(ours, reference))
+        success, score, scored = _our_labels(labels_dir_of(ours, reference))
         truth = labels[0][: len(success)][scored]
         row = {"file": reference.name, **agreement(truth, success[scored], score[scored])}
         rows.append(row)
