@@ -13,7 +13,9 @@ we hold. A variant changes one thing on the compiled model or the trial settings
 - ``tors<T>`` / ``condim3``: the fingers' torsional friction (m), or no torsion at all;
 - ``force<N>``: the jaws' force limit (N; it also slows their opening);
 - ``shake_big``: twice the shake (6 cm, 0.3 rad);
-- ``fine_hulls``: CoACD at threshold 0.05, up to 32 hulls, preprocess resolution 50.
+- ``fine_hulls``: CoACD at threshold 0.05, up to 32 hulls, preprocess resolution 50;
+- ``tight_hulls``: CoACD at threshold 0.05, no cap on the hull count, no voxel remeshing
+  (the ACRONYM meshes are watertight): the hulls fill less of a mug's cavity.
 
     python scripts/acronym_variants.py --variants base,mu0.3,condim3 --per-class 20
 """
@@ -51,6 +53,8 @@ DEFAULT_FILES = (
 )
 FINGERS = ("gripper/left_finger", "gripper/right_finger")
 FINE_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=32, preprocess_resolution=50)
+TIGHT_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=-1, preprocess_mode="off")
+HULLS = {"fine_hulls": FINE_HULLS, "tight_hulls": TIGHT_HULLS}
 Variant = Callable[[GraspLabeler], None]
 Row = tuple[str, bool, bool, str | None]
 """(category, FleX success, our success, our failure)."""
@@ -81,7 +85,7 @@ def _shake_big(labeler: GraspLabeler) -> None:
 
 def variant(name: str) -> Variant:
     """The change ``name`` makes to a freshly built labeler (module docstring)."""
-    if name in ("base", "fine_hulls"):
+    if name == "base" or name in HULLS:
         return lambda labeler: None
     if name == "shake_big":
         return _shake_big
@@ -120,8 +124,8 @@ def label_variant(name: str, files: list[Path], per_class: int) -> list[Row]:
     for path in files:
         indices, poses, flex = subset(path, per_class)
         config = LabelConfig(carried_object(path) or "", gripper="franka_panda", protocol="acronym")
-        if name == "fine_hulls":
-            model: ObjectModel = build_object_model(load_object(config.object), FINE_HULLS)
+        if name in HULLS:
+            model: ObjectModel = build_object_model(load_object(config.object), HULLS[name])
         else:
             model = model_for(config.object)
         labeler = GraspLabeler(model, config)

@@ -8,6 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
+MOMENTS = ("pre-grasp", "closed", "shaken")
+"""The key moments of a free-floating (ACRONYM) trial, in order; a trial that fails at the
+close has no later ones."""
+
 
 def plot_disagreement(frames: list[np.ndarray], caption: str, path: Path) -> Path:
     """Write ``frames`` ((H, W, 3) uint8 key frames, in trial order) in one row under
@@ -17,14 +21,16 @@ def plot_disagreement(frames: list[np.ndarray], caption: str, path: Path) -> Pat
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    count = max(len(frames), 1)
+    count = max(len(frames), len(MOMENTS))
     figure, axes = plt.subplots(1, count, figsize=(3.6 * count, 3.4), squeeze=False)
-    names = ("pre-grasp", "closed", "shaken", "after")
     for k, axis in enumerate(axes[0]):
         axis.axis("off")
+        name = MOMENTS[k] if k < len(MOMENTS) else f"moment {k + 1}"
         if k < len(frames):
             axis.imshow(frames[k])
-            axis.set_title(names[k] if k < len(names) else f"moment {k + 1}", fontsize=9)
+            axis.set_title(name, fontsize=9)
+        else:
+            axis.text(0.5, 0.5, f"{name}: not reached\n(the trial ended)", ha="center", va="center")
     figure.suptitle(caption, fontsize=9)
     figure.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)

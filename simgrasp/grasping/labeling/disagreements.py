@@ -150,6 +150,6 @@ def _caption(example: Disagreement, replayed: str) -> str:
     if example.our_failure:
         ours += f" ({example.our_failure})"
     return (
-        f"{example.file[:60]} row {example.index}\n"
+        f"{example.file} row {example.index}\n"
         f"reference: {reference}   ours: {ours}   replay: {replayed}"
     )
