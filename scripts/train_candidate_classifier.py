@@ -39,6 +39,7 @@ OBJECTS = (
     "035_power_drill",
     "019_pitcher_base",
     "037_scissors",
+    *(f"gen_strap_mug_s{seed}" for seed in range(10)),
 )
 VIEWS = (  # (pose, distance m, elevation deg, sensor); the kinect sees nothing nearer 0.5 m
     ("upright", 0.6, 32.0, "kinect"),

@@ -7,7 +7,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from simgrasp.assets.generated import GENERATED_KINDS, generate_parts, generate_tool
-from simgrasp.assets.object_sets import GENERATED_OBJECTS
+from simgrasp.assets.object_sets import GENERATED_OBJECTS, TRAINING_KINDS
 from simgrasp.assets.registry import load_object
 
 SEEDS = (0, 1, 2)
@@ -61,7 +61,8 @@ def test_sizes_fit_a_parallel_gripper_and_rest_on_the_plane(kind: str) -> None:
             else:
                 thickness = np.array([2 * region.radius])
             assert np.all(thickness <= 0.04 + 0.004), f"{asset.name}: handle too thick"
-            assert np.all(thickness >= 0.02 - 0.001), f"{asset.name}: handle too thin"
+            thinnest = 0.01 if kind == "strap_mug" else 0.02  # a strap is 9-16 mm wide
+            assert np.all(thickness >= thinnest - 0.001), f"{asset.name}: handle too thin"
 
 
 def test_mug_body_is_realistic() -> None:
@@ -82,10 +83,22 @@ def test_seeds_change_sizes_reproducibly() -> None:
 def test_registry_names_and_errors() -> None:
     assert load_object("gen_pan", seed=4).name == "gen_pan_s4"
     assert load_object("gen_pan_s7").name == "gen_pan_s7"
-    assert tuple(f"gen_{k}" for k in GENERATED_KINDS) == GENERATED_OBJECTS
+    swept = tuple(f"gen_{k}" for k in GENERATED_KINDS if k not in TRAINING_KINDS)
+    assert swept == GENERATED_OBJECTS and "gen_strap_mug" not in GENERATED_OBJECTS
+    assert load_object("gen_strap_mug_s2").name == "gen_strap_mug_s2"
     with pytest.raises(ValueError, match="gen_mug"):
         load_object("gen_teapot")
     with pytest.raises(ValueError, match="generated objects are"):
         load_object("no_such_object_xyz")
     with pytest.raises(ValueError, match="known kinds"):
         generate_tool("teapot", 0)
+
+
+def test_strap_mug_handle_is_a_flat_strap() -> None:
+    for seed in SEEDS:
+        tool = generate_parts("strap_mug", seed)
+        handle = next(p for p in tool.parts if p.is_handle)
+        body = next(p for p in tool.parts if p.name == "body")
+        assert 0.009 <= handle.mesh.extents[1] <= 0.016  # the strap's width, across the loop
+        loop = handle.mesh.extents[0] - (body.mesh.bounds[1, 0] - handle.mesh.bounds[0, 0])
+        assert loop > 0.01  # the loop stands off the wall

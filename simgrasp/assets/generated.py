@@ -102,12 +102,16 @@ def torus_arc(
     angle_end: float,
     arc_sections: int = 48,
     tube_sections: int = 24,
+    width_radius: float | None = None,
 ) -> trimesh.Trimesh:
     """A closed tube along a circular arc in the x-z plane (capped ends, outward normals).
 
     The centerline is ``center + major_radius * (cos a, 0, sin a)`` for ``a`` in
-    [``angle_start``, ``angle_end``] (radians); the tube radius is ``minor_radius``.
+    [``angle_start``, ``angle_end``] (radians); the tube's section is an ellipse of semi-axis
+    ``minor_radius`` in the arc's plane and ``width_radius`` (None: ``minor_radius``, a round
+    tube) across it, along y (a flat strap when wider than thick).
     """
+    width_radius = minor_radius if width_radius is None else width_radius
     angles = np.linspace(angle_start, angle_end, arc_sections + 1)
     phis = np.linspace(0.0, 2 * np.pi, tube_sections, endpoint=False)
     radial = np.stack([np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1)
@@ -116,7 +120,7 @@ def torus_arc(
     rings = (
         centerline[:, None, :]
         + minor_radius * np.cos(phis)[None, :, None] * radial[:, None, :]
-        + minor_radius * np.sin(phis)[None, :, None] * binormal
+        + width_radius * np.sin(phis)[None, :, None] * binormal
     )
     vertices = np.concatenate([rings.reshape(-1, 3), centerline[[0, -1]]])
     n_ring = tube_sections
@@ -175,6 +179,35 @@ def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
     # The label covers the arc outside the outer wall (centerline x >= radius).
     outside = np.arccos(-offset / major)
     regions = _arc_capsules(center, major, minor, -outside, outside)
+    parts = [
+        Part("body", body, DENSITY_CERAMIC, False),
+        Part("bottom", base, DENSITY_CERAMIC, False),
+        Part("handle", handle, DENSITY_CERAMIC, True),
+    ]
+    return parts, regions, False
+
+
+def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    """A mug whose handle is a flat strap (4-7 mm thick in the loop's plane, 9-16 mm wide
+    across it) on a loop of 22-34 mm, as most real mugs' handles are, on a body of 3.3-4.5 cm
+    radius with a 2.5-4 mm wall."""
+    radius = _uniform(rng, 0.033, 0.045)
+    height = _uniform(rng, 0.075, 0.11)
+    wall = _uniform(rng, 0.0025, 0.004)
+    bottom = _uniform(rng, 0.004, 0.007)
+    thickness = _uniform(rng, 0.004, 0.007)
+    width = _uniform(rng, 0.009, 0.016)
+    major = _uniform(rng, 0.022, 0.034)
+    offset = _uniform(rng, 0.15, 0.45) * major  # loop center outside the wall
+    body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
+    body.apply_translation([0, 0, height / 2])
+    base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
+    base.apply_translation([0, 0, bottom / 2])
+    center = np.array([radius + offset, 0.0, 0.55 * height])
+    inner = np.arccos(-(offset + wall / 2) / major)  # the strap enters the wall
+    handle = torus_arc(center, major, thickness / 2, -inner, inner, width_radius=width / 2)
+    outside = np.arccos(-offset / major)
+    regions = _arc_capsules(center, major, width / 2, -outside, outside)
     parts = [
         Part("body", body, DENSITY_CERAMIC, False),
         Part("bottom", base, DENSITY_CERAMIC, False),
@@ -291,6 +324,7 @@ _BUILDERS: dict[
     "pan": _pan,
     "can": _can,
     "fruit": _fruit,
+    "strap_mug": _strap_mug,
 }
 
 GENERATED_KINDS: tuple[str, ...] = tuple(_BUILDERS)

@@ -15,7 +15,7 @@ from simgrasp.errors import SimgraspError
 
 __all__ = ["GENERATED_KINDS", "load_object"]
 
-_GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+)(?:_s(?P<seed>\d+))?$")
+_GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+(?:_[a-z]+)*)(?:_s(?P<seed>\d+))?$")
 
 
 def load_object(

@@ -41,12 +41,15 @@ NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
     "standoff_axis": lambda: SingleViewConfig(anchor="axis"),
     "standoff_measured": lambda: SingleViewConfig(anchor="consistent", min_width_spacings=2.0),
     "learned": SingleViewConfig.learned,
+    "learned_bars": SingleViewConfig.learned_bars,
 }
 """The detector settings ``detect-eval --real --real-configs`` can compare, by name.
 ``default`` is what ``simgrasp detect`` runs: the quadric detector's defaults, and on a
 cloud measured to be one view (every real capture) the single-view detector with
 :meth:`SingleViewConfig.learned`, its ``real_depth()`` fallback where the classifier keeps
-nothing; ``learned`` is that classifier alone, without the view test or the fallback;
+nothing; ``learned`` is that classifier alone, without the view test or the fallback
+(``learned_bars``: the first classifier and its settings, the ``learned`` of runs before 4
+December 2026);
 ``multi_view`` is the quadric detector's defaults on every cloud (the ``default`` of runs
 before 3 December 2026)."""
 

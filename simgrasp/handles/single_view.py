@@ -31,6 +31,11 @@ SINGLE_VIEW_DETECTOR = "quadric-single-view"
 """The ``detector`` name of a :func:`detect_single_view` result."""
 FALLBACK_DETECTOR = "quadric-single-view-fallback"
 """The ``detector`` name of a single view's detection by :attr:`SingleViewConfig.fallback`."""
+CLASSIFIER = "candidate_classifier.json"
+"""The shipped classifier (``models/handles/``), written by
+``scripts/train_candidate_classifier.py``."""
+BARS_CLASSIFIER = "candidate_classifier_bars.json"
+"""The first classifier (3 December 2026), trained without flat-strap mugs."""
 
 
 def _single_view_quadric() -> QuadricDetectorConfig:
@@ -81,16 +86,30 @@ class SingleViewConfig:
     @classmethod
     def learned(cls) -> SingleViewConfig:
         """The default for single views (``detect``'s, ``detect-eval --real``'s ``default``):
-        the shipped classifier at 0.6, centers on the fitted axis where it is consistent with
-        the seen surface (the named setting ``learned`` of docs/results/real-detect, chosen
-        on the tune knives and simulated views); where the classifier keeps nothing, the
-        quadric detector's :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm
-        neighborhoods, the plate test for flat tabs; chosen on the tune osd-learn pots, whose
-        tabs the classifier, trained on bars and loops, rejects)."""
+        the shipped classifier (trained with flat-strap mugs, ``gen_strap_mug``) at 0.7 on fits
+        at least two measured point spacings wide, handle centers on the seen surface (the
+        named setting ``learned`` of docs/results/real-detect, each choice made on the tune
+        knives, the osd-learn pots and simulated views); where the classifier keeps nothing,
+        the quadric detector's :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm
+        neighborhoods, the plate test for flat tabs; chosen on the tune osd-learn pots)."""
+        return cls(
+            classifier=True,
+            classifier_threshold=0.7,
+            min_width_spacings=2.0,
+            fallback=QuadricDetectorConfig.real_depth(),
+        )
+
+    @classmethod
+    def learned_bars(cls) -> SingleViewConfig:
+        """The single-view default of 3 December 2026, kept to reproduce its runs: the first
+        classifier (``candidate_classifier_bars.json``, trained on bars and loops without
+        flat-strap mugs) at 0.6, centers on the fitted axis where it is consistent with the
+        seen surface, the same fallback."""
         return cls(
             anchor="consistent",
             classifier=True,
             classifier_threshold=0.6,
+            classifier_file=str(model_path("handles", BARS_CLASSIFIER)),
             fallback=QuadricDetectorConfig.real_depth(),
         )
 
@@ -144,10 +163,11 @@ def _keep(
     opening = config.quadric.gripper_max_opening
     if not config.classifier:
         return standoff_mask(candidates, cloud, eye, opening, standoff)
-    shipped = model_path("handles", "candidate_classifier.json")
+    shipped = model_path("handles", CLASSIFIER)
     model = TreeClassifier.read(Path(config.classifier_file) if config.classifier_file else shipped)
     features = candidate_features(candidates, cloud, eye, spacing, standoff)
-    fits = np.array([c.width <= opening - 2 * standoff.gap for c in candidates])
+    widths = np.array([c.width for c in candidates])
+    fits = (widths <= opening - 2 * standoff.gap) & (widths >= standoff.min_width)
     return fits & (model.probability(features) >= config.classifier_threshold)
 
 
