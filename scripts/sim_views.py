@@ -28,6 +28,7 @@ CONFIGS = (
     "standoff_axis",
     "standoff_measured",
     "learned",
+    "learned_bars",
 )
 VIEWS = {
     "gpd_table_mug": (

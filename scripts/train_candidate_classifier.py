@@ -7,8 +7,12 @@ and lying, through the kinect and stereo sensor models at several distances and 
 lies in the object's handle label; boosted trees (scikit-learn) are fitted
 with every view weighted alike and written as JSON. Needs scikit-learn and ``SIMGRASP_YCB_DIR``.
 
-    python scripts/train_candidate_classifier.py --seeds 2 \
+    python scripts/train_candidate_classifier.py --seeds 2 --workers 2 \
         --out models/handles/candidate_classifier.json
+
+``--without-strap-mugs`` trains on the objects of the first classifier
+(``candidate_classifier_bars.json``); ``--leave-one-out`` prints, per object, how a model
+trained on the others does on its views (docs/results/real-detect).
 """
 
 from __future__ import annotations
@@ -79,15 +83,41 @@ def weights(y: np.ndarray, views: np.ndarray) -> np.ndarray:
     return w * len(y) / w.sum()
 
 
-def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
-    """Boosted trees (depth 3, zero initial guess) as the JSON that
-    :class:`~simgrasp.handles.candidate_features.TreeClassifier` reads."""
+def boosted(x: np.ndarray, y: np.ndarray, views: np.ndarray):  # noqa: ANN201
+    """The fitted scikit-learn model: 60 boosted trees of depth 3, zero initial guess."""
     from sklearn.ensemble import GradientBoostingClassifier
 
     model = GradientBoostingClassifier(
         n_estimators=60, max_depth=3, learning_rate=0.2, init="zero", random_state=0
     )
-    model.fit(x, y, sample_weight=weights(y, views))
+    return model.fit(x, y, sample_weight=weights(y, views))
+
+
+def view_scores(p: np.ndarray, y: np.ndarray, views: np.ndarray) -> tuple[float, float]:
+    """Over the views with a candidate on the handle: the mean share of kept candidates
+    (p >= 0.6) on the handle (0 for a view keeping none), and the share of views keeping
+    one on the handle."""
+    shares, hits = [], []
+    for v in np.unique(views[y]):
+        kept = (views == v) & (p >= 0.6)
+        shares.append(float(y[kept].mean()) if kept.any() else 0.0)
+        hits.append(bool(y[kept].any()))
+    return float(np.mean(shares)), float(np.mean(hits))
+
+
+def leave_one_out(x: np.ndarray, y: np.ndarray, views: np.ndarray, objects: np.ndarray) -> None:
+    """Print, per training object, the :func:`view_scores` of a model trained on the others."""
+    for name in dict.fromkeys(objects):
+        held = objects == name
+        model = boosted(x[~held], y[~held], views[~held])
+        share, hit = view_scores(model.predict_proba(x[held])[:, 1], y[held], views[held])
+        print(f"held out {name}: kept on handle {share:.3f}, views with one {hit:.3f}", flush=True)
+
+
+def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
+    """:func:`boosted` as the JSON that
+    :class:`~simgrasp.handles.candidate_features.TreeClassifier` reads."""
+    model = boosted(x, y, views)
     trees = []
     for (estimator,) in model.estimators_:
         t = estimator.tree_
@@ -113,13 +143,26 @@ def main() -> None:
         help="comma-separated camera azimuths (degrees): every view is rendered from each",
     )
     parser.add_argument("--workers", type=int, default=1)
-    parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument(
+        "--without-strap-mugs",
+        action="store_true",
+        help="train on the objects of the first classifier (no gen_strap_mug)",
+    )
+    parser.add_argument(
+        "--leave-one-out",
+        action="store_true",
+        help="print each object's figures under a model trained without it; write nothing",
+    )
+    parser.add_argument("--out", type=Path)
     args = parser.parse_args()
+    if args.out is None and not args.leave_one_out:
+        parser.error("--out is required unless --leave-one-out")
+    objects = [o for o in OBJECTS if not (args.without_strap_mugs and "strap_mug" in o)]
     azimuths = [float(a) for a in args.azimuths.split(",")]
     jobs = [
         (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed)  # type: ignore[arg-type]
         for obj, (pose, distance, elevation, sensor), azimuth, seed in itertools.product(
-            OBJECTS, VIEWS, azimuths, range(args.seeds)
+            objects, VIEWS, azimuths, range(args.seeds)
         )
     ]
     with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
@@ -130,9 +173,15 @@ def main() -> None:
         print(f"{sim.name} seed {seed}: {len(on_handle)} candidates, {on_handle.sum()} on handle")
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
+    if args.leave_one_out:
+        objects_of_rows = np.concatenate(
+            [np.full(len(label), sim.object) for (sim, _), label in zip(jobs, labels, strict=True)]
+        )
+        leave_one_out(x, y, views, objects_of_rows)
+        return
     model = fit(x, y, views)
     model["trained_on"] = {
-        "objects": list(OBJECTS),
+        "objects": objects,
         "views": [list(v) for v in VIEWS],
         "azimuths_deg": azimuths,
         "seeds": args.seeds,
