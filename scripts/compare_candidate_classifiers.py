@@ -87,11 +87,14 @@ def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("models", type=Path, nargs="+", help="classifier JSON files")
+    parser.add_argument(
+        "--threshold", type=float, help="classifier threshold (default: the learned setting's)"
+    )
     args = parser.parse_args()
-    columns = [
-        list(rows_for(replace(SingleViewConfig.learned(), classifier_file=str(path))))
-        for path in args.models
-    ]
+    settings = SingleViewConfig.learned()
+    if args.threshold is not None:
+        settings = replace(settings, classifier_threshold=args.threshold)
+    columns = [list(rows_for(replace(settings, classifier_file=str(path)))) for path in args.models]
     print("| tune item | " + " | ".join(p.name for p in args.models) + " |")
     print("|---" * (len(args.models) + 1) + "|")
     for i, (name, _) in enumerate(columns[0]):

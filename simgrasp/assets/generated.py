@@ -216,6 +216,47 @@ def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...]
     return parts, regions, False
 
 
+def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    """A cordless drill standing on its battery: a pistol grip (an elliptic bar 3.2-4 cm deep
+    and 2.6-3.2 cm wide, 8-11 cm long, leaning 8-20 degrees back) between a battery box and
+    a motor housing (a cylinder along x) with a chuck in front; the grip is the handle."""
+    battery = [_uniform(rng, 0.07, 0.09), _uniform(rng, 0.055, 0.07), _uniform(rng, 0.025, 0.04)]
+    half_x, half_y = _uniform(rng, 0.016, 0.02), _uniform(rng, 0.013, 0.016)
+    grip_length = _uniform(rng, 0.08, 0.11)
+    lean = np.radians(_uniform(rng, 8.0, 20.0))
+    radius = _uniform(rng, 0.025, 0.032)
+    housing_length = _uniform(rng, 0.15, 0.20)
+    embed = 0.004  # the grip's ends reach this far into the battery and the housing
+    base = trimesh.creation.box(battery)
+    base.apply_translation([0.0, 0.0, battery[2] / 2])
+    axis = np.array([-np.sin(lean), 0.0, np.cos(lean)])  # up and back
+    bottom = np.array([0.0, 0.0, battery[2] - embed])
+    length = grip_length + 2 * embed
+    tilt = trimesh.transformations.rotation_matrix(-lean, [0, 1, 0])
+    grip = trimesh.creation.cylinder(radius=1.0, height=length, sections=48)
+    grip.apply_scale([half_x, half_y, 1.0])
+    grip.apply_transform(tilt)
+    grip.apply_translation(bottom + axis * length / 2)
+    top = bottom + axis * length
+    housing = _x_cylinder(radius, radius, top[0] - 0.05, top[0] - 0.05 + housing_length, 0.0)
+    housing.apply_translation([0.0, 0.0, top[2] - embed + radius])
+    chuck_x = top[0] - 0.05 + housing_length
+    chuck = _x_cylinder(0.6 * radius, 0.6 * radius, chuck_x - 0.003, chuck_x + 0.04, 0.0)
+    chuck.apply_translation([0.0, 0.0, top[2] - embed + radius])
+    region = Box(
+        center=bottom + axis * length / 2,
+        object_R_box=tilt[:3, :3],
+        half_extents=np.array([half_x, half_y, length / 2]) + LABEL_MARGIN,
+    )
+    parts = [
+        Part("battery", base, DENSITY_FILLED_CAN, False),
+        Part("grip", grip, DENSITY_PLASTIC, True),
+        Part("housing", housing, DENSITY_PLASTIC, False),
+        Part("chuck", chuck, DENSITY_STEEL, False),
+    ]
+    return parts, (region,), False
+
+
 def _hammer(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
     length = _uniform(rng, 0.22, 0.30)
     half_z = _uniform(rng, 0.013, 0.018)  # elliptic grip: 2.6-3.6 cm tall
@@ -325,6 +366,7 @@ _BUILDERS: dict[
     "can": _can,
     "fruit": _fruit,
     "strap_mug": _strap_mug,
+    "drill": _drill,
 }
 
 GENERATED_KINDS: tuple[str, ...] = tuple(_BUILDERS)

@@ -31,10 +31,11 @@ LABELED_EXTRA = (
     "011_banana",
 )
 """YCB objects we labeled beyond the paper's."""
-TRAINING_KINDS = ("strap_mug",)
+TRAINING_KINDS = ("strap_mug", "drill")
 """Generated kinds made for training the single-view classifier
-(``scripts/train_candidate_classifier.py``), loadable by name (``gen_strap_mug_s3``) but kept
-out of the ``generated`` set, so the committed sweeps of that set keep their objects."""
+(``scripts/train_candidate_classifier.py``), loadable by name (``gen_strap_mug_s3``,
+``gen_drill_s1``) but kept out of the ``generated`` set, so the committed sweeps of that set
+keep their objects."""
 GENERATED_OBJECTS = tuple(f"gen_{kind}" for kind in GENERATED_KINDS if kind not in TRAINING_KINDS)
 """The procedurally generated tools (sizes of seed 0), the default without a YCB download."""
 
