@@ -6,6 +6,7 @@ features of the single-view classifier on synthetic geometry."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -16,7 +17,7 @@ from simgrasp.cli import main
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles.candidate_features import FEATURES, TreeClassifier, candidate_features
 from simgrasp.handles.detection import Candidate
-from simgrasp.handles.single_view import FALLBACK_DETECTOR
+from simgrasp.handles.single_view import FALLBACK_DETECTOR, SingleViewConfig, _keep
 from simgrasp.quadric.quadric import Quadric
 from simgrasp.resources import model_path
 
@@ -106,6 +107,18 @@ def test_candidate_features_tell_a_slim_bar_from_a_wide_patch_and_the_model_read
     assert bar[0, FEATURES.index("width_spacings")] == pytest.approx(6.0)
     model = TreeClassifier.read(model_path("handles", "candidate_classifier.json"))
     assert model.probability(bar)[0] > model.probability(wide)[0]
+
+
+def test_the_classifier_sees_no_fit_narrower_than_two_point_spacings() -> None:
+    """``min_width_spacings`` drops unresolved fits before the classifier as it does before
+    the standoff test (the default's 2 spacings: 4 mm in a 2 mm cloud); the threshold at 0
+    keeps every other candidate."""
+    settings = replace(SingleViewConfig.learned(), classifier_threshold=0.0)
+    cloud = _patch(0.006)
+    keep = _keep((_bar(0.003), _bar(0.012)), cloud, np.zeros(3), 0.002, settings)
+    assert keep.tolist() == [False, True]
+    no_floor = replace(settings, min_width_spacings=0.0)
+    assert _keep((_bar(0.003),), cloud, np.zeros(3), 0.002, no_floor).tolist() == [True]
 
 
 @pytest.mark.real
