@@ -7,8 +7,9 @@ x/y origin at the center of its footprint (the x/y bounding box). Units are mete
 kilograms.
 
 Handle thicknesses stay within 2-4 cm so a parallel gripper with ~8.5 cm maximum opening can
-close on them; ``can`` and ``fruit`` are graspable everywhere (whole-object labels) and stay
-below 8 cm across.
+close on them (but the flat strap of ``strap_mug``, one of the kinds made for training the
+single-view classifier); ``can`` and ``fruit`` are graspable everywhere (whole-object labels)
+and stay below 8 cm across. The primitives are in :mod:`simgrasp.assets.generated_shapes`.
 """
 
 from __future__ import annotations
@@ -21,31 +22,26 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from simgrasp.assets.generated_shapes import (
+    DENSITY_ALUMINUM,
+    DENSITY_CERAMIC,
+    DENSITY_FILLED_CAN,
+    DENSITY_FRUIT,
+    DENSITY_PLASTIC,
+    DENSITY_STEEL,
+    DENSITY_WOOD,
+    LABEL_MARGIN,
+    Part,
+    arc_capsules,
+    torus_arc,
+    uniform,
+    x_box_region,
+    x_cylinder,
+)
 from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.errors import SimgraspError
 from simgrasp.seeding import rng_for
-
-# Densities (kg/m^3) of the materials the parts are made of.
-DENSITY_WOOD = 700.0
-DENSITY_PLASTIC = 1100.0
-DENSITY_STEEL = 7850.0
-DENSITY_ALUMINUM = 2700.0
-DENSITY_CERAMIC = 2400.0
-DENSITY_FILLED_CAN = 1000.0  # a full food can: contents dominate, about water
-DENSITY_FRUIT = 850.0
-
-LABEL_MARGIN = 0.001  # meters added around the handle part so its surface is inside the label
-
-
-@dataclass(frozen=True)
-class Part:
-    """One watertight primitive of a generated object (object frame, meters)."""
-
-    name: str
-    mesh: trimesh.Trimesh
-    density: float
-    is_handle: bool
 
 
 @dataclass(frozen=True)
@@ -63,111 +59,14 @@ class GeneratedTool:
         return float(sum(p.mesh.volume * p.density for p in self.parts))
 
 
-def _uniform(rng: np.random.Generator, low: float, high: float) -> float:
-    return float(rng.uniform(low, high))
-
-
-def _along_x(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
-    """Rotate a z-axis primitive so its axis lies along +x."""
-    mesh.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
-    return mesh
-
-
-def _x_cylinder(
-    radius_y: float, radius_z: float, x0: float, x1: float, z: float
-) -> trimesh.Trimesh:
-    """An elliptic cylinder along x from ``x0`` to ``x1`` with its axis at height ``z``."""
-    mesh = _along_x(trimesh.creation.cylinder(radius=1.0, height=x1 - x0, sections=48))
-    mesh.apply_scale([1.0, radius_y, radius_z])
-    mesh.apply_translation([(x0 + x1) / 2, 0.0, z])
-    return mesh
-
-
-def _x_box_region(
-    x0: float, x1: float, half_y: float, half_z: float, z: float, margin: float = LABEL_MARGIN
-) -> Box:
-    """An axis-aligned label box around a straight handle part along x, padded by ``margin``."""
-    return Box(
-        center=np.array([(x0 + x1) / 2, 0.0, z]),
-        object_R_box=np.eye(3),
-        half_extents=np.array([(x1 - x0) / 2 + margin, half_y + margin, half_z + margin]),
-    )
-
-
-def torus_arc(
-    center: NDArray[np.float64],
-    major_radius: float,
-    minor_radius: float,
-    angle_start: float,
-    angle_end: float,
-    arc_sections: int = 48,
-    tube_sections: int = 24,
-    width_radius: float | None = None,
-) -> trimesh.Trimesh:
-    """A closed tube along a circular arc in the x-z plane (capped ends, outward normals).
-
-    The centerline is ``center + major_radius * (cos a, 0, sin a)`` for ``a`` in
-    [``angle_start``, ``angle_end``] (radians); the tube's section is an ellipse of semi-axis
-    ``minor_radius`` in the arc's plane and ``width_radius`` (None: ``minor_radius``, a round
-    tube) across it, along y (a flat strap when wider than thick).
-    """
-    width_radius = minor_radius if width_radius is None else width_radius
-    angles = np.linspace(angle_start, angle_end, arc_sections + 1)
-    phis = np.linspace(0.0, 2 * np.pi, tube_sections, endpoint=False)
-    radial = np.stack([np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1)
-    centerline = center + major_radius * radial
-    binormal = np.array([0.0, 1.0, 0.0])
-    rings = (
-        centerline[:, None, :]
-        + minor_radius * np.cos(phis)[None, :, None] * radial[:, None, :]
-        + width_radius * np.sin(phis)[None, :, None] * binormal
-    )
-    vertices = np.concatenate([rings.reshape(-1, 3), centerline[[0, -1]]])
-    n_ring = tube_sections
-    faces = []
-    for i in range(arc_sections):
-        for j in range(n_ring):
-            a, b = i * n_ring + j, i * n_ring + (j + 1) % n_ring
-            c, d = a + n_ring, b + n_ring
-            faces += [[a, c, b], [b, c, d]]
-    start_center, end_center = len(vertices) - 2, len(vertices) - 1
-    last = arc_sections * n_ring
-    for j in range(n_ring):
-        faces.append([start_center, j, (j + 1) % n_ring])
-        faces.append([end_center, last + (j + 1) % n_ring, last + j])
-    mesh = trimesh.Trimesh(vertices, np.array(faces), process=False)
-    if mesh.volume < 0:
-        mesh.invert()
-    return mesh
-
-
-def _arc_capsules(
-    center: NDArray[np.float64],
-    major_radius: float,
-    minor_radius: float,
-    angle_start: float,
-    angle_end: float,
-    count: int = 8,
-) -> tuple[Capsule, ...]:
-    """Capsules along the chords of an arc, padded by the chord's sagitta plus the margin."""
-    angles = np.linspace(angle_start, angle_end, count + 1)
-    step = abs(angle_end - angle_start) / count
-    sagitta = major_radius * (1 - np.cos(step / 2))
-    radius = minor_radius + sagitta + LABEL_MARGIN
-    points = center + major_radius * np.stack(
-        [np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1
-    )
-    return tuple(Capsule(points[i], points[i + 1], float(radius)) for i in range(count))
-
-
 def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
-    radius = _uniform(rng, 0.037, 0.043)
-    height = _uniform(rng, 0.085, 0.105)
-    wall = _uniform(rng, 0.003, 0.0045)
-    bottom = _uniform(rng, 0.005, 0.007)
-    minor = _uniform(rng, 0.010, 0.0125)
-    major = _uniform(rng, 0.028, 0.034)
-    offset = _uniform(rng, 0.25, 0.4) * major  # torus center outside the wall
+    radius = uniform(rng, 0.037, 0.043)
+    height = uniform(rng, 0.085, 0.105)
+    wall = uniform(rng, 0.003, 0.0045)
+    bottom = uniform(rng, 0.005, 0.007)
+    minor = uniform(rng, 0.010, 0.0125)
+    major = uniform(rng, 0.028, 0.034)
+    offset = uniform(rng, 0.25, 0.4) * major  # torus center outside the wall
     body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
     body.apply_translation([0, 0, height / 2])
     base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
@@ -178,7 +77,7 @@ def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
     handle = torus_arc(center, major, minor, -inner, inner)
     # The label covers the arc outside the outer wall (centerline x >= radius).
     outside = np.arccos(-offset / major)
-    regions = _arc_capsules(center, major, minor, -outside, outside)
+    regions = arc_capsules(center, major, minor, -outside, outside)
     parts = [
         Part("body", body, DENSITY_CERAMIC, False),
         Part("bottom", base, DENSITY_CERAMIC, False),
@@ -191,14 +90,14 @@ def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...]
     """A mug whose handle is a flat strap (4-7 mm thick in the loop's plane, 9-16 mm wide
     across it) on a loop of 22-34 mm, as most real mugs' handles are, on a body of 3.3-4.5 cm
     radius with a 2.5-4 mm wall."""
-    radius = _uniform(rng, 0.033, 0.045)
-    height = _uniform(rng, 0.075, 0.11)
-    wall = _uniform(rng, 0.0025, 0.004)
-    bottom = _uniform(rng, 0.004, 0.007)
-    thickness = _uniform(rng, 0.004, 0.007)
-    width = _uniform(rng, 0.009, 0.016)
-    major = _uniform(rng, 0.022, 0.034)
-    offset = _uniform(rng, 0.15, 0.45) * major  # loop center outside the wall
+    radius = uniform(rng, 0.033, 0.045)
+    height = uniform(rng, 0.075, 0.11)
+    wall = uniform(rng, 0.0025, 0.004)
+    bottom = uniform(rng, 0.004, 0.007)
+    thickness = uniform(rng, 0.004, 0.007)
+    width = uniform(rng, 0.009, 0.016)
+    major = uniform(rng, 0.022, 0.034)
+    offset = uniform(rng, 0.15, 0.45) * major  # loop center outside the wall
     body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
     body.apply_translation([0, 0, height / 2])
     base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
@@ -207,7 +106,7 @@ def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...]
     inner = np.arccos(-(offset + wall / 2) / major)  # the strap enters the wall
     handle = torus_arc(center, major, thickness / 2, -inner, inner, width_radius=width / 2)
     outside = np.arccos(-offset / major)
-    regions = _arc_capsules(center, major, width / 2, -outside, outside)
+    regions = arc_capsules(center, major, width / 2, -outside, outside)
     parts = [
         Part("body", body, DENSITY_CERAMIC, False),
         Part("bottom", base, DENSITY_CERAMIC, False),
@@ -220,12 +119,12 @@ def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bo
     """A cordless drill standing on its battery: a pistol grip (an elliptic bar 3.2-4 cm deep
     and 2.6-3.2 cm wide, 8-11 cm long, leaning 8-20 degrees back) between a battery box and
     a motor housing (a cylinder along x) with a chuck in front; the grip is the handle."""
-    battery = [_uniform(rng, 0.07, 0.09), _uniform(rng, 0.055, 0.07), _uniform(rng, 0.025, 0.04)]
-    half_x, half_y = _uniform(rng, 0.016, 0.02), _uniform(rng, 0.013, 0.016)
-    grip_length = _uniform(rng, 0.08, 0.11)
-    lean = np.radians(_uniform(rng, 8.0, 20.0))
-    radius = _uniform(rng, 0.025, 0.032)
-    housing_length = _uniform(rng, 0.15, 0.20)
+    battery = [uniform(rng, 0.07, 0.09), uniform(rng, 0.055, 0.07), uniform(rng, 0.025, 0.04)]
+    half_x, half_y = uniform(rng, 0.016, 0.02), uniform(rng, 0.013, 0.016)
+    grip_length = uniform(rng, 0.08, 0.11)
+    lean = np.radians(uniform(rng, 8.0, 20.0))
+    radius = uniform(rng, 0.025, 0.032)
+    housing_length = uniform(rng, 0.15, 0.20)
     embed = 0.004  # the grip's ends reach this far into the battery and the housing
     base = trimesh.creation.box(battery)
     base.apply_translation([0.0, 0.0, battery[2] / 2])
@@ -238,10 +137,10 @@ def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bo
     grip.apply_transform(tilt)
     grip.apply_translation(bottom + axis * length / 2)
     top = bottom + axis * length
-    housing = _x_cylinder(radius, radius, top[0] - 0.05, top[0] - 0.05 + housing_length, 0.0)
+    housing = x_cylinder(radius, radius, top[0] - 0.05, top[0] - 0.05 + housing_length, 0.0)
     housing.apply_translation([0.0, 0.0, top[2] - embed + radius])
     chuck_x = top[0] - 0.05 + housing_length
-    chuck = _x_cylinder(0.6 * radius, 0.6 * radius, chuck_x - 0.003, chuck_x + 0.04, 0.0)
+    chuck = x_cylinder(0.6 * radius, 0.6 * radius, chuck_x - 0.003, chuck_x + 0.04, 0.0)
     chuck.apply_translation([0.0, 0.0, top[2] - embed + radius])
     region = Box(
         center=bottom + axis * length / 2,
@@ -258,49 +157,49 @@ def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bo
 
 
 def _hammer(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
-    length = _uniform(rng, 0.22, 0.30)
-    half_z = _uniform(rng, 0.013, 0.018)  # elliptic grip: 2.6-3.6 cm tall
-    half_y = _uniform(rng, 0.011, 0.014)  # 2.2-2.8 cm wide
-    head_length = _uniform(rng, 0.095, 0.12)  # along y
-    head_side = _uniform(rng, 0.024, 0.028)
+    length = uniform(rng, 0.22, 0.30)
+    half_z = uniform(rng, 0.013, 0.018)  # elliptic grip: 2.6-3.6 cm tall
+    half_y = uniform(rng, 0.011, 0.014)  # 2.2-2.8 cm wide
+    head_length = uniform(rng, 0.095, 0.12)  # along y
+    head_side = uniform(rng, 0.024, 0.028)
     overlap = 0.002
     z_axis = head_side / 2
-    handle = _x_cylinder(half_y, half_z, 0.0, length, z_axis)
+    handle = x_cylinder(half_y, half_z, 0.0, length, z_axis)
     head = trimesh.creation.box([head_side, head_length, head_side])
     head.apply_translation([length - overlap + head_side / 2, 0.0, z_axis])
     parts = [
         Part("handle", handle, DENSITY_WOOD, True),
         Part("head", head, DENSITY_STEEL, False),
     ]
-    return parts, (_x_box_region(0.0, length, half_y, half_z, z_axis),), False
+    return parts, (x_box_region(0.0, length, half_y, half_z, z_axis),), False
 
 
 def _spatula(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
-    handle_length = _uniform(rng, 0.15, 0.20)
-    handle_radius = _uniform(rng, 0.010, 0.014)
-    blade_length = _uniform(rng, 0.08, 0.11)
-    blade_width = _uniform(rng, 0.06, 0.08)
-    blade_thickness = _uniform(rng, 0.002, 0.003)
+    handle_length = uniform(rng, 0.15, 0.20)
+    handle_radius = uniform(rng, 0.010, 0.014)
+    blade_length = uniform(rng, 0.08, 0.11)
+    blade_width = uniform(rng, 0.06, 0.08)
+    blade_thickness = uniform(rng, 0.002, 0.003)
     overlap = 0.003
-    handle = _x_cylinder(handle_radius, handle_radius, 0.0, handle_length, handle_radius)
+    handle = x_cylinder(handle_radius, handle_radius, 0.0, handle_length, handle_radius)
     blade = trimesh.creation.box([blade_length, blade_width, blade_thickness])
     blade.apply_translation([handle_length - overlap + blade_length / 2, 0.0, blade_thickness / 2])
     parts = [
         Part("handle", handle, DENSITY_PLASTIC, True),
         Part("blade", blade, DENSITY_STEEL, False),
     ]
-    region = _x_box_region(0.0, handle_length, handle_radius, handle_radius, handle_radius)
+    region = x_box_region(0.0, handle_length, handle_radius, handle_radius, handle_radius)
     return parts, (region,), False
 
 
 def _screwdriver(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
-    handle_length = _uniform(rng, 0.09, 0.12)
-    handle_radius = _uniform(rng, 0.012, 0.017)
-    shaft_length = _uniform(rng, 0.08, 0.15)
-    shaft_radius = _uniform(rng, 0.0025, 0.004)
+    handle_length = uniform(rng, 0.09, 0.12)
+    handle_radius = uniform(rng, 0.012, 0.017)
+    shaft_length = uniform(rng, 0.08, 0.15)
+    shaft_radius = uniform(rng, 0.0025, 0.004)
     overlap = 0.005
-    handle = _x_cylinder(handle_radius, handle_radius, 0.0, handle_length, handle_radius)
-    shaft = _x_cylinder(
+    handle = x_cylinder(handle_radius, handle_radius, 0.0, handle_length, handle_radius)
+    shaft = x_cylinder(
         shaft_radius,
         shaft_radius,
         handle_length - overlap,
@@ -311,35 +210,35 @@ def _screwdriver(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ..
         Part("handle", handle, DENSITY_PLASTIC, True),
         Part("shaft", shaft, DENSITY_STEEL, False),
     ]
-    region = _x_box_region(0.0, handle_length, handle_radius, handle_radius, handle_radius)
+    region = x_box_region(0.0, handle_length, handle_radius, handle_radius, handle_radius)
     return parts, (region,), False
 
 
 def _pan(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
-    radius = _uniform(rng, 0.09, 0.12)
-    height = _uniform(rng, 0.035, 0.05)
-    wall = _uniform(rng, 0.003, 0.004)
-    handle_length = _uniform(rng, 0.15, 0.20)
-    handle_radius = _uniform(rng, 0.011, 0.015)
+    radius = uniform(rng, 0.09, 0.12)
+    height = uniform(rng, 0.035, 0.05)
+    wall = uniform(rng, 0.003, 0.004)
+    handle_length = uniform(rng, 0.15, 0.20)
+    handle_radius = uniform(rng, 0.011, 0.015)
     body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=96)
     body.apply_translation([0, 0, height / 2])
     base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=wall, sections=96)
     base.apply_translation([0, 0, wall / 2])
     z_axis = height - handle_radius
     x0 = radius - wall / 2
-    handle = _x_cylinder(handle_radius, handle_radius, x0, radius + handle_length, z_axis)
+    handle = x_cylinder(handle_radius, handle_radius, x0, radius + handle_length, z_axis)
     parts = [
         Part("body", body, DENSITY_ALUMINUM, False),
         Part("bottom", base, DENSITY_ALUMINUM, False),
         Part("handle", handle, DENSITY_WOOD, True),
     ]
-    region = _x_box_region(x0, radius + handle_length, handle_radius, handle_radius, z_axis)
+    region = x_box_region(x0, radius + handle_length, handle_radius, handle_radius, z_axis)
     return parts, (region,), False
 
 
 def _can(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
-    radius = _uniform(rng, 0.030, 0.040)
-    height = _uniform(rng, 0.08, 0.14)
+    radius = uniform(rng, 0.030, 0.040)
+    height = uniform(rng, 0.08, 0.14)
     body = trimesh.creation.cylinder(radius=radius, height=height, sections=64)
     body.apply_translation([0, 0, height / 2])
     return [Part("body", body, DENSITY_FILLED_CAN, True)], (), True
@@ -347,7 +246,7 @@ def _can(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
 
 def _fruit(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
     semi_axes = np.array(
-        [_uniform(rng, 0.030, 0.038), _uniform(rng, 0.028, 0.036), _uniform(rng, 0.027, 0.035)]
+        [uniform(rng, 0.030, 0.038), uniform(rng, 0.028, 0.036), uniform(rng, 0.027, 0.035)]
     )
     body = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
     body.apply_scale(semi_axes)
