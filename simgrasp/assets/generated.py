@@ -59,7 +59,40 @@ class GeneratedTool:
         return float(sum(p.mesh.volume * p.density for p in self.parts))
 
 
+def _mug_parts(
+    radius: float,
+    height: float,
+    wall: float,
+    bottom: float,
+    loop: tuple[float, float],
+    section: tuple[float, float],
+) -> tuple[list[Part], tuple[Region, ...], bool]:
+    """A ceramic mug: an open body of ``radius`` and ``height`` with a ``wall`` and a
+    ``bottom`` thickness, and a handle on a loop (``loop``: its radius and how far its center
+    lies outside the wall) whose section has semi-axes ``section`` (in the loop's plane,
+    across it). The handle enters the wall by half its thickness (centerline x = radius - wall
+    / 2); the label covers the arc outside the outer wall (centerline x >= radius)."""
+    major, offset = loop
+    thick, wide = section
+    body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
+    body.apply_translation([0, 0, height / 2])
+    base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
+    base.apply_translation([0, 0, bottom / 2])
+    center = np.array([radius + offset, 0.0, 0.55 * height])
+    inner = np.arccos(-(offset + wall / 2) / major)
+    handle = torus_arc(center, major, thick, -inner, inner, width_radius=wide)
+    outside = np.arccos(-offset / major)
+    regions = arc_capsules(center, major, wide, -outside, outside)
+    parts = [
+        Part("body", body, DENSITY_CERAMIC, False),
+        Part("bottom", base, DENSITY_CERAMIC, False),
+        Part("handle", handle, DENSITY_CERAMIC, True),
+    ]
+    return parts, regions, False
+
+
 def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    """A mug whose handle is a round tube (2-2.5 cm thick) on a loop of 28-34 mm."""
     radius = uniform(rng, 0.037, 0.043)
     height = uniform(rng, 0.085, 0.105)
     wall = uniform(rng, 0.003, 0.0045)
@@ -67,23 +100,7 @@ def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
     minor = uniform(rng, 0.010, 0.0125)
     major = uniform(rng, 0.028, 0.034)
     offset = uniform(rng, 0.25, 0.4) * major  # torus center outside the wall
-    body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
-    body.apply_translation([0, 0, height / 2])
-    base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
-    base.apply_translation([0, 0, bottom / 2])
-    center = np.array([radius + offset, 0.0, 0.55 * height])
-    # The handle tube enters the wall by half its thickness: centerline x = radius - wall / 2.
-    inner = np.arccos(-(offset + wall / 2) / major)
-    handle = torus_arc(center, major, minor, -inner, inner)
-    # The label covers the arc outside the outer wall (centerline x >= radius).
-    outside = np.arccos(-offset / major)
-    regions = arc_capsules(center, major, minor, -outside, outside)
-    parts = [
-        Part("body", body, DENSITY_CERAMIC, False),
-        Part("bottom", base, DENSITY_CERAMIC, False),
-        Part("handle", handle, DENSITY_CERAMIC, True),
-    ]
-    return parts, regions, False
+    return _mug_parts(radius, height, wall, bottom, (major, offset), (minor, minor))
 
 
 def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
@@ -98,21 +115,7 @@ def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...]
     width = uniform(rng, 0.009, 0.016)
     major = uniform(rng, 0.022, 0.034)
     offset = uniform(rng, 0.15, 0.45) * major  # loop center outside the wall
-    body = trimesh.creation.annulus(r_min=radius - wall, r_max=radius, height=height, sections=64)
-    body.apply_translation([0, 0, height / 2])
-    base = trimesh.creation.cylinder(radius=radius - wall + 0.0005, height=bottom, sections=64)
-    base.apply_translation([0, 0, bottom / 2])
-    center = np.array([radius + offset, 0.0, 0.55 * height])
-    inner = np.arccos(-(offset + wall / 2) / major)  # the strap enters the wall
-    handle = torus_arc(center, major, thickness / 2, -inner, inner, width_radius=width / 2)
-    outside = np.arccos(-offset / major)
-    regions = arc_capsules(center, major, width / 2, -outside, outside)
-    parts = [
-        Part("body", body, DENSITY_CERAMIC, False),
-        Part("bottom", base, DENSITY_CERAMIC, False),
-        Part("handle", handle, DENSITY_CERAMIC, True),
-    ]
-    return parts, regions, False
+    return _mug_parts(radius, height, wall, bottom, (major, offset), (thickness / 2, width / 2))
 
 
 def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:

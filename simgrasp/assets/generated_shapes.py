@@ -63,6 +63,11 @@ def x_box_region(
     )
 
 
+def _radial(angles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(N, 3) unit directions ``(cos a, 0, sin a)`` in the x-z plane of the ``angles`` (rad)."""
+    return np.stack([np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1)
+
+
 def torus_arc(
     center: NDArray[np.float64],
     major_radius: float,
@@ -83,7 +88,7 @@ def torus_arc(
     width_radius = minor_radius if width_radius is None else width_radius
     angles = np.linspace(angle_start, angle_end, arc_sections + 1)
     phis = np.linspace(0.0, 2 * np.pi, tube_sections, endpoint=False)
-    radial = np.stack([np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1)
+    radial = _radial(angles)
     centerline = center + major_radius * radial
     binormal = np.array([0.0, 1.0, 0.0])
     rings = (
@@ -123,7 +128,5 @@ def arc_capsules(
     step = abs(angle_end - angle_start) / count
     sagitta = major_radius * (1 - np.cos(step / 2))
     radius = minor_radius + sagitta + LABEL_MARGIN
-    points = center + major_radius * np.stack(
-        [np.cos(angles), np.zeros_like(angles), np.sin(angles)], axis=1
-    )
+    points = center + major_radius * _radial(angles)
     return tuple(Capsule(points[i], points[i + 1], float(radius)) for i in range(count))
