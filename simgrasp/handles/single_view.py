@@ -10,6 +10,7 @@ axis can be trusted as the handle's center (``anchor="consistent"``)."""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Literal
@@ -148,6 +149,13 @@ def single_view_candidates(
     return raw, cloud, point_spacing(cloud)
 
 
+@functools.cache
+def _classifier(path: str) -> TreeClassifier:
+    """The classifier file at ``path``, read once per process (a scene's objects each run
+    the single-view detector)."""
+    return TreeClassifier.read(Path(path))
+
+
 def _keep(
     candidates: tuple[Candidate, ...],
     cloud: NDArray[np.float64],
@@ -163,8 +171,7 @@ def _keep(
     opening = config.quadric.gripper_max_opening
     if not config.classifier:
         return standoff_mask(candidates, cloud, eye, opening, standoff)
-    shipped = model_path("handles", CLASSIFIER)
-    model = TreeClassifier.read(Path(config.classifier_file) if config.classifier_file else shipped)
+    model = _classifier(config.classifier_file or str(model_path("handles", CLASSIFIER)))
     features = candidate_features(candidates, cloud, eye, spacing, standoff)
     widths = np.array([c.width for c in candidates])
     fits = (widths <= opening - 2 * standoff.gap) & (widths >= standoff.min_width)
