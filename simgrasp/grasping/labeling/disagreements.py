@@ -12,14 +12,18 @@ verdict.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from simgrasp.errors import SimgraspError
 from simgrasp.seeding import rng_for
+
+if TYPE_CHECKING:
+    from simgrasp.grasping.labeling.grasp_sets import GraspSet
+    from simgrasp.grasping.labeling.labeling import GraspLabeler
 
 Kind = Literal["reference_held", "ours_held"]
 KINDS: tuple[Kind, ...] = ("reference_held", "ours_held")
@@ -88,27 +92,30 @@ def pick_examples(found: list[Disagreement], per_kind: int, seed: int) -> list[D
     return picked
 
 
-def replay(example: Disagreement, labels_dir: Path, grasp_file: Path) -> tuple[list, dict]:
-    """Rerun one example's trial with its run's settings: (key frames as (H, W, 3) uint8
-    pictures, the trial record)."""
+def labeler_of(labels_dir: Path) -> GraspLabeler:
+    """A labeler with the settings of the label run in ``labels_dir`` (its ``summary.json``
+    holds every :class:`LabelConfig` field)."""
     import json
 
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
-    from simgrasp.scenes.key_frames import FrameRecorder
 
     run = json.loads((labels_dir / "summary.json").read_text())
-    keys = ("object", "gripper", "protocol", "seed", "placement", "free_floating")
-    config = LabelConfig(**{k: run[k] for k in keys})
-    grasps = read_grasp_set(grasp_file)
-    labeler = GraspLabeler(model_for(config.object), config)
-    object_T_tcp = grasps.object_T_tcp[example.index]
+    config = LabelConfig(**{f.name: run[f.name] for f in fields(LabelConfig)})
+    return GraspLabeler(model_for(config.object), config)
+
+
+def replay(labeler: GraspLabeler, grasps: GraspSet, index: int) -> tuple[list, dict]:
+    """Rerun row ``index`` of ``grasps`` with ``labeler``, seen across the jaws at the TCP:
+    (key frames as (H, W, 3) uint8 pictures, the trial record)."""
+    from simgrasp.scenes.key_frames import FrameRecorder
+
+    object_T_tcp = grasps.object_T_tcp[index]
     world_T_tcp = labeler.world_T_object @ object_T_tcp
     across = world_T_tcp[:3, 0]  # across the jaws, normal to the approach and the closing
     view = -across if across[2] > 0 else across  # from above
     frames = FrameRecorder(VIEW_DISTANCE, aim_world=world_T_tcp[:3, 3], view_world=view)
-    record = labeler.label(example.index, object_T_tcp, grasps.width[example.index], frames)
+    record = labeler.label(index, object_T_tcp, grasps.width[index], frames)
     return frames.frames, record
 
 
@@ -116,20 +123,25 @@ def write_examples(
     ours: Path, grasp_files: list[Path], out: Path, per_kind: int, seed: int
 ) -> list[dict[str, Any]]:
     """Pick ``per_kind`` disagreements of each kind over all ``grasp_files`` (their label runs
-    under ``ours``), replay them, and write one picture each to ``out``
-    (``<kind>_<file stem>_<row>.png``) and ``out/examples.json``; returns its entries."""
+    under ``ours``), replay them (one labeler and one read of each file that holds one), and
+    write one picture each to ``out`` (``<kind>_<file stem>_<row>.png``) and
+    ``out/examples.json``; returns its entries."""
     import json
 
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.reference_compare import labels_dir_of
     from simgrasp.plots.disagreement import plot_disagreement
 
     runs = {f.name: (f, labels_dir_of(ours, f)) for f in grasp_files}
     found = [d for f, run in runs.values() for d in find_disagreements(run, f)]
     out.mkdir(parents=True, exist_ok=True)
+    replayers: dict[str, tuple[GraspLabeler, GraspSet]] = {}
     entries = []
     for example in pick_examples(found, per_kind, seed):
-        grasp_file, labels_dir = runs[example.file]
-        frames, record = replay(example, labels_dir, grasp_file)
+        if example.file not in replayers:
+            grasp_file, labels_dir = runs[example.file]
+            replayers[example.file] = (labeler_of(labels_dir), read_grasp_set(grasp_file))
+        frames, record = replay(*replayers[example.file], example.index)
         stem = Path(example.file).stem
         path = out / f"{example.kind}_{stem[:40]}_{example.index}.png"
         replayed = "held" if record["success"] else f"failed ({record['failure']})"
