@@ -13,7 +13,9 @@ with every view weighted alike and written as JSON. Needs scikit-learn and ``SIM
 ``--first-objects`` trains on the 13 objects of the first classifier
 (``candidate_classifier_bars.json``), ``--with-drills`` adds ten generated drills (a model
 tried and not shipped); ``--leave-one-out`` prints, per object, how a model trained on the
-others does on its views (docs/results/real-detect).
+others does on its views (``--ensemble-leave-one-out``: with and without the drills and the
+two as one ensemble); ``--combine A.json:0.7 B.json:0.6 --out E.json`` writes an ensemble
+that keeps a candidate where any of its models keeps it (docs/results/real-detect).
 """
 
 from __future__ import annotations
@@ -97,13 +99,15 @@ def boosted(x: np.ndarray, y: np.ndarray, views: np.ndarray):  # noqa: ANN201
     return model.fit(x, y, sample_weight=weights(y, views))
 
 
-def view_scores(p: np.ndarray, y: np.ndarray, views: np.ndarray) -> tuple[float, float]:
+def view_scores(
+    p: np.ndarray, y: np.ndarray, views: np.ndarray, threshold: float = 0.6
+) -> tuple[float, float]:
     """Over the views with a candidate on the handle: the mean share of kept candidates
-    (p >= 0.6) on the handle (0 for a view keeping none), and the share of views keeping
-    one on the handle."""
+    (p >= ``threshold``) on the handle (0 for a view keeping none), and the share of views
+    keeping one on the handle."""
     shares, hits = [], []
     for v in np.unique(views[y]):
-        kept = (views == v) & (p >= 0.6)
+        kept = (views == v) & (p >= threshold)
         shares.append(float(y[kept].mean()) if kept.any() else 0.0)
         hits.append(bool(y[kept].any()))
     return float(np.mean(shares)), float(np.mean(hits))
@@ -116,6 +120,45 @@ def leave_one_out(x: np.ndarray, y: np.ndarray, views: np.ndarray, objects: np.n
         model = boosted(x[~held], y[~held], views[~held])
         share, hit = view_scores(model.predict_proba(x[held])[:, 1], y[held], views[held])
         print(f"held out {name}: kept on handle {share:.3f}, views with one {hit:.3f}", flush=True)
+
+
+def ensemble_leave_one_out(
+    x: np.ndarray, y: np.ndarray, views: np.ndarray, objects: np.ndarray
+) -> None:
+    """Print, per training object, the :func:`view_scores` of three models trained on the
+    others: without the generated drills at 0.7 (the shipped model's threshold), with them
+    at 0.6, and the two as one :class:`~simgrasp.handles.candidate_features.MaxEnsemble`
+    (a candidate kept where either keeps it)."""
+    drills = np.char.startswith(objects.astype(str), "gen_drill")
+    for name in dict.fromkeys(objects):
+        held = objects == name
+        base = boosted(x[~held & ~drills], y[~held & ~drills], views[~held & ~drills])
+        with_drills = boosted(x[~held], y[~held], views[~held])
+        p_base = base.predict_proba(x[held])[:, 1]
+        p_drills = with_drills.predict_proba(x[held])[:, 1]
+        either = (p_base >= 0.7) | (p_drills >= 0.6)
+        cells = [
+            view_scores(p, y[held], views[held], t)
+            for p, t in ((p_base, 0.7), (p_drills, 0.6), (either.astype(float), 0.5))
+        ]
+        text = ", ".join(f"{share:.3f} / {hit:.3f}" for share, hit in cells)
+        print(f"held out {name}: without drills, with drills, either: {text}", flush=True)
+
+
+def combined(members: list[str], threshold: float) -> dict:
+    """The ensemble JSON of the models ``FILE:THRESHOLD`` in ``members``, each shifted so that
+    its own threshold becomes ``threshold`` (the one the settings apply)."""
+
+    def logit(p: float) -> float:
+        return float(np.log(p / (1.0 - p)))
+
+    models = []
+    for member in members:
+        path, _, own = member.rpartition(":")
+        model = json.loads(Path(path).read_text())
+        model["shift"] = logit(threshold) - logit(float(own))
+        models.append(model)
+    return {"members": models, "threshold": threshold}
 
 
 def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
@@ -158,10 +201,32 @@ def main() -> None:
         action="store_true",
         help="print each object's figures under a model trained without it; write nothing",
     )
+    parser.add_argument(
+        "--ensemble-leave-one-out",
+        action="store_true",
+        help="with --with-drills: print each object's figures under the models trained without "
+        "it with and without the drills, and under the two as one ensemble; write nothing",
+    )
+    parser.add_argument(
+        "--combine",
+        nargs="+",
+        metavar="FILE:THRESHOLD",
+        help="write the ensemble of these trained models (a candidate kept where any keeps "
+        "it at its own threshold) for the settings' --threshold; train nothing",
+    )
+    parser.add_argument("--threshold", type=float, default=0.7, help="with --combine")
     parser.add_argument("--out", type=Path)
     args = parser.parse_args()
-    if args.out is None and not args.leave_one_out:
-        parser.error("--out is required unless --leave-one-out")
+    if args.combine:
+        if args.out is None:
+            parser.error("--combine needs --out")
+        args.out.write_text(json.dumps(combined(args.combine, args.threshold)) + "\n")
+        print(f"wrote {args.out}")
+        return
+    if args.out is None and not (args.leave_one_out or args.ensemble_leave_one_out):
+        parser.error("--out is required unless --leave-one-out or --ensemble-leave-one-out")
+    if args.ensemble_leave_one_out and not args.with_drills:
+        parser.error("--ensemble-leave-one-out needs --with-drills")
     objects = [o for o in OBJECTS if not (args.first_objects and o.startswith("gen_strap_mug"))]
     objects += list(DRILLS) if args.with_drills else []
     azimuths = [float(a) for a in args.azimuths.split(",")]
@@ -179,11 +244,12 @@ def main() -> None:
         print(f"{sim.name} seed {seed}: {len(on_handle)} candidates, {on_handle.sum()} on handle")
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
-    if args.leave_one_out:
+    if args.leave_one_out or args.ensemble_leave_one_out:
         objects_of_rows = np.concatenate(
             [np.full(len(label), sim.object) for (sim, _), label in zip(jobs, labels, strict=True)]
         )
-        leave_one_out(x, y, views, objects_of_rows)
+        check = ensemble_leave_one_out if args.ensemble_leave_one_out else leave_one_out
+        check(x, y, views, objects_of_rows)
         return
     model = fit(x, y, views)
     model["trained_on"] = {

@@ -14,8 +14,9 @@ import pytest
 from simgrasp.assets.real import default_real_dir
 from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.cli import main
+from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView, score_view
-from simgrasp.handles.candidate_features import FEATURES, TreeClassifier, candidate_features
+from simgrasp.handles.candidate_features import FEATURES, candidate_features, read_classifier
 from simgrasp.handles.detection import Candidate
 from simgrasp.handles.single_view import FALLBACK_DETECTOR, SingleViewConfig, _keep
 from simgrasp.quadric.quadric import Quadric
@@ -105,8 +106,27 @@ def test_candidate_features_tell_a_slim_bar_from_a_wide_patch_and_the_model_read
     slot = FEATURES.index("slot_max")
     assert bar[0, slot] == 0.0 and wide[0, slot] > 0.1
     assert bar[0, FEATURES.index("width_spacings")] == pytest.approx(6.0)
-    model = TreeClassifier.read(model_path("handles", "candidate_classifier.json"))
+    model = read_classifier(model_path("handles", "candidate_classifier.json"))
     assert model.probability(bar)[0] > model.probability(wide)[0]
+
+
+def test_an_ensemble_file_keeps_what_any_member_keeps(tmp_path) -> None:
+    """An ensemble's probability is its members' largest, each moved by its logit shift
+    (``scripts/train_candidate_classifier.py --combine``); a member over other features is
+    refused with a line naming the file."""
+    shipped = json.loads(model_path("handles", "candidate_classifier.json").read_text())
+    path = tmp_path / "ensemble.json"
+    path.write_text(json.dumps({"members": [dict(shipped, shift=-2.0), dict(shipped, shift=1.0)]}))
+    eye = np.zeros(3)
+    rows = np.vstack(
+        [candidate_features((_bar(0.012),), _patch(h), eye, 0.002) for h in (0.006, 0.04)]
+    )
+    alone = read_classifier(model_path("handles", "candidate_classifier.json")).probability(rows)
+    raised = 1.0 / (1.0 + np.exp(-(np.log(alone / (1.0 - alone)) + 1.0)))
+    np.testing.assert_allclose(read_classifier(path).probability(rows), raised, rtol=1e-9)
+    path.write_text(json.dumps({"members": [dict(shipped, features=["width"])]}))
+    with pytest.raises(SimgraspError, match="ensemble.json: its features"):
+        read_classifier(path)
 
 
 def test_the_classifier_sees_no_fit_narrower_than_two_point_spacings() -> None:

@@ -103,27 +103,27 @@ def candidate_features(
 @dataclass(frozen=True)
 class TreeClassifier:
     """Boosted regression trees on the raw features (scikit-learn's gradient boosting with a
-    zero initial guess): p = sigmoid(rate x the sum of each tree's leaf value). Each tree is
-    (feature, threshold, left, right, value) arrays over its nodes; a leaf has feature -1."""
+    zero initial guess): p = sigmoid(rate x the sum of each tree's leaf value + ``shift``).
+    Each tree is (feature, threshold, left, right, value) arrays over its nodes; a leaf has
+    feature -1. ``shift`` moves the model's threshold within an ensemble (0 alone)."""
 
     trees: tuple[tuple[NDArray[np.float64], ...], ...]
     rate: float
+    shift: float = 0.0
 
     @classmethod
-    def read(cls, path: Path) -> TreeClassifier:
-        """The model written by ``scripts/train_candidate_classifier.py``."""
-        if not path.is_file():
-            raise SimgraspError(f"{path}: no such candidate classifier file")
-        raw = json.loads(path.read_text())
+    def parse(cls, raw: dict, source: Path) -> TreeClassifier:
+        """The model of the JSON object ``raw`` written by
+        ``scripts/train_candidate_classifier.py`` (``source`` names it in errors)."""
         if tuple(raw["features"]) != FEATURES:
-            raise ValueError(f"{path}: its features {raw['features']} are not {FEATURES}")
+            raise SimgraspError(f"{source}: its features {raw['features']} are not {FEATURES}")
         keys = ("feature", "threshold", "left", "right", "value")
         trees = tuple(tuple(np.array(tree[k]) for k in keys) for tree in raw["trees"])
-        return cls(trees, float(raw["learning_rate"]))
+        return cls(trees, float(raw["learning_rate"]), float(raw.get("shift", 0.0)))
 
     def probability(self, features: NDArray[np.float64]) -> NDArray[np.float64]:
         """(M,) the probability that each row's candidate is on a handle."""
-        logit = np.zeros(len(features))
+        logit = np.full(len(features), self.shift)
         rows = np.arange(len(features))
         for feature, threshold, left, right, value in self.trees:
             node = np.zeros(len(features), dtype=int)
@@ -133,3 +133,27 @@ class TreeClassifier:
                 node[inner] = np.where(goes_left, left[at], right[at]).astype(int)
             logit += self.rate * value[node]
         return 1.0 / (1.0 + np.exp(-logit))
+
+
+@dataclass(frozen=True)
+class MaxEnsemble:
+    """Models trained on different object sets, each with its own threshold moved onto a
+    common one by its ``shift``: a candidate's probability is the largest of theirs, so it
+    passes where any member keeps it."""
+
+    members: tuple[TreeClassifier, ...]
+
+    def probability(self, features: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(M,) the members' largest probability that each row's candidate is on a handle."""
+        return np.max([m.probability(features) for m in self.members], axis=0)
+
+
+def read_classifier(path: Path) -> TreeClassifier | MaxEnsemble:
+    """The classifier file written by ``scripts/train_candidate_classifier.py``: one model, or
+    an ensemble (``{"members": [model, ...]}``, each model with its ``shift``)."""
+    if not path.is_file():
+        raise SimgraspError(f"{path}: no such candidate classifier file")
+    raw = json.loads(path.read_text())
+    if "members" in raw:
+        return MaxEnsemble(tuple(TreeClassifier.parse(m, path) for m in raw["members"]))
+    return TreeClassifier.parse(raw, path)

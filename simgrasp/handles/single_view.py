@@ -19,7 +19,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.handles.candidate_features import TreeClassifier, candidate_features
+from simgrasp.handles.candidate_features import (
+    MaxEnsemble,
+    TreeClassifier,
+    candidate_features,
+    read_classifier,
+)
 from simgrasp.handles.cluster import cluster_handles
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection
@@ -150,10 +155,10 @@ def single_view_candidates(
 
 
 @functools.cache
-def _classifier(path: str) -> TreeClassifier:
+def _classifier(path: str) -> TreeClassifier | MaxEnsemble:
     """The classifier file at ``path``, read once per process (a scene's objects each run
     the single-view detector)."""
-    return TreeClassifier.read(Path(path))
+    return read_classifier(Path(path))
 
 
 def _keep(
