@@ -1,0 +1,104 @@
+"""The segmenter on a real cluttered RealSense frame nobody tuned on: GraspNet-1Billion's example
+frame (``$SIMGRASP_REAL_DIR/graspnet-example``, 1280 x 720), segmented whole with each named
+setting and scored per object against the nine objects drawn by hand before any scoring
+(``models/handles/graspnet_objects.json``, :mod:`simgrasp.evaluation.frame_objects`): an
+object's part IoU is its best IoU with any predicted segment, as on osd-learn
+(``segment_eval.part_ious``). Writes ``segmentation.csv`` and ``segmentation.md`` to ``--out``;
+``--picture`` also writes a review picture of the labels (derived from the frame: keep it out
+of the repository).
+
+    python scripts/graspnet_segmentation.py --out docs/results/real-scene
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+
+from simgrasp.assets.graspnet_frame import GRASPNET_EXAMPLE, read_graspnet_frame
+from simgrasp.assets.real import default_real_dir
+from simgrasp.evaluation.frame_objects import read_frame_objects, table_heights, truth_labels
+from simgrasp.evaluation.segment_eval import part_ious
+from simgrasp.perception.scene_cloud import scene_from_array
+from simgrasp.perception.segmentation.segment import segment_scene
+from simgrasp.perception.segmentation.segment_config import SegmentConfig
+from simgrasp.resources import model_path
+
+SETTINGS = {
+    "default": SegmentConfig(),
+    "cut_close_px 1": SegmentConfig(cut_close_px=1),
+    "simulated()": SegmentConfig.simulated(),
+}
+"""The settings scored, fixed before the first scoring (none is chosen on this frame)."""
+
+
+def picture(grid: np.ndarray, labels: np.ndarray, heights: np.ndarray, path: Path) -> None:
+    """The height image (0-12 cm, grey) with each labeled object tinted, for review."""
+    from PIL import Image
+
+    grey = np.clip(np.nan_to_num(heights, nan=0.0) / 0.12, 0.0, 1.0)
+    image = np.dstack([grey * 255.0] * 3)
+    palette = np.random.default_rng(0).integers(60, 255, (int(labels.max()) // 10 + 1, 3))
+    tinted = labels.reshape(grid.shape[:2]) > 0
+    image[tinted] = (
+        0.45 * image[tinted] + 0.55 * palette[labels.reshape(grid.shape[:2])[tinted] // 10]
+    )
+    Image.fromarray(image.astype(np.uint8)).save(path)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--real-dir", type=Path, default=None, help="default: ../shared/real")
+    parser.add_argument("--out", type=Path, default=Path("out/real-scene"))
+    parser.add_argument("--picture", type=Path, help="write the labels' review picture here")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    grid = read_graspnet_frame((args.real_dir or default_real_dir()) / GRASPNET_EXAMPLE)
+    annotation = read_frame_objects(model_path("handles", "graspnet_objects.json"))
+    truth = truth_labels(grid, annotation)
+    if args.picture:
+        picture(grid, truth, table_heights(grid, annotation), args.picture)
+    names = [drawn.name for drawn in annotation.objects]
+    rows = []
+    for setting, config in SETTINGS.items():
+        start = time.process_time()
+        segmentation = segment_scene(scene_from_array(grid, source="graspnet-example"), config)
+        cpu_ms = 1000.0 * (time.process_time() - start)
+        ious = part_ious(truth, segmentation.labels)
+        for name, iou in zip(names, ious, strict=True):
+            rows.append(
+                {
+                    "setting": setting,
+                    "object": name,
+                    "pixels": int((truth == 10 * (names.index(name) + 2)).sum()),
+                    "part_iou": round(float(iou), 4),
+                    "segments": len(segmentation.objects),
+                    "cpu_ms": round(cpu_ms, 1),
+                }
+            )
+    with (args.out / "segmentation.csv").open("w", newline="") as stream:
+        writer = csv.DictWriter(stream, list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    lines = [
+        "| setting | " + " | ".join(names) + " | mean part IoU | objects under 0.5 | segments |",
+        "|---" * (len(names) + 4) + "|",
+    ]
+    for setting in SETTINGS:
+        mine = [r for r in rows if r["setting"] == setting]
+        ious = [float(r["part_iou"]) for r in mine]  # type: ignore[arg-type]
+        cells = " | ".join(f"{iou:.2f}" for iou in ious)
+        under = sum(iou < 0.5 for iou in ious)
+        lines.append(
+            f"| {setting} | {cells} | {np.mean(ious):.3f} | {under} | {mine[0]['segments']} |"
+        )
+    (args.out / "segmentation.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
