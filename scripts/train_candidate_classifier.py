@@ -181,7 +181,8 @@ def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
     return {"features": list(FEATURES), "learning_rate": model.learning_rate, "trees": trees}
 
 
-def main() -> None:
+def arguments() -> argparse.Namespace:
+    """The command line, checked."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument(
@@ -217,16 +218,21 @@ def main() -> None:
     parser.add_argument("--threshold", type=float, default=0.7, help="with --combine")
     parser.add_argument("--out", type=Path)
     args = parser.parse_args()
-    if args.combine:
-        if args.out is None:
-            parser.error("--combine needs --out")
-        args.out.write_text(json.dumps(combined(args.combine, args.threshold)) + "\n")
-        print(f"wrote {args.out}")
-        return
+    if args.combine and args.out is None:
+        parser.error("--combine needs --out")
     if args.out is None and not (args.leave_one_out or args.ensemble_leave_one_out):
         parser.error("--out is required unless --leave-one-out or --ensemble-leave-one-out")
     if args.ensemble_leave_one_out and not args.with_drills:
         parser.error("--ensemble-leave-one-out needs --with-drills")
+    return args
+
+
+def main() -> None:
+    args = arguments()
+    if args.combine:
+        args.out.write_text(json.dumps(combined(args.combine, args.threshold)) + "\n")
+        print(f"wrote {args.out}")
+        return
     objects = [o for o in OBJECTS if not (args.first_objects and o.startswith("gen_strap_mug"))]
     objects += list(DRILLS) if args.with_drills else []
     azimuths = [float(a) for a in args.azimuths.split(",")]

@@ -18,6 +18,7 @@ from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segmentation.organized_segments import _closed_cuts
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, SegmentConfig
+from simgrasp.perception.segmentation.segment_fragments import absorb_fragments
 from simgrasp.perception.segmentation.segment_objects import LabelPixels, label_pixels
 from simgrasp.perception.segmentation.segment_parts import part_parents, table_edge_claims
 
@@ -205,6 +206,27 @@ def test_thin_small_segments_touching_a_larger_one_are_its_parts() -> None:
     np.testing.assert_array_equal(parents, [0, 1, 2, 2, 4, 5, 2])
     off = part_parents(labels, points, height, SegmentConfig(part_min_contact=0), grouped)
     np.testing.assert_array_equal(off, np.arange(7))
+
+
+def test_fragments_join_the_segment_they_touch_within_reach() -> None:
+    """A 40 x 40 px segment (2), a 10 x 8 px fragment touching it (3), a fragment touching
+    it in the image only, 20 cm behind (4), and a fragment touching only fragment 3 (5):
+    the first pass gives 3 to 2, the second 5; 4 keeps its id. With no pass, none moves."""
+    raw = np.zeros((60, 80), dtype=np.int32)
+    raw[10:50, 10:50] = 2
+    raw[20:30, 50:58] = 3
+    raw[20:30, 2:10] = 4
+    raw[20:30, 58:64] = 5
+    cols, rows = np.meshgrid(np.arange(80), np.arange(60))
+    points = np.stack([cols * 0.002, rows * 0.002, np.ones((60, 80))], axis=2).astype(np.float32)
+    points[raw == 4, 2] += 0.2
+    flat_points = points.reshape(-1, 3)
+    for passes, expected in ((2, [2, 2, 4, 2]), (1, [2, 2, 4, 5]), (0, [2, 3, 4, 5])):
+        joined = raw.reshape(-1).copy()
+        absorb_fragments(joined, flat_points, raw.shape, SegmentConfig(fragment_passes=passes))
+        joined = joined.reshape(raw.shape)
+        assert [joined[15, 15], joined[25, 52], joined[25, 5], joined[25, 60]] == expected
+    assert (joined == raw).all()
 
 
 def test_a_side_part_claims_the_raised_table_pixels_at_its_edge() -> None:

@@ -32,6 +32,7 @@ from simgrasp.perception.segmentation.segment_config import (
 )
 from simgrasp.perception.segmentation.segment_config import TABLE, SegmentConfig
 from simgrasp.perception.segmentation.segment_floors import inner_floors
+from simgrasp.perception.segmentation.segment_fragments import absorb_fragments
 from simgrasp.perception.segmentation.segment_objects import (
     LabelPixels,
     SegmentedObject,
@@ -102,6 +103,9 @@ def segment_scene(
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
         _timed(timings, "floors", lambda: _floors(scene, raw, table, above, config))
+        if config.fragment_passes:
+            shape = (scene.height, scene.width)
+            _timed(timings, "fragments", lambda: absorb_fragments(raw, points, shape, config))
     labels, objects, pixels = _timed(
         timings,
         "order",

@@ -89,6 +89,12 @@ class SegmentConfig(Checked):
     attach_passes: NonNegativeInt = 2
     """Attaching is repeated this many times, so a run of mixed pixels along an occluding edge
     joins one pixel-step at a time."""
+    fragment_passes: NonNegativeInt = 2
+    """Organized clouds: a segment under ``min_object_points`` joins the segment it touches
+    most within ``attach_distance`` (a bumpy object's pieces between short creases), this
+    many passes (:mod:`simgrasp.perception.segmentation.segment_fragments`; 0: fragments
+    are dropped, as before 4 December 2026). 2 chosen on osd-learn and simulated clutter
+    (``docs/results/segment-cv``)."""
     part_min_contact: NonNegativeInt = 10
     """Organized clouds: a segment of at most ``part_max_points`` whose height above the table
     spans at most ``part_max_thickness`` is a side part (a pot's tab, a pan's handle) of the
