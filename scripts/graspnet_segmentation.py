@@ -30,6 +30,9 @@ from simgrasp.resources import model_path
 
 SETTINGS = {
     "default": SegmentConfig(),
+    "default, fragments dropped (fragment_passes 0: before 4 December 2026)": SegmentConfig(
+        fragment_passes=0
+    ),
     "cut_close_px 1": SegmentConfig(cut_close_px=1),
     "simulated()": SegmentConfig.simulated(),
 }

@@ -64,8 +64,9 @@ GRID = {
     "concave_threshold": (0.2, 0.25, 0.35),
     "depth_jump": (0.02, 0.03),
     "cut_close_px": (0, 1),
+    "fragment_passes": (0, 2),
 }
-"""The settings tried (48 combinations); every other field keeps its default."""
+"""The settings tried (96 combinations); every other field keeps its default."""
 TARGETS = tuple(
     expand_objects(["paper", "gen_hammer", "gen_spatula", "gen_screwdriver", "gen_mug", "gen_pan"])
 )
@@ -198,13 +199,14 @@ def settings() -> list[dict[str, float]]:
 
 
 def label(setting: dict[str, float]) -> str:
-    """A short name of a grid setting (``td 0.005 mp 150 ct 0.25 dj 0.02 cc 0``)."""
+    """A short name of a grid setting (``td 0.005 mp 150 ct 0.25 dj 0.02 cc 0 fp 2``)."""
     short = {
         "table_distance": "td",
         "min_object_points": "mp",
         "concave_threshold": "ct",
         "depth_jump": "dj",
         "cut_close_px": "cc",
+        "fragment_passes": "fp",
     }
     return " ".join(f"{short[k]} {v:g}" for k, v in setting.items())
 
