@@ -96,7 +96,8 @@ def test_the_frames_drawn_objects_score_a_segmentation_and_fragments_join(real_d
 
 
 def test_a_drawn_object_off_the_objects_is_one_line(tmp_path: Path) -> None:
-    """A seed pixel on the table, or a file that is not an annotation, names what is wrong."""
+    """A seed pixel on the table, a file that is not an annotation, or a polygon of two
+    vertices: one line naming what is wrong."""
     grid = np.zeros((40, 60, 3), dtype=np.float32)
     cols, rows = np.meshgrid(np.arange(60), np.arange(40))
     grid[..., 0], grid[..., 1], grid[..., 2] = cols * 0.002, rows * 0.002, 0.5
@@ -113,4 +114,8 @@ def test_a_drawn_object_off_the_objects_is_one_line(tmp_path: Path) -> None:
     ).sum() == 100
     path.write_text(json.dumps({"table": table, "objects": objects}))
     with pytest.raises(SimgraspError, match="objects.json: not a frame-objects annotation"):
+        read_frame_objects(path)
+    line = [{"name": "line", "polygon": [[0, 0], [5, 5]]}]
+    path.write_text(json.dumps({"table": {**table, "min_height": 0.006}, "objects": line}))
+    with pytest.raises(SimgraspError, match="'line': a polygon needs at least 3 vertices"):
         read_frame_objects(path)

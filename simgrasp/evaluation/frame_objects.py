@@ -64,15 +64,21 @@ def read_frame_objects(path: Path) -> FrameObjects:
 
 
 def _drawn(entry: dict) -> DrawnObject:
+    """One ``objects`` entry of the file: a name and exactly one shape."""
+    name = str(entry["name"])
     shapes = [key for key in ("polygon", "circle", "seed") if key in entry]
     if len(shapes) != 1:
-        raise ValueError(f"object {entry.get('name')!r} needs one of polygon, circle, seed")
-    return DrawnObject(
-        str(entry["name"]),
-        polygon=tuple((int(x), int(y)) for x, y in entry.get("polygon", ())),
-        circle=tuple(int(v) for v in entry["circle"]) if "circle" in entry else None,  # type: ignore[arg-type]
-        seed=tuple(int(v) for v in entry["seed"]) if "seed" in entry else None,  # type: ignore[arg-type]
-    )
+        raise ValueError(f"object {name!r} needs exactly one of polygon, circle, seed")
+    if "circle" in entry:
+        x, y, radius = entry["circle"]
+        return DrawnObject(name, circle=(int(x), int(y), int(radius)))
+    if "seed" in entry:
+        x, y = entry["seed"]
+        return DrawnObject(name, seed=(int(x), int(y)))
+    polygon = tuple((int(x), int(y)) for x, y in entry["polygon"])
+    if len(polygon) < 3:
+        raise ValueError(f"object {name!r}: a polygon needs at least 3 vertices")
+    return DrawnObject(name, polygon=polygon)
 
 
 def _drawn_mask(
@@ -124,7 +130,7 @@ def truth_labels(grid: NDArray[np.floating], annotation: FrameObjects) -> NDArra
         if drawn.seed is not None:
             components, _ = ndimage.label(free)
             x, y = drawn.seed
-            if not free[y, x]:
+            if not (0 <= y < shape[0] and 0 <= x < shape[1] and free[y, x]):
                 raise SimgraspError(
                     f"object {drawn.name!r}: its seed {drawn.seed} is not on an object"
                 )
