@@ -4,8 +4,9 @@ The table is the dominant plane (RANSAC on a seeded subsample, refined by least 
 its inliers, then on the points within ``table_distance`` of it). Above it, an organized cloud
 is cut into objects on its image grid
 (:mod:`simgrasp.perception.segmentation.organized_segments`: depth steps and concave creases
-separate stacked and touching objects); an unorganized one, or ``method="dbscan"``, is clustered
-with Open3D's DBSCAN on a voxel grid (the plain baseline).
+separate stacked and touching objects; pieces too small to be objects join the segment they
+touch, :mod:`simgrasp.perception.segmentation.segment_fragments`); an unorganized one, or
+``method="dbscan"``, is clustered with Open3D's DBSCAN on a voxel grid (the plain baseline).
 
 Labels, one int32 per input point in the input's order: 0 invalid or unassigned (NaN,
 beyond range, below the table, too small a segment), 1 table, 2.. objects by increasing
