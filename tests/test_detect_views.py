@@ -112,8 +112,8 @@ def test_candidate_features_tell_a_slim_bar_from_a_wide_patch_and_the_model_read
 
 def test_an_ensemble_file_keeps_what_any_member_keeps(tmp_path) -> None:
     """An ensemble's probability is its members' largest, each moved by its logit shift
-    (``scripts/train_candidate_classifier.py --combine``); a member over other features is
-    refused with a line naming the file."""
+    (``scripts/train_candidate_classifier.py --combine``); a member over other features, or
+    one without trees, is refused with a line naming the file."""
     shipped = json.loads(model_path("handles", "candidate_classifier.json").read_text())
     path = tmp_path / "ensemble.json"
     path.write_text(json.dumps({"members": [dict(shipped, shift=-2.0), dict(shipped, shift=1.0)]}))
@@ -126,6 +126,9 @@ def test_an_ensemble_file_keeps_what_any_member_keeps(tmp_path) -> None:
     np.testing.assert_allclose(read_classifier(path).probability(rows), raised, rtol=1e-9)
     path.write_text(json.dumps({"members": [dict(shipped, features=["width"])]}))
     with pytest.raises(SimgraspError, match="ensemble.json: its features"):
+        read_classifier(path)
+    path.write_text(json.dumps({"members": [{"features": list(FEATURES)}]}))
+    with pytest.raises(SimgraspError, match="ensemble.json: not a candidate classifier file"):
         read_classifier(path)
 
 

@@ -153,7 +153,10 @@ def read_classifier(path: Path) -> TreeClassifier | MaxEnsemble:
     an ensemble (``{"members": [model, ...]}``, each model with its ``shift``)."""
     if not path.is_file():
         raise SimgraspError(f"{path}: no such candidate classifier file")
-    raw = json.loads(path.read_text())
-    if "members" in raw:
-        return MaxEnsemble(tuple(TreeClassifier.parse(m, path) for m in raw["members"]))
-    return TreeClassifier.parse(raw, path)
+    try:
+        raw = json.loads(path.read_text())
+        if "members" in raw:
+            return MaxEnsemble(tuple(TreeClassifier.parse(m, path) for m in raw["members"]))
+        return TreeClassifier.parse(raw, path)
+    except (ValueError, KeyError, TypeError) as exc:
+        raise SimgraspError(f"{path}: not a candidate classifier file ({exc!r})") from exc
