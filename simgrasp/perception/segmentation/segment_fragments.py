@@ -1,6 +1,6 @@
-"""Fragments of an organized cut absorbed by the segment they touch: a bumpy or textured object
-(a toy's folds, a power tool's ribs, a cup's rim seen from above) breaks along many short
-concave creases into pieces smaller than ``min_object_points``, which would otherwise be
+"""Fragments of an organized cut absorbed by the segment they touch: a bumpy object seen by a
+noisy sensor (a toy's folds, a cup's rim seen from above) breaks along short concave creases
+and depth steps into pieces smaller than ``min_object_points``, which would otherwise be
 dropped as noise and leave holes in the object (:func:`absorb_fragments`).
 """
 
