@@ -48,6 +48,7 @@ OBJECTS = (
     "037_scissors",
     *(f"gen_strap_mug_s{seed}" for seed in range(10)),
 )
+"""The shipped model's objects (``--strap-mugs 10``)."""
 DRILLS = tuple(f"gen_drill_s{seed}" for seed in range(10))
 """Generated pistol-grip drills, added with ``--with-drills`` (a model tried and not shipped:
 docs/results/real-detect)."""
@@ -198,6 +199,12 @@ def arguments() -> argparse.Namespace:
     )
     parser.add_argument("--with-drills", action="store_true", help="add the generated drills")
     parser.add_argument(
+        "--strap-mugs",
+        type=int,
+        default=10,
+        help="train on the flat-strap mugs of seeds 0..N-1 (the shipped model: 10)",
+    )
+    parser.add_argument(
         "--leave-one-out",
         action="store_true",
         help="print each object's figures under a model trained without it; write nothing",
@@ -233,7 +240,9 @@ def main() -> None:
         args.out.write_text(json.dumps(combined(args.combine, args.threshold)) + "\n")
         print(f"wrote {args.out}")
         return
-    objects = [o for o in OBJECTS if not (args.first_objects and o.startswith("gen_strap_mug"))]
+    objects = [o for o in OBJECTS if not o.startswith("gen_strap_mug")]
+    if not args.first_objects:
+        objects += [f"gen_strap_mug_s{seed}" for seed in range(args.strap_mugs)]
     objects += list(DRILLS) if args.with_drills else []
     azimuths = [float(a) for a in args.azimuths.split(",")]
     jobs = [
