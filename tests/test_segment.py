@@ -186,6 +186,17 @@ def test_detect_segment_on_a_real_pot_scene(capsys: pytest.CaptureFixture[str]) 
     assert {h["object"] for h in only["handles"]} == {first}
 
 
+def _pixel_grid(labels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(H, W, 3) float32 points of a flat grid 1 m from the sensor, 2 mm a pixel, the pixels
+    of label 4 pushed 20 cm back (touching the others in the image only), and each pixel's
+    row index."""
+    height, width = labels.shape
+    cols, rows = np.meshgrid(np.arange(width), np.arange(height))
+    points = np.stack([cols * 0.002, rows * 0.002, np.ones(labels.shape)], axis=2)
+    points[labels == 4, 2] += 0.2
+    return points.astype(np.float32), rows
+
+
 def test_thin_small_segments_touching_a_larger_one_are_its_parts() -> None:
     """A 40 x 40 px object (2), a thin tab touching it (3), a thin tab 20 cm behind it in
     depth (4: touching in the image only), a tall small segment touching it (5), and a thin
@@ -196,9 +207,7 @@ def test_thin_small_segments_touching_a_larger_one_are_its_parts() -> None:
     labels[20:30, 2:10] = 4
     labels[50:58, 20:30] = 5
     labels[30:34, 50:58] = 6
-    cols, rows = np.meshgrid(np.arange(80), np.arange(60))
-    points = np.stack([cols * 0.002, rows * 0.002, np.ones((60, 80))], axis=2).astype(np.float32)
-    points[labels == 4, 2] += 0.2
+    points, rows = _pixel_grid(labels)
     height = np.where(labels == 2, rows * 0.002, 0.05).astype(np.float32)
     height[labels == 5] = 0.05 + rows[labels == 5] * 0.004  # 3 cm tall
     grouped = _object_pixels(labels)
@@ -217,10 +226,7 @@ def test_fragments_join_the_segment_they_touch_within_reach() -> None:
     raw[20:30, 50:58] = 3
     raw[20:30, 2:10] = 4
     raw[20:30, 58:64] = 5
-    cols, rows = np.meshgrid(np.arange(80), np.arange(60))
-    points = np.stack([cols * 0.002, rows * 0.002, np.ones((60, 80))], axis=2).astype(np.float32)
-    points[raw == 4, 2] += 0.2
-    flat_points = points.reshape(-1, 3)
+    flat_points = _pixel_grid(raw)[0].reshape(-1, 3)
     for passes, expected in ((2, [2, 2, 4, 2]), (1, [2, 2, 4, 5]), (0, [2, 3, 4, 5])):
         joined = raw.reshape(-1).copy()
         absorb_fragments(joined, flat_points, raw.shape, SegmentConfig(fragment_passes=passes))
