@@ -79,27 +79,32 @@ def view_rows(view: SimView, seed: int) -> tuple[np.ndarray, np.ndarray]:
     return features, shot.label.contains(in_mesh)
 
 
-def weights(y: np.ndarray, views: np.ndarray) -> np.ndarray:
-    """Sample weights giving every view the same total weight, split evenly between its
-    on-handle and off-handle candidates (a mug's few strap candidates count as much as its
-    body's many, and a dense view as much as a sparse one)."""
+def weights(y: np.ndarray, views: np.ndarray, view_weight: np.ndarray | None = None) -> np.ndarray:
+    """Sample weights giving every view the same total weight (or ``view_weight[v]`` (V,)
+    times it), split evenly between its on-handle and off-handle candidates (a mug's few
+    strap candidates count as much as its body's many, and a dense view as much as a sparse
+    one)."""
     w = np.zeros(len(y))
     for v in np.unique(views):
+        scale = 1.0 if view_weight is None else float(view_weight[v])
         for side in (True, False):
             rows = (views == v) & (y == side)
             if rows.any():
-                w[rows] = 1.0 / rows.sum()
+                w[rows] = scale / rows.sum()
     return w * len(y) / w.sum()
 
 
-def boosted(x: np.ndarray, y: np.ndarray, views: np.ndarray):  # noqa: ANN201
-    """The fitted scikit-learn model: 60 boosted trees of depth 3, zero initial guess."""
+def boosted(  # noqa: ANN201
+    x: np.ndarray, y: np.ndarray, views: np.ndarray, view_weight: np.ndarray | None = None
+):
+    """The fitted scikit-learn model: 60 boosted trees of depth 3, zero initial guess, the
+    samples weighted by :func:`weights`."""
     from sklearn.ensemble import GradientBoostingClassifier
 
     model = GradientBoostingClassifier(
         n_estimators=60, max_depth=3, learning_rate=0.2, init="zero", random_state=0
     )
-    return model.fit(x, y, sample_weight=weights(y, views))
+    return model.fit(x, y, sample_weight=weights(y, views, view_weight))
 
 
 def view_scores(
@@ -164,10 +169,12 @@ def combined(members: list[str], threshold: float) -> dict:
     return {"members": models, "threshold": threshold}
 
 
-def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
+def fit(
+    x: np.ndarray, y: np.ndarray, views: np.ndarray, view_weight: np.ndarray | None = None
+) -> dict:
     """:func:`boosted` as the JSON that
     :class:`~simgrasp.handles.candidate_features.TreeClassifier` reads."""
-    model = boosted(x, y, views)
+    model = boosted(x, y, views, view_weight)
     trees = []
     for (estimator,) in model.estimators_:
         t = estimator.tree_
@@ -180,7 +187,7 @@ def fit(x: np.ndarray, y: np.ndarray, views: np.ndarray) -> dict:
                 "value": t.value[:, 0, 0].tolist(),
             }
         )
-    print(f"weighted training accuracy {model.score(x, y, weights(y, views)):.3f}")
+    print(f"weighted training accuracy {model.score(x, y, weights(y, views, view_weight)):.3f}")
     return {"features": list(FEATURES), "learning_rate": model.learning_rate, "trees": trees}
 
 
@@ -205,6 +212,13 @@ def arguments() -> argparse.Namespace:
         type=int,
         default=10,
         help="train on the flat-strap mugs of seeds 0..N-1 (the shipped model: 10)",
+    )
+    parser.add_argument(
+        "--strap-family-weight",
+        type=float,
+        default=None,
+        help="the strap mugs' views together weigh as many objects' views as this (default: "
+        "each strap mug as one object)",
     )
     parser.add_argument(
         "--leave-one-out",
@@ -267,7 +281,11 @@ def main() -> None:
         check = ensemble_leave_one_out if args.ensemble_leave_one_out else leave_one_out
         check(x, y, views, objects_of_rows)
         return
-    model = fit(x, y, views)
+    view_weight = None
+    if args.strap_family_weight is not None and strap_mugs:
+        strap = [sim.object.startswith("gen_strap_mug") for sim, _ in jobs]
+        view_weight = np.where(strap, args.strap_family_weight / strap_mugs, 1.0)
+    model = fit(x, y, views, view_weight)
     model["trained_on"] = {
         "objects": objects,
         "views": [list(v) for v in VIEWS],
@@ -276,6 +294,8 @@ def main() -> None:
         "candidates": int(len(y)),
         "on_handle": int(y.sum()),
     }
+    if view_weight is not None:
+        model["trained_on"]["strap_family_weight"] = args.strap_family_weight
     args.out.write_text(json.dumps(model) + "\n")
     print(f"{len(y)} candidates ({y.sum()} on handle); wrote {args.out}")
 
