@@ -90,10 +90,25 @@ def main() -> None:
     parser.add_argument(
         "--threshold", type=float, help="classifier threshold (default: the learned setting's)"
     )
+    parser.add_argument(
+        "--min-width-spacings",
+        type=float,
+        help="narrowest fit kept, in measured point spacings (default: the learned setting's)",
+    )
+    parser.add_argument(
+        "--narrow-width-spacings",
+        type=float,
+        help="narrowest fit kept when its axis is near its surface, in spacings (default: the "
+        "learned setting's)",
+    )
     args = parser.parse_args()
     settings = SingleViewConfig.learned()
     if args.threshold is not None:
         settings = replace(settings, classifier_threshold=args.threshold)
+    if args.min_width_spacings is not None:
+        settings = replace(settings, min_width_spacings=args.min_width_spacings)
+    if args.narrow_width_spacings is not None:
+        settings = replace(settings, narrow_width_spacings=args.narrow_width_spacings)
     columns = [list(rows_for(replace(settings, classifier_file=str(path)))) for path in args.models]
     print("| tune item | " + " | ".join(p.name for p in args.models) + " |")
     print("|---" * (len(args.models) + 1) + "|")

@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.handles.candidate_features import (
+    FEATURES,
     MaxEnsemble,
     TreeClassifier,
     candidate_features,
@@ -69,6 +70,15 @@ class SingleViewConfig:
     """Candidates fitted narrower than this many measured point spacings are dropped: a fit
     narrower than the sampling resolves (a rim's 2-5 mm edge in 3 mm voxels) is not a part a
     finger pair can be placed across. 0: no limit."""
+    narrow_width_spacings: float = 0.0
+    """With ``classifier``: fits from this many up to ``min_width_spacings`` measured point
+    spacings wide are kept too when their fitted axis lies within ``narrow_axis_offset``
+    half widths of their seen surface point. A thin flat strap seen from 0.3 - 0.8 m is
+    fitted 1 - 2 spacings wide with its axis 1 - 4 half widths behind its surface; a pot
+    rim's unresolved fit has its axis 6 - 8 half widths off. 0: none."""
+    narrow_axis_offset: float = 4.0
+    """With ``narrow_width_spacings``: the largest distance (half fitted widths) of a narrow
+    fit's axis from its seen surface point."""
     classifier: bool = False
     """Replace the standoff test by the shipped classifier over candidate features
     (:mod:`simgrasp.handles.candidate_features`, ``models/handles/candidate_classifier.json``,
@@ -93,15 +103,19 @@ class SingleViewConfig:
     def learned(cls) -> SingleViewConfig:
         """The default for single views (``detect``'s, ``detect-eval --real``'s ``default``):
         the shipped classifier (trained with flat-strap mugs, ``gen_strap_mug``) at 0.7 on fits
-        at least two measured point spacings wide, handle centers on the seen surface (the
-        named setting ``learned`` of docs/results/real-detect, each choice made on the tune
-        knives, the osd-learn pots and simulated views); where the classifier keeps nothing,
-        the quadric detector's :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm
-        neighborhoods, the plate test for flat tabs; chosen on the tune osd-learn pots)."""
+        at least two measured point spacings wide, or one with their axes within four half
+        widths of their surface (since 4 December 2026: a thin strap seen from 0.3 - 0.8 m),
+        handle centers on the seen surface (the named setting ``learned`` of
+        docs/results/real-detect, each choice made on the tune knives, the osd-learn pots and
+        simulated views); where the classifier keeps nothing, the quadric detector's
+        :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm neighborhoods, the plate test
+        for flat tabs; chosen on the tune osd-learn pots). ``narrow_width_spacings=0``
+        reproduces the runs before that day."""
         return cls(
             classifier=True,
             classifier_threshold=0.7,
             min_width_spacings=2.0,
+            narrow_width_spacings=1.0,
             fallback=QuadricDetectorConfig.real_depth(),
         )
 
@@ -168,19 +182,30 @@ def _keep(
     spacing: float,
     config: SingleViewConfig,
 ) -> NDArray[np.bool_]:
-    """Which candidates pass: the standoff test, or with ``classifier`` the shipped model."""
-    standoff = config.standoff
-    if config.min_width_spacings > 0:
-        floor = max(standoff.min_width, config.min_width_spacings * spacing)
-        standoff = replace(standoff, min_width=floor)
+    """Which candidates pass: the standoff test, or with ``classifier`` the shipped model
+    (on fits at least ``min_width_spacings`` wide, or ``narrow_width_spacings`` wide with
+    their axes near their surface)."""
+    floor = _floor(config, config.min_width_spacings, spacing)
+    standoff = replace(config.standoff, min_width=floor)
     opening = config.quadric.gripper_max_opening
     if not config.classifier:
         return standoff_mask(candidates, cloud, eye, opening, standoff)
     model = _classifier(config.classifier_file or str(model_path("handles", CLASSIFIER)))
     features = candidate_features(candidates, cloud, eye, spacing, standoff)
     widths = np.array([c.width for c in candidates])
-    fits = (widths <= opening - 2 * standoff.gap) & (widths >= standoff.min_width)
+    wide = widths >= floor
+    if config.narrow_width_spacings > 0:
+        offsets = features[:, FEATURES.index("axis_offset")]
+        narrow = widths >= _floor(config, config.narrow_width_spacings, spacing)
+        wide |= narrow & (offsets <= config.narrow_axis_offset)
+    fits = wide & (widths <= opening - 2 * standoff.gap)
     return fits & (model.probability(features) >= config.classifier_threshold)
+
+
+def _floor(config: SingleViewConfig, spacings: float, spacing: float) -> float:
+    """The narrowest fit width kept (m): the standoff test's, or ``spacings`` measured point
+    spacings (``spacing``, m) when wider."""
+    return max(config.standoff.min_width, spacings * spacing)
 
 
 def detect_single_view(
