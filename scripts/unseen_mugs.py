@@ -2,7 +2,7 @@
 strap mugs (``gen_strap_mug``, the classifier saw seeds 0-9) and round-tube mugs
 (``gen_mug``), each in five single views like the real mug captures and the training views
 (upright kinect 0.78 and 0.6 m, upright stereo 0.78 m, lying stereo 0.3 m, lying kinect
-0.6 m), from two azimuths, one sensor seed; scored in the mesh frame by
+0.6 m), from two azimuths (``--azimuths``), one sensor seed; scored in the mesh frame by
 :func:`simgrasp.evaluation.sim_views.score_view`. Writes ``unseen_mugs.csv`` (one row per
 view and setting) and ``unseen_mugs.md`` (per mug kind and view: pooled candidate accuracy
 and views with the top handle on the handle) to ``--out``.
@@ -11,7 +11,9 @@ and views with the top handle on the handle) to ``--out``.
         --out docs/results/real-detect/unseen-mugs-s70
 
 ``--narrow-width-spacings 0`` scores the default of the runs before 4 December 2026 (no
-narrow fits) beside today's (docs/results/real-detect/README.md).
+narrow fits) beside today's (docs/results/real-detect/README.md); ``--classifier FILE`` adds
+a column for the default with another trained classifier; ``--azimuths 60,200`` views the
+mugs from other sides.
 """
 
 from __future__ import annotations
@@ -36,7 +38,8 @@ VIEWS = (  # (pose, distance m, elevation deg, sensor)
     ("upright", 0.6, 40.0, "kinect"),
 )
 AZIMUTHS = (0.0, 120.0)
-"""Camera azimuths (degrees): the handle to the camera's right, and turned away by 120."""
+"""Default camera azimuths (degrees): the handle to the camera's right, and turned away by
+120."""
 
 
 def seed_range(text: str) -> range:
@@ -48,28 +51,36 @@ def seed_range(text: str) -> range:
         raise argparse.ArgumentTypeError(f"seeds must be START:STOP, got {text!r}") from None
 
 
-def settings_for(narrow: float | None) -> SingleViewConfig:
-    """The single-view default, with ``narrow_width_spacings`` replaced when given."""
-    settings = SingleViewConfig.learned()
-    return settings if narrow is None else replace(settings, narrow_width_spacings=narrow)
+def azimuth_list(text: str) -> tuple[float, ...]:
+    """Comma-separated azimuths (degrees); ``argparse`` error on anything else."""
+    try:
+        return tuple(float(a) for a in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"azimuths must be numbers, got {text!r}") from None
 
 
-def score(job: tuple[str, SimView, float | None]) -> tuple[str, RealDetectRow]:
-    """One view scored with the setting named in the job (sensor seed 0)."""
-    name, view, narrow = job
-    return name, score_view(view, "default", 0, None, settings_for(narrow))
+Job = tuple[str, SimView, SingleViewConfig]
+
+
+def score(job: Job) -> tuple[str, RealDetectRow]:
+    """One view scored with the job's settings (sensor seed 0)."""
+    name, view, settings = job
+    return name, score_view(view, "default", 0, None, settings)
 
 
 def jobs(
-    strap: range, tube: range, settings: dict[str, float | None]
-) -> list[tuple[str, SimView, float | None]]:
-    """Every (setting name, view, narrow_width_spacings) to score."""
+    strap: range,
+    tube: range,
+    azimuths: tuple[float, ...],
+    settings: dict[str, SingleViewConfig],
+) -> list[Job]:
+    """Every (setting name, view, settings) to score."""
     objects = [f"gen_strap_mug_s{s}" for s in strap] + [f"gen_mug_s{s}" for s in tube]
     return [
-        (name, SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), narrow)  # type: ignore[arg-type]
-        for name, narrow in settings.items()
+        (name, SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), chosen)  # type: ignore[arg-type]
+        for name, chosen in settings.items()
         for obj, (pose, distance, elevation, sensor), azimuth in itertools.product(
-            objects, VIEWS, AZIMUTHS
+            objects, VIEWS, azimuths
         )
     ]
 
@@ -80,7 +91,7 @@ def table(scored: list[tuple[str, RealDetectRow]], names: list[str]) -> str:
     cells: dict[tuple[str, str], list[int]] = defaultdict(lambda: [0, 0, 0, 0])
     for name, row in scored:
         kind = row.cloud.split(" ", 1)[0].rsplit("_s", 1)[0]
-        view = row.cloud.split(" ", 1)[1].replace(" azimuth 120", "")
+        view = row.cloud.split(" ", 1)[1].split(" azimuth", 1)[0]
         for key in ((f"{kind} {view}", name), ("all views", name)):
             cell = cells[key]
             cell[0] += row.candidates
@@ -108,14 +119,25 @@ def main() -> None:
         default=0.0,
         help="also score the default with this narrow_width_spacings (0: before 4 December 2026)",
     )
+    parser.add_argument("--azimuths", type=azimuth_list, default=AZIMUTHS)
+    parser.add_argument(
+        "--classifier",
+        type=Path,
+        help="also score the default with this classifier file (train_candidate_classifier.py)",
+    )
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("out/unseen-mugs"))
     args = parser.parse_args()
+    default = SingleViewConfig.learned()
     settings = {
-        "default": None,
-        f"narrow {args.narrow_width_spacings:g}": args.narrow_width_spacings,
+        "default": default,
+        f"narrow {args.narrow_width_spacings:g}": replace(
+            default, narrow_width_spacings=args.narrow_width_spacings
+        ),
     }
-    work = jobs(args.strap_seeds, args.tube_seeds, settings)
+    if args.classifier is not None:
+        settings[args.classifier.name] = replace(default, classifier_file=str(args.classifier))
+    work = jobs(args.strap_seeds, args.tube_seeds, args.azimuths, settings)
     with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
         scored = pool.map(score, work, chunksize=2)
     args.out.mkdir(parents=True, exist_ok=True)
