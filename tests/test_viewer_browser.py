@@ -82,12 +82,20 @@ def _open(driver, page: Path) -> np.ndarray:
     return _screenshot(driver)
 
 
+BROWSER_SCHEMES = ("chrome:", "chrome-untrusted:", "chrome-search:", "devtools:")
+"""The browser's own pages and resources (its new-tab page may load in the background while
+a test runs: 84 ``chrome://new-tab-page...`` requests in one CI run): never the network."""
+
+
 def _requests(driver) -> list[str]:
+    """The URLs requested since the log was last read, the browser's own pages aside."""
     urls = []
     for entry in driver.get_log("performance"):
         message = json.loads(entry["message"])["message"]
         if message["method"] == "Network.requestWillBeSent":
-            urls.append(message["params"]["request"]["url"])
+            url = message["params"]["request"]["url"]
+            if not url.startswith(BROWSER_SCHEMES):
+                urls.append(url)
     return urls
 
 
