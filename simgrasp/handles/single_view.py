@@ -73,9 +73,10 @@ class SingleViewConfig:
     narrow_width_spacings: float = 0.0
     """With ``classifier``: fits from this many up to ``min_width_spacings`` measured point
     spacings wide are kept too when their fitted axis lies within ``narrow_axis_offset``
-    half widths of their seen surface point. A thin flat strap seen from 0.3 - 0.8 m is
-    fitted 1 - 2 spacings wide with its axis 1 - 4 half widths behind its surface; a pot
-    rim's unresolved fit has its axis 6 - 8 half widths off. 0: none."""
+    half widths of their seen surface point. Half the fits of a thin flat strap seen from
+    0.3 - 0.8 m are under 2 spacings wide, their axes mostly 1 - 4 half widths behind their
+    surface (median 2.2); a pot rim's unresolved fit has its axis 6 - 8 half widths off.
+    0: none."""
     narrow_axis_offset: float = 4.0
     """With ``narrow_width_spacings``: the largest distance (half fitted widths) of a narrow
     fit's axis from its seen surface point."""
