@@ -26,7 +26,7 @@ from collections import defaultdict
 from dataclasses import asdict, fields, replace
 from pathlib import Path
 
-from simgrasp.evaluation.real_detect import RealDetectRow
+from simgrasp.evaluation.real_detect import RealDetectRow, pooled_score
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import SingleViewConfig
 
@@ -62,10 +62,10 @@ def azimuth_list(text: str) -> tuple[float, ...]:
 Job = tuple[str, SimView, SingleViewConfig]
 
 
-def score(job: Job) -> tuple[str, RealDetectRow]:
+def score(job: Job) -> tuple[str, SimView, RealDetectRow]:
     """One view scored with the job's settings (sensor seed 0)."""
     name, view, settings = job
-    return name, score_view(view, "default", 0, None, settings)
+    return name, view, score_view(view, "default", 0, None, settings)
 
 
 def jobs(
@@ -85,27 +85,21 @@ def jobs(
     ]
 
 
-def table(scored: list[tuple[str, RealDetectRow]], names: list[str]) -> str:
+def table(scored: list[tuple[str, SimView, RealDetectRow]], names: list[str]) -> str:
     """Per mug kind and view (rows) and setting (columns): pooled accuracy (views with the
     top handle on the handle / views), and every view pooled."""
-    cells: dict[tuple[str, str], list[int]] = defaultdict(lambda: [0, 0, 0, 0])
-    for name, row in scored:
-        kind = row.cloud.split(" ", 1)[0].rsplit("_s", 1)[0]
-        view = row.cloud.split(" ", 1)[1].split(" azimuth", 1)[0]
-        for key in ((f"{kind} {view}", name), ("all views", name)):
-            cell = cells[key]
-            cell[0] += row.candidates
-            cell[1] += row.on_handle
-            cell[2] += int(row.top_on_handle)
-            cell[3] += 1
-    groups = sorted({group for group, _ in cells} - {"all views"}) + ["all views"]
+    groups: dict[tuple[str, str], list[RealDetectRow]] = defaultdict(list)
+    for name, view, row in scored:
+        kind = view.object.rsplit("_s", 1)[0]
+        seen = f"{kind} {view.pose} {view.sensor} {view.distance:g} m"
+        groups[(seen, name)].append(row)
+        groups[("all views", name)].append(row)
+    keys = sorted({seen for seen, _ in groups} - {"all views"}) + ["all views"]
     lines = ["| mug, view | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
-    for group in groups:
-        text = [
-            f"{c[1] / c[0] if c[0] else 0.0:.3f} ({c[2]}/{c[3]})"
-            for c in (cells[(group, n)] for n in names)
-        ]
-        lines.append(f"| {group} | " + " | ".join(text) + " |")
+    for seen in keys:
+        cells = (pooled_score(groups[(seen, n)]) for n in names)
+        text = [f"{accuracy:.3f} ({top}/{runs})" for accuracy, top, runs in cells]
+        lines.append(f"| {seen} | " + " | ".join(text) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -144,7 +138,7 @@ def main() -> None:
     with (args.out / "unseen_mugs.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, ["setting", *(f.name for f in fields(RealDetectRow))])
         writer.writeheader()
-        for name, row in scored:
+        for name, _, row in scored:
             writer.writerow({"setting": name, **asdict(row)})
     text = table(scored, list(settings))
     (args.out / "unseen_mugs.md").write_text(text)

@@ -190,7 +190,7 @@ def run_real_detect(
     return [r for r in done if r.cloud in wanted and r.config in configs and r.seed in seeds]
 
 
-def _summary(rows: list[RealDetectRow]) -> tuple[float, int, int]:
+def pooled_score(rows: list[RealDetectRow]) -> tuple[float, int, int]:
     """Pooled candidate accuracy, seeds with the top handle on a handle, and runs."""
     candidates = sum(r.candidates for r in rows)
     pooled = sum(r.on_handle for r in rows) / candidates if candidates else 0.0
@@ -198,7 +198,7 @@ def _summary(rows: list[RealDetectRow]) -> tuple[float, int, int]:
 
 
 def _cell(rows: list[RealDetectRow]) -> str:
-    accuracy, top, runs = _summary(rows)
+    accuracy, top, runs = pooled_score(rows)
     return f"{accuracy:.2f} ({top}/{runs})"
 
 
