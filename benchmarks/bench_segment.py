@@ -115,7 +115,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--clutter-scenes", type=int, default=3)
-    parser.add_argument("--distractors", type=int, default=5, help="per clutter scene, 0-12")
+    parser.add_argument("--distractors", type=int, default=5, help="per clutter scene, 0-19")
     args = parser.parse_args()
     osd = osd_frames()
     if osd:
