@@ -15,10 +15,15 @@ from simgrasp.assets.real import default_real_dir
 from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.cli import main
 from simgrasp.errors import SimgraspError
-from simgrasp.evaluation.sim_views import SimView, score_view
+from simgrasp.evaluation.sim_views import SimView, capture, score_view
 from simgrasp.handles.candidate_features import FEATURES, candidate_features, read_classifier
 from simgrasp.handles.detection import Candidate
-from simgrasp.handles.single_view import FALLBACK_DETECTOR, SingleViewConfig, _keep
+from simgrasp.handles.single_view import (
+    FALLBACK_DETECTOR,
+    SINGLE_VIEW_DETECTOR,
+    SingleViewConfig,
+    _keep,
+)
 from simgrasp.quadric.quadric import Quadric
 from simgrasp.resources import model_path
 
@@ -45,6 +50,28 @@ def test_the_default_keeps_a_thin_strap_seen_close_that_two_spacings_would_drop(
     wide_only = replace(SingleViewConfig.learned(), narrow_width_spacings=0.0)
     before = score_view(view, "default", 0, None, wide_only)
     assert not before.top_on_handle
+
+
+def test_detect_takes_every_single_view_setting_as_a_flag(
+    tmp_path, capsys: pytest.CaptureFixture[str]
+) -> None:  # noqa: ANN001
+    """``simgrasp detect`` on one kinect view of the generated hammer (camera frame, sensor at
+    the origin): the default keeps classifier-passed candidates; a threshold of 1 keeps none,
+    so the fallback detects; ``--single-view false`` runs the plain quadric detector; a
+    threshold outside [0, 1] is one line naming the setting."""
+    cloud = tmp_path / "hammer_view.npy"
+    np.save(cloud, capture(SimView("gen_hammer", "upright", 0.6, 45.0, "kinect"), 0).points_cam)
+
+    def detector(flags: list[str]) -> str:
+        assert main(["detect", str(cloud), "--json", *flags]) == 0
+        return str(json.loads(capsys.readouterr().out)["detector"])
+
+    assert detector([]) == SINGLE_VIEW_DETECTOR
+    assert detector(["--single-view-detector.classifier-threshold", "1"]) == FALLBACK_DETECTOR
+    assert detector(["--single-view", "false"]) == "quadric"
+    assert main(["detect", str(cloud), "--single-view-detector.classifier-threshold", "1.5"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "single_view_detector.classifier_threshold" in error
 
 
 @pytest.mark.real

@@ -1,7 +1,8 @@
 """``simgrasp detect CLOUD``: handles in a point cloud file, as a table or JSON.
 
-Every threshold of both detectors is a flag (``--detector.quadric.shell-test false``), or set
-it from a file (``--config detect.toml``); ``--print-config`` lists them all.
+Every threshold of the detectors is a flag (``--detector.quadric.shell-test false``,
+``--single-view-detector.classifier-threshold 0.6``), or set it from a file (``--config
+detect.toml``); ``--print-config`` lists them all.
 
 Detector defaults: the quadric detector's plain defaults (one pass), the same as
 ``detect-eval``'s, whose committed tables (docs/results/detect-eval) they produced; a cloud
@@ -56,6 +57,11 @@ class Options(Checked):
     `simgrasp.handles.view_kind`) is detected with the
     single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
     quadric detector only); false: the quadric settings below on every cloud."""
+    single_view_detector: SingleViewConfig = setting(
+        default_factory=SingleViewConfig.learned, exclude=("fallback",)
+    )
+    """Where the classifier keeps nothing, the fallback is
+    `QuadricDetectorConfig.real_depth()` (not a flag)."""
     plot: Path | None = setting(None, metavar="OUT.png")
     """Write a picture of the detection."""
     segment: bool = False
@@ -152,8 +158,9 @@ def _detector_config(options: Options) -> QuadricDetectorConfig | TenPasConfig:
 
 
 def _single_view(options: Options) -> SingleViewConfig | None:
-    """The single-view detector's settings, None with ``--single-view false``."""
-    return SingleViewConfig.learned() if options.single_view else None
+    """The single-view detector's settings (``--single-view-detector.*``), None with
+    ``--single-view false``."""
+    return options.single_view_detector if options.single_view else None
 
 
 def _detect(options: Options) -> Detection:

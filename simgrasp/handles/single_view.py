@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
 from simgrasp.handles.candidate_features import (
     FEATURES,
     MaxEnsemble,
@@ -52,8 +53,11 @@ def _single_view_quadric() -> QuadricDetectorConfig:
 
 
 @dataclass(frozen=True)
-class SingleViewConfig:
-    """The quadric detector's settings and the standoff test's."""
+class SingleViewConfig(Checked):
+    """The single-view detector's settings: the quadric detector's, the standoff test's or the
+    classifier's, and the view test that routes a cloud here (lengths in meters).
+    ``simgrasp detect`` takes each as a flag (``--single-view-detector.classifier-threshold``),
+    its default :meth:`learned`."""
 
     quadric: QuadricDetectorConfig = field(default_factory=_single_view_quadric)
     standoff: StandoffConfig = field(default_factory=StandoffConfig)
@@ -63,28 +67,28 @@ class SingleViewConfig:
     knife's handle seen from above); ``"axis"``, their fitted axes; ``"consistent"``, the
     axis where it lies within ``axis_slack`` of half the fitted width (plus one point
     spacing) from the seen surface point, else the surface point."""
-    axis_slack: float = 1.5
+    axis_slack: Positive = 1.5
     """With ``anchor="consistent"``: allowed ratio of the surface-to-axis distance to half the
     fitted width."""
-    min_width_spacings: float = 0.0
+    min_width_spacings: NonNegative = 0.0
     """Candidates fitted narrower than this many measured point spacings are dropped: a fit
     narrower than the sampling resolves (a rim's 2-5 mm edge in 3 mm voxels) is not a part a
     finger pair can be placed across. 0: no limit."""
-    narrow_width_spacings: float = 0.0
+    narrow_width_spacings: NonNegative = 0.0
     """With ``classifier``: fits from this many up to ``min_width_spacings`` measured point
     spacings wide are kept too when their fitted axis lies within ``narrow_axis_offset``
     half widths of their seen surface point. Half the fits of a thin flat strap seen from
     0.3 - 0.8 m are under 2 spacings wide, their axes mostly 1 - 4 half widths behind their
     surface (median 2.2); a pot rim's unresolved fit has its axis 6 - 8 half widths off.
     0: none."""
-    narrow_axis_offset: float = 4.0
+    narrow_axis_offset: Positive = 4.0
     """With ``narrow_width_spacings``: the largest distance (half fitted widths) of a narrow
     fit's axis from its seen surface point."""
     classifier: bool = False
     """Replace the standoff test by the shipped classifier over candidate features
     (:mod:`simgrasp.handles.candidate_features`, ``models/handles/candidate_classifier.json``,
     trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
-    classifier_threshold: float = 0.5
+    classifier_threshold: Fraction = 0.5
     """With ``classifier``: the least probability of being on a handle a candidate needs."""
     classifier_file: str = ""
     """With ``classifier``: a model written by ``scripts/train_candidate_classifier.py`` to

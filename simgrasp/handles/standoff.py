@@ -22,26 +22,27 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
 from simgrasp.handles.detection import Candidate
 
 
 @dataclass(frozen=True)
-class StandoffConfig:
+class StandoffConfig(Checked):
     """Parameters of :func:`standoff_mask` (meters)."""
 
-    gap: float = 0.002
+    gap: NonNegative = 0.002
     """Clearance between the part's fitted surface and a finger."""
-    finger: float = 0.008
+    finger: Positive = 0.008
     """Width of the slot a finger needs beside the part."""
-    half_length: float = 0.008
+    half_length: Positive = 0.008
     """Half the finger pad's extent along the handle axis."""
-    depth_margin: float = 0.005
+    depth_margin: NonNegative = 0.005
     """How far past the part's far side (along the ray) a finger reaches."""
-    max_blocked: float = 0.1
+    max_blocked: Fraction = 0.1
     """Largest share of the strip's points allowed in either finger slot."""
-    min_width: float = 0.0
+    min_width: NonNegative = 0.0
     """Candidates fitted narrower than this are rejected (0: no limit)."""
-    max_axis_cosine: float = 0.9
+    max_axis_cosine: Fraction = 0.9
     """Candidates whose axis is this close to the ray (|cos|) are seen end-on: not tested."""
 
 
