@@ -24,6 +24,7 @@ from simgrasp.handles.view_kind import (
     ViewKindConfig,
     hidden_share,
     is_single_view,
+    one_view_from_somewhere,
     view_half_angle_deg,
 )
 
@@ -55,6 +56,44 @@ def test_a_sensor_view_is_one_view_and_a_mesh_cloud_is_not(view_cam, mesh_cloud)
     assert view_half_angle_deg(mesh_cloud, inside) > 120
     assert view_half_angle_deg(view_cam, np.zeros(3)) < 30
     assert not is_single_view(mesh_cloud, inside)
+
+
+def test_a_view_moved_out_of_its_camera_frame_is_one_view_from_somewhere(
+    view_cam, mesh_cloud
+) -> None:  # noqa: ANN001
+    """A view turned 90 degrees and moved 1 m away from its sensor's frame still holds one
+    surface per ray from some direction; the mesh cloud from none."""
+    quarter = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    moved = view_cam @ quarter.T + [1.0, 0.0, 0.0]
+    assert not is_single_view(moved, np.zeros(3))
+    assert one_view_from_somewhere(moved)
+    assert not one_view_from_somewhere(mesh_cloud)
+
+
+def test_simgrasp_detect_says_when_a_cloud_may_be_a_view_from_elsewhere(
+    tmp_path: Path,
+    view_cam,  # noqa: ANN001
+    mesh_cloud,  # noqa: ANN001
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Given no viewpoint, a view moved out of its camera frame goes to the quadric detector
+    with a one-line note to pass --viewpoint; a mesh cloud and a view from the origin get none."""
+    quarter = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    clouds = {
+        "moved": view_cam @ quarter.T + [1.0, 0.0, 0.0],
+        "mesh": mesh_cloud,
+        "camera": view_cam,
+    }
+    notes = {}
+    for name, points in clouds.items():
+        path = tmp_path / f"{name}.npy"
+        np.save(path, points)
+        assert main(["detect", str(path), "--json"]) == 0
+        notes[name] = [
+            line for line in capsys.readouterr().err.splitlines() if "--viewpoint" in line
+        ]
+    assert len(notes["moved"]) == 1 and "moved.npy" in notes["moved"][0]
+    assert notes["mesh"] == [] and notes["camera"] == []
 
 
 def test_without_a_viewpoint_or_enough_points_no_cloud_is_a_single_view(view_cam) -> None:  # noqa: ANN001

@@ -163,6 +163,18 @@ def _single_view(options: Options) -> SingleViewConfig | None:
     return options.single_view_detector if options.single_view else None
 
 
+def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection) -> bool:
+    """Whether the quadric detector ran on a cloud, given no viewpoint, that may be one
+    camera's view from elsewhere than the origin (`view_kind.one_view_from_somewhere`)."""
+    from simgrasp.handles.view_kind import one_view_from_somewhere
+
+    if not options.single_view or options.viewpoint is not None:
+        return False
+    if detection.detector != "quadric" or options.detector.kind != "quadric":
+        return False
+    return one_view_from_somewhere(points, options.single_view_detector.view_test)
+
+
 def _detect(options: Options) -> Detection:
     from simgrasp.handles import detect
     from simgrasp.perception.cloud_io import read_cloud
@@ -183,6 +195,13 @@ def _detect(options: Options) -> Detection:
         viewpoint=viewpoint,
         single_view=_single_view(options),
     )
+    if _may_be_a_view_elsewhere(options, points, detection):
+        print(
+            f"note: {options.cloud} is not one view from the origin, but it holds one surface "
+            "per ray from some direction: if it is one camera's view in another frame, give the "
+            "camera's position with --viewpoint X Y Z for the single-view detector",
+            file=sys.stderr,
+        )
     if options.plot:
         from simgrasp.plots.detection import plot_detection
 
