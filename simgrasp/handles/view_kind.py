@@ -121,8 +121,11 @@ def one_view_from_somewhere(
         return False
     center = np.median(cloud, axis=0)
     reach = max(0.5, 3.0 * float(np.linalg.norm(np.ptp(cloud, axis=0))))
-    shares = [hidden_share(cloud, center + reach * d) for d in _even_directions(directions)]
-    return bool(np.nanmin(shares) <= config.max_hidden_share) if shares else False
+    shares = np.array(
+        [hidden_share(cloud, center + reach * d) for d in _even_directions(directions)]
+    )
+    measured = shares[np.isfinite(shares)]
+    return bool(measured.size and measured.min() <= config.max_hidden_share)
 
 
 def _even_directions(count: int) -> NDArray[np.float64]:
