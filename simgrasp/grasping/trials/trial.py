@@ -86,14 +86,16 @@ def _initial_pose7(scene: Scene, config: TrialConfig) -> list[float]:
 
 
 def _start(scene: Scene, config: TrialConfig) -> None:
-    """Reset the scene for a trial (``mj_resetData``, no rebuild) with the trial's time step and
-    sleep setting; a free-floating object is raised and its gravity compensated."""
+    """Reset the scene for a trial (``mj_resetData``, no rebuild) with the trial's time step,
+    friction impedance ratio and sleep setting; a free-floating object is raised and its
+    gravity compensated."""
     options, sleep = scene.model.opt, int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     options.enableflags = (
         (options.enableflags | sleep) if config.sleep else (options.enableflags & ~sleep)
     )
     scene.reset()
     options.timestep = config.timestep
+    options.impratio = config.impratio
     scene.model.body_gravcomp[scene.object_body] = 1.0 if config.free_floating else 0.0
     if config.free_floating:
         scene.data.qpos[scene.object_qpos + 2] += config.float_height
