@@ -1,0 +1,56 @@
+"""Agreement with FleX per half of the ACRONYM affordance files (issue 25's claim).
+
+``docs/results/acronym/halves.json`` names the two halves (``tune/files``: chosen on,
+``held_out/files``: the claim; files sorted by name within each category, even indices
+tune). This script keeps those lists and rewrites the figures beside them from a
+``label-grasps`` run: per half, per category and overall, the pooled grasps scored, accuracy,
+balanced accuracy and the AUROC of our ``score``
+(:func:`simgrasp.grasping.labeling.reference_compare.compare_with_reference`).
+
+    python scripts/acronym_halves.py --data $SIMGRASP_ACRONYM_DIR/affordance/grasps \\
+        --run out/acronym/affordance --halves docs/results/acronym/halves.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from simgrasp.grasping.labeling.reference_compare import compare_with_reference
+
+KEYS = ("grasps", "accuracy", "balanced_accuracy", "auroc")
+
+
+def halves(data: Path, run: Path, lists: dict[str, Any]) -> dict[str, Any]:
+    """The figures of ``run`` per half and category, beside the halves' file lists."""
+    result: dict[str, Any] = {}
+    for half in ("tune", "held_out"):
+        names = lists[f"{half}/files"]
+        groups = compare_with_reference(run, [data / name for name in names])["groups"]
+        for category in sorted(k for k in groups if k != "overall"):
+            result[f"{half}/{category}"] = {k: groups[category][k] for k in KEYS}
+        result[f"{half}/all"] = {k: groups["overall"][k] for k in KEYS}
+        result[f"{half}/files"] = names
+    return result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", type=Path, required=True, help="the ACRONYM grasp files")
+    parser.add_argument("--run", type=Path, required=True, help="label-grasps --out of them")
+    parser.add_argument("--halves", type=Path, required=True, help="halves.json to update")
+    args = parser.parse_args()
+    figures = halves(args.data, args.run, json.loads(args.halves.read_text()))
+    args.halves.write_text(json.dumps(figures, indent=2) + "\n")
+    for key, row in figures.items():
+        if not key.endswith("/files"):
+            print(
+                f"{key}: {row['grasps']} grasps, accuracy {row['accuracy']:.3f}, "
+                f"balanced {row['balanced_accuracy']:.3f}, AUROC {row['auroc']:.3f}"
+            )
+
+
+if __name__ == "__main__":
+    main()
