@@ -23,7 +23,8 @@ from simgrasp.assets.model import model_for
 from simgrasp.grasping.labeling.grasp_files import carried_object
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP, read_grasp_set
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
-from simgrasp.grasping.trials.trial_config import protocol_config
+from simgrasp.grasping.trials.trial_config import TrialConfig, protocol_config
+from simgrasp.grippers.mount import MOUNT_IMPRATIO
 
 EXAMPLE = "examples/grasps/Mug_10f6e09036350e92b3f21f1137c3c347_0.0002682457830986903.h5"
 ROOT = Path(__file__).parents[1]
@@ -87,7 +88,7 @@ def test_each_protocol_runs_its_trials_with_its_friction_impedance(tmp_path: Pat
         labeler.label(1, OBJECT_T_TCP, np.nan)
         ratios[f"{protocol} then full"] = labeler.scene.model.opt.impratio
     expected = {"acronym": 0.5, "acronym then full": 10.0, "full": 10.0, "full then full": 10.0}
-    assert ratios == expected
+    assert ratios == expected and TrialConfig().impratio == MOUNT_IMPRATIO == 10.0
 
 
 def test_graspgen_file_labels_without_object_and_exports(tmp_path: Path) -> None:

@@ -19,7 +19,7 @@ from simgrasp.assets.model import model_for
 from simgrasp.cli import main
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.labeling.grasp_sets import GraspSet, read_grasp_set, write_grasp_set
-from simgrasp.grasping.labeling.label_run import LABELS_FILE, label_grasp_set
+from simgrasp.grasping.labeling.label_run import LABELS_FILE, label_grasp_set, run_identity
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig, label_grasps
 from simgrasp.transforms import matrix_to_pose7
 
@@ -159,6 +159,19 @@ def test_a_run_of_an_older_protocol_definition_is_refused(known_set: Path, tmp_p
     (tmp_path / "run.json").write_text(json.dumps(run))
     with pytest.raises(ValueError, match="another run.*trial"):
         label_grasp_set(grasps, config, tmp_path, grasp_file=known_set, progress=False)
+
+
+def test_only_acronym_runs_name_their_soft_friction(known_set: Path) -> None:
+    """run.json of an ``acronym`` run holds its ``impratio`` (0.5), so a directory labeled
+    before soft friction is refused; the other protocols' ratio is the one every run had
+    before the setting existed, left out so their directories still resume."""
+    grasps = read_grasp_set(known_set)
+    trials = {
+        protocol: run_identity(grasps, LabelConfig(OBJECT, protocol=protocol), known_set)["trial"]
+        for protocol in ("acronym", "acronym-fast", "fast", "full")
+    }
+    assert trials["acronym"]["impratio"] == trials["acronym-fast"]["impratio"] == 0.5
+    assert "impratio" not in trials["fast"] and "impratio" not in trials["full"]
 
 
 def test_resume_after_sigkill(labeler: GraspLabeler, tmp_path: Path) -> None:

@@ -22,6 +22,10 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grippers.base import Gripper
 from simgrasp.transforms import make_transform, matrix_to_pos_quat
 
+MOUNT_IMPRATIO = 10.0
+"""MuJoCo's ``opt.impratio`` that :func:`attach_gripper` gives a scene (at least): a grip does
+not creep under a steady load. Every trial's ratio before ``TrialConfig.impratio`` existed."""
+
 WELD_SOLREF = (0.02, 1.0)
 """Weld (mocap -> gripper base) time constant and damping: soft enough that contacts push the
 gripper back instead of teleporting it through the object, stiff enough to carry a 1 kg load
@@ -47,7 +51,7 @@ def attach_gripper(
             body.gravcomp = 1.0
     root.add_freejoint(name="free")
     spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-    spec.option.impratio = max(spec.option.impratio, 10.0)
+    spec.option.impratio = max(spec.option.impratio, MOUNT_IMPRATIO)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
 
     world_T_root = np.asarray(world_T_tcp, float) @ np.linalg.inv(root_T_tcp(gripper))

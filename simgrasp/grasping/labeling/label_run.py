@@ -30,6 +30,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grasping.labeling.grasp_sets import GraspSet
 from simgrasp.grasping.labeling.labeling import INVALID, LabelConfig, LabelResult, label_records
 from simgrasp.grippers import make_gripper
+from simgrasp.grippers.mount import MOUNT_IMPRATIO
 from simgrasp.runs.engine import Backend, RunConfig, run_resumable
 from simgrasp.runs.identity import claim_identity
 from simgrasp.runs.record_log import RecordLog
@@ -61,6 +62,8 @@ def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dic
     for key in ("shake", "start_tolerance"):  # None: run.json as before these settings
         if run["trial"][key] is None:
             del run["trial"][key]
+    if run["trial"]["impratio"] == MOUNT_IMPRATIO:  # every run's ratio before the setting
+        del run["trial"]["impratio"]
     if config.trial.hold_timestep is not None:  # the step actually used is capped by the gripper
         run["gripper_max_timestep"] = make_gripper(config.gripper).max_timestep
     return run

@@ -40,9 +40,10 @@ class TrialConfig(Checked):
     fine step; a grip under slowly changing loads may not."""
     impratio: Positive = 10.0
     """The contact solver's ratio of frictional to normal constraint impedance (MuJoCo's
-    ``opt.impratio``) during the trial. 10, the value every mounted gripper's scene gets: a
-    grip does not creep under a steady load. The ``acronym`` protocol's lower ratio lets a
-    grip slide as FleX's does (docs/results/acronym)."""
+    ``opt.impratio``) during the trial. By default the value every mounted gripper's scene
+    gets (:data:`simgrasp.grippers.mount.MOUNT_IMPRATIO`): a grip does not creep under a
+    steady load. The ``acronym`` protocol's lower ratio lets a grip slide as FleX's does
+    (docs/results/acronym)."""
     settle_time: NonNegative = 0.5
     """Time the object rests on the table before the grasp (s)."""
     pregrasp_distance: Positive = 0.10
