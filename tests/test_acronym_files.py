@@ -54,10 +54,19 @@ def _graspgen_file(folder: Path, name: str, count: int, held: list[int] | None =
     return path
 
 
+def _box_labeler(folder: Path, protocol: str = "full") -> GraspLabeler:
+    """The Franka hand's labeler of a 4 x 6 x 10 cm, 0.2 kg box (``folder/box.stl``) under
+    ``protocol``."""
+    box = folder / "box.stl"
+    if not box.is_file():
+        trimesh.creation.box((0.04, 0.06, 0.10)).export(box)
+    name = f"{box}?mass=0.2"
+    config = LabelConfig(object=name, gripper="franka_panda", protocol=protocol)
+    return GraspLabeler(model_for(name), config)
+
+
 def test_franka_hand_holds_a_box_on_the_table(tmp_path: Path) -> None:
-    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
-    name = f"{tmp_path / 'box.stl'}?mass=0.2"
-    labeler = GraspLabeler(model_for(name), LabelConfig(object=name, gripper="franka_panda"))
+    labeler = _box_labeler(tmp_path)
     world_T_object = labeler.world_T_object
     axis = world_T_object[:3, 0]  # the box's 4 cm side, horizontal in its rest pose
     down = np.array([0.0, 0.0, -1.0])
@@ -76,12 +85,9 @@ def test_each_protocol_runs_its_trials_with_its_friction_impedance(tmp_path: Pat
     """``acronym`` trials run with soft friction (``impratio`` 0.5: FleX agreement on the
     held-out ACRONYM files 0.719 -> 0.774, balanced 0.660 -> 0.794, docs/results/acronym); the
     other protocols keep the mounted gripper's 10, in the same scene after an ``acronym`` one."""
-    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
-    name = f"{tmp_path / 'box.stl'}?mass=0.2"
     ratios = {}
     for protocol in ("acronym", "full"):
-        config = LabelConfig(object=name, gripper="franka_panda", protocol=protocol)
-        labeler = GraspLabeler(model_for(name), config)
+        labeler = _box_labeler(tmp_path, protocol)
         labeler.label(0, OBJECT_T_TCP, np.nan)
         ratios[protocol] = labeler.scene.model.opt.impratio
         labeler.trial_config = protocol_config("full")
@@ -271,10 +277,7 @@ def test_restored_start_gives_the_same_records_in_fewer_steps(
     """The labeler restores a free-floating trial's start (settle and jaw opening) after its
     first trial: records bit for bit those of trials that step it (``steps`` counts the
     restored start's), from fewer calls of the physics step."""
-    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
-    name = f"{tmp_path / 'box.stl'}?mass=0.2"
-    config = LabelConfig(object=name, gripper="franka_panda", protocol="acronym")
-    labeler = GraspLabeler(model_for(name), config)
+    labeler = _box_labeler(tmp_path, "acronym")
     stepped_physics = [0]
     real_step = mujoco.mj_step
 
@@ -310,12 +313,9 @@ def test_restored_start_gives_the_same_records_in_fewer_steps(
 def test_acronym_fast_shakes_one_cycle_of_each_motion(tmp_path: Path) -> None:
     """``acronym-fast`` is ``acronym`` with the shake's second cycles cut: the same firm grip of
     the box is held by both, the fast one stepping exactly the 1 s it leaves out fewer."""
-    trimesh.creation.box((0.04, 0.06, 0.10)).export(tmp_path / "box.stl")
-    name = f"{tmp_path / 'box.stl'}?mass=0.2"
     records = {}
     for protocol in ("acronym", "acronym-fast"):
-        config = LabelConfig(object=name, gripper="franka_panda", protocol=protocol)
-        labeler = GraspLabeler(model_for(name), config)
+        labeler = _box_labeler(tmp_path, protocol)
         records[protocol] = labeler.label(0, OBJECT_T_TCP, np.nan)
         timestep = labeler.trial_config.timestep  # the acronym protocols keep it throughout
     full, fast = records["acronym"], records["acronym-fast"]

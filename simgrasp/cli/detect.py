@@ -170,7 +170,7 @@ def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection
 
     if not options.single_view or options.viewpoint is not None:
         return False
-    if detection.detector != "quadric" or options.detector.kind != "quadric":
+    if detection.detector != "quadric":  # the plain quadric detector, not tenpas nor one view
         return False
     return one_view_from_somewhere(points, options.single_view_detector.view_test)
 

@@ -53,15 +53,25 @@ def hidden_share(
     ``viewpoint`` (3, m, the points' frame); NaN for fewer than ``min_points`` distinct
     points or none apart."""
     config = config or ViewKindConfig()
-    distinct: NDArray[np.float64] = np.unique(
-        np.round(np.asarray(points, dtype=np.float64), 5), axis=0
-    )
+    distinct = _distinct(points)
+    if len(distinct) < config.min_points:
+        return float("nan")
+    return _hidden_share(distinct, point_spacing(distinct, sample=len(distinct)), viewpoint, config)
+
+
+def _distinct(points: ArrayLike) -> NDArray[np.float64]:
+    """The points (N, 3, m) without repeats (rounded to 10 um)."""
+    return np.unique(np.round(np.asarray(points, dtype=np.float64), 5), axis=0)
+
+
+def _hidden_share(
+    distinct: NDArray[np.float64], spacing: float, viewpoint: ArrayLike, config: ViewKindConfig
+) -> float:
+    """:func:`hidden_share` of ``distinct`` points (at least ``min_points``) whose point
+    spacing (m) is ``spacing``: what depends on the viewpoint."""
     rays = distinct - np.asarray(viewpoint, dtype=np.float64)
     ranges = np.linalg.norm(rays, axis=1)
-    if len(distinct) < config.min_points or not (ranges > 0).all():
-        return float("nan")
-    spacing = point_spacing(distinct, sample=len(distinct))
-    if spacing <= 0:
+    if not (ranges > 0).all() or spacing <= 0:
         return float("nan")
     bin_rad = config.bin_spacings * spacing / float(np.median(ranges))
     keys = _ray_bins(rays / ranges[:, None], bin_rad)
@@ -117,13 +127,14 @@ def one_view_from_somewhere(
     config = config or ViewKindConfig()
     cloud = np.asarray(points, dtype=np.float64)
     cloud = cloud[:: max(1, len(cloud) // max_points)]
-    if len(cloud) < config.min_points:
+    distinct = _distinct(cloud)
+    if len(distinct) < config.min_points:
         return False
+    spacing = point_spacing(distinct, sample=len(distinct))
     center = np.median(cloud, axis=0)
     reach = max(0.5, 3.0 * float(np.linalg.norm(np.ptp(cloud, axis=0))))
-    shares = np.array(
-        [hidden_share(cloud, center + reach * d) for d in _even_directions(directions)]
-    )
+    eyes = center + reach * _even_directions(directions)
+    shares = np.array([_hidden_share(distinct, spacing, eye, config) for eye in eyes])
     measured = shares[np.isfinite(shares)]
     return bool(measured.size and measured.min() <= config.max_hidden_share)
 
