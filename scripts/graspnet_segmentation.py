@@ -30,6 +30,9 @@ from simgrasp.resources import model_path
 
 SETTINGS = {
     "default": SegmentConfig(),
+    "default, unscaled (reference_footprint 0: before 5 December 2026)": SegmentConfig(
+        reference_footprint=0.0
+    ),
     "default, fragments dropped (fragment_passes 0: before 4 December 2026)": SegmentConfig(
         fragment_passes=0
     ),

@@ -21,6 +21,7 @@ from simgrasp.perception.segmentation.segment_config import FIRST_OBJECT, Segmen
 from simgrasp.perception.segmentation.segment_fragments import absorb_fragments
 from simgrasp.perception.segmentation.segment_objects import LabelPixels, label_pixels
 from simgrasp.perception.segmentation.segment_parts import part_parents, table_edge_claims
+from simgrasp.perception.segmentation.segment_scale import pixel_footprint, pixel_scale, scaled
 
 OSD = default_real_dir() / "osd-learn"
 needs_osd = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
@@ -93,6 +94,36 @@ def test_binned_normals_find_the_same_objects(tmp_path: Path) -> None:
     assert len(binned.objects) == 2
     for a, b in zip(full.objects, binned.objects, strict=True):
         assert abs(a.points - b.points) < 0.02 * a.points
+
+
+def test_the_pixel_footprint_sets_the_scale_of_the_pixel_settings(tmp_path: Path) -> None:
+    """A pixel of the tabletop covers about its median range / focal length (less off the
+    optical axis, where neighbouring rays are closer in angle); a frame twice as fine
+    as the reference runs at scale 2 (blocks, reaches x 2, counts x 4), one under 1.5 times
+    as fine or coarser as given, and a reference of 0 turns it off."""
+    scene = read_scene(_save_npy(tmp_path, tabletop()))
+    ranges = np.linalg.norm(scene.points[scene.valid], axis=1)
+    footprint = pixel_footprint(scene, scene.valid)
+    assert footprint == pytest.approx(np.median(ranges) / FOCAL, rel=0.1)
+    assert [pixel_scale(f, 0.0014) for f in (0.0007, 0.00094, 0.00093, 0.002)] == [2, 1, 2, 1]
+    assert pixel_scale(0.0007, 0.0) == pixel_scale(float("nan"), 0.0014) == 1
+    config = SegmentConfig()
+    assert scaled(config, 1) is config
+    double = scaled(config, 2)
+    assert (double.normal_bin_px, double.attach_radius_px) == (2, 2 * config.attach_radius_px)
+    assert double.min_object_points == 4 * config.min_object_points
+    assert double.normal_window_px == config.normal_window_px  # in blocks: twice the pixels
+    assert segment_scene(scene).pixel_scale == 1  # 1.3 mm a pixel here
+
+
+@needs_osd
+def test_osd_learn_runs_at_the_scale_its_settings_were_chosen_at() -> None:
+    """osd-learn's pixels cover 1.3 - 1.6 mm: scale 1, the labels those without scaling."""
+    scene = read_scene(OSD / "learn10.pcd")
+    result = segment_scene(scene)
+    assert result.pixel_scale == 1
+    unscaled = segment_scene(scene, SegmentConfig(reference_footprint=0.0))
+    assert np.array_equal(result.labels, unscaled.labels)
 
 
 def test_unorganized_ply_keeps_order_and_clusters(tmp_path: Path) -> None:
@@ -340,7 +371,7 @@ def test_a_wall_filling_the_view_is_an_empty_result(
     assert main(["segment", str(path), "--json", "--labels", str(labels)]) == 0
     report = json.loads(capsys.readouterr().out)
     assert report["objects"] == [] and report["table"]["points"] == WIDTH * HEIGHT
-    assert set(report) == {"table", "objects", "timings_s"}
+    assert set(report) == {"table", "objects", "timings_s", "pixel_scale"}
     assert (np.load(labels) == 1).all()
     assert main(["detect", str(path), "--segment", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["handles"] == []

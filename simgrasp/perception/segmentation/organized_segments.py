@@ -33,19 +33,15 @@ def grid_components(
     its bounding box: groups lie too far apart for any step to see two at once, and a group
     with fewer than ``min_object_points`` pixels can only give segments that are dropped, so
     it is skipped. Within a group the cuts are taken sub-group by sub-group
-    (:func:`_split_cuts`). With ``normal_bin_px`` > 1 the normals' blocks are anchored at the
-    corner of the bounding box of all candidates, so all are cut in that one box.
+    (:func:`_split_cuts`). With ``normal_bin_px`` > 1 each group is cut whole in its box,
+    whose corner lies on the blocks' grid anchored at the image's corner.
     """
     segments = np.zeros(candidates.shape, dtype=np.int32)
     next_id = 0
-    margin = config.normal_bin_px * (config.normal_window_px + 2 * config.normal_step_px)
-    if config.normal_bin_px == 1:
-        reach = margin + config.concave_step_px + config.attach_radius_px
-        groups = candidate_groups(candidates, margin, reach)
-    else:  # the normals' blocks anchored at the one box of all candidates, as ever
-        rows, cols = bounding_slices(candidates, margin)
-        groups = [(rows, cols, candidates[rows, cols])]
-    for rows, cols, group in groups:
+    size = config.normal_bin_px
+    margin = size * (config.normal_window_px + 2 * config.normal_step_px)
+    reach = margin + size * config.concave_step_px + config.attach_radius_px
+    for rows, cols, group in candidate_groups(candidates, margin, reach, size):
         if np.count_nonzero(group) < config.min_object_points:
             continue
         crop = _crop_components(points[rows, cols], group, viewpoint, config)
@@ -61,13 +57,15 @@ or 8, since :func:`_blocks_any` reads a block row of booleans as one unsigned wo
 
 
 def candidate_groups(
-    candidates: NDArray[np.bool_], margin: int, reach: int
+    candidates: NDArray[np.bool_], margin: int, reach: int, align: int = 1
 ) -> list[tuple[slice, slice, NDArray[np.bool_]]]:
     """The ``candidates`` (H, W) split into groups whose pixels lie more than ``reach`` (px)
     apart: ``GROUP_BLOCK`` blocks holding a candidate, joined when dilations of the blocks
     make them touch (with no dilation, pixels of two groups are at least one block + 1
     apart; with one, 3 blocks + 1). Each group as the row and column slices of its blocks
-    grown by ``margin`` (px) and its pixels within them."""
+    grown by ``margin`` (px), their starts a multiple of ``align`` (the normals' blocks of
+    every group then lie on one grid anchored at the image's corner), and its pixels within
+    them."""
     dilation = max(0, -(-(reach - GROUP_BLOCK) // (2 * GROUP_BLOCK)))
     (height, width), size = candidates.shape, GROUP_BLOCK
     padded = np.zeros((-(-height // size) * size, -(-width // size) * size), dtype=bool)
@@ -81,8 +79,10 @@ def candidate_groups(
     for group, found in enumerate(ndimage.find_objects(ids), start=1):
         if found is None:
             continue
-        rows = slice(max(found[0].start * size - margin, 0), found[0].stop * size + margin)
-        cols = slice(max(found[1].start * size - margin, 0), found[1].stop * size + margin)
+        top = max(found[0].start * size - margin, 0) // align * align
+        left = max(found[1].start * size - margin, 0) // align * align
+        rows = slice(top, found[0].stop * size + margin)
+        cols = slice(left, found[1].stop * size + margin)
         groups.append(
             (
                 rows,

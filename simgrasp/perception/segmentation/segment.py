@@ -5,7 +5,9 @@ its inliers, then on the points within ``table_distance`` of it). Above it, an o
 is cut into objects on its image grid
 (:mod:`simgrasp.perception.segmentation.organized_segments`: depth steps and concave creases
 separate stacked and touching objects; pieces too small to be objects join the segment they
-touch, :mod:`simgrasp.perception.segmentation.segment_fragments`); an unorganized one, or
+touch, :mod:`simgrasp.perception.segmentation.segment_fragments`), its pixel settings at the
+sensor's pixel scale (:mod:`simgrasp.perception.segmentation.segment_scale`); an unorganized
+one, or
 ``method="dbscan"``, is clustered with Open3D's DBSCAN on a voxel grid (the plain baseline).
 
 Labels, one int32 per input point in the input's order: 0 invalid or unassigned (NaN,
@@ -43,6 +45,7 @@ from simgrasp.perception.segmentation.segment_objects import (
 )
 from simgrasp.perception.segmentation.segment_parts import part_parents, table_edge_claims
 from simgrasp.perception.segmentation.segment_rims import rim_parents
+from simgrasp.perception.segmentation.segment_scale import pixel_footprint, pixel_scale, scaled
 from simgrasp.seeding import rng_for
 
 Method = Literal["auto", "grid", "dbscan"]
@@ -59,6 +62,8 @@ class Segmentation:
         table_points: number of points labeled table.
         objects: the objects, label 2 first (nearest the sensor).
         timings_s: wall seconds per step, and ``total`` for the whole call.
+        pixel_scale: the scale the pixel settings ran at (1: as given;
+            :mod:`simgrasp.perception.segmentation.segment_scale`).
     """
 
     labels: NDArray[np.int32]
@@ -66,12 +71,14 @@ class Segmentation:
     table_points: int
     objects: tuple[SegmentedObject, ...]
     timings_s: dict[str, float]
+    pixel_scale: int = 1
 
     def to_json(self) -> dict[str, Any]:
         return {
             "table": {"plane": self.plane.tolist(), "points": self.table_points},
             "objects": [obj.to_json() for obj in self.objects],
             "timings_s": dict(self.timings_s),
+            "pixel_scale": self.pixel_scale,
         }
 
     def whole_objects(self) -> tuple[int, ...]:
@@ -89,7 +96,7 @@ def segment_scene(
 ) -> Segmentation:
     """Segment ``scene`` (module docstring); ``ValueError`` naming the scene when it has no
     valid point, no table plane, or coordinates that are not meters."""
-    config = config or SegmentConfig()
+    given = config or SegmentConfig()
     if method == "auto":
         method = "grid" if scene.organized else "dbscan"
     if method == "grid" and not scene.organized:
@@ -97,9 +104,13 @@ def segment_scene(
     timings: dict[str, float] = {}
     start = time.perf_counter()
     points = scene.points
-    valid = _timed(timings, "valid", lambda: _valid_points(scene, config))
-    plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, config))
-    height, table, above = _heights(points, valid, plane, config)
+    valid = _timed(timings, "valid", lambda: _valid_points(scene, given))
+    plane = _timed(timings, "plane", lambda: fit_table_plane(points, valid, scene, given))
+    height, table, above = _heights(points, valid, plane, given)
+    scale = 1
+    if method == "grid":
+        scale = pixel_scale(pixel_footprint(scene, valid), given.reference_footprint)
+    config = scaled(given, scale)
     cluster = _grid_segments if method == "grid" else _dbscan_segments
     raw = _timed(timings, "cluster", lambda: cluster(scene, above, config))
     if method == "grid":
@@ -120,7 +131,7 @@ def segment_scene(
         )
         table = labels == TABLE
     timings["total"] = time.perf_counter() - start
-    return Segmentation(labels, plane, int(table.sum()), objects, timings)
+    return Segmentation(labels, plane, int(table.sum()), objects, timings, scale)
 
 
 def _heights(
