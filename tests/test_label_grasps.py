@@ -161,17 +161,20 @@ def test_a_run_of_an_older_protocol_definition_is_refused(known_set: Path, tmp_p
         label_grasp_set(grasps, config, tmp_path, grasp_file=known_set, progress=False)
 
 
-def test_only_acronym_runs_name_their_soft_friction(known_set: Path) -> None:
-    """run.json of an ``acronym`` run holds its ``impratio`` (0.5), so a directory labeled
-    before soft friction is refused; the other protocols' ratio is the one every run had
-    before the setting existed, left out so their directories still resume."""
+def test_only_acronym_runs_name_their_soft_friction_and_integrator(known_set: Path) -> None:
+    """run.json of an ``acronym`` run holds its ``impratio`` (0.25) and ``integrator``
+    (discrete), so a directory labeled before either is refused; the other protocols' values
+    are those every run had before the settings existed, left out so their directories still
+    resume."""
     grasps = read_grasp_set(known_set)
     trials = {
         protocol: run_identity(grasps, LabelConfig(OBJECT, protocol=protocol), known_set)["trial"]
         for protocol in ("acronym", "acronym-fast", "fast", "full")
     }
-    assert trials["acronym"]["impratio"] == trials["acronym-fast"]["impratio"] == 0.5
-    assert "impratio" not in trials["fast"] and "impratio" not in trials["full"]
+    for protocol in ("acronym", "acronym-fast"):
+        assert (trials[protocol]["impratio"], trials[protocol]["integrator"]) == (0.25, "discrete")
+    for protocol in ("fast", "full"):
+        assert "impratio" not in trials[protocol] and "integrator" not in trials[protocol]
 
 
 def test_resume_after_sigkill(labeler: GraspLabeler, tmp_path: Path) -> None:

@@ -64,6 +64,8 @@ def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dic
             del run["trial"][key]
     if run["trial"]["impratio"] == MOUNT_IMPRATIO:  # every run's ratio before the setting
         del run["trial"]["impratio"]
+    if run["trial"]["integrator"] == "implicitfast":  # every run's integrator before the setting
+        del run["trial"]["integrator"]
     if config.trial.hold_timestep is not None:  # the step actually used is capped by the gripper
         run["gripper_max_timestep"] = make_gripper(config.gripper).max_timestep
     return run

@@ -66,6 +66,11 @@ OPEN_TOLERANCE = 0.001
 """A free-floating trial starts once the jaws are this close (m) to the grasp width..."""
 OPEN_LIMIT = 1.0
 """... or after this many seconds of opening."""
+INTEGRATORS = {
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+    "discrete": mujoco.mjtIntegrator.mjINT_DISCRETE,
+}
+"""MuJoCo's integrator of each ``TrialConfig.integrator`` name."""
 
 
 def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64]:
@@ -87,7 +92,7 @@ def _initial_pose7(scene: Scene, config: TrialConfig) -> list[float]:
 
 def _start(scene: Scene, config: TrialConfig) -> None:
     """Reset the scene for a trial (``mj_resetData``, no rebuild) with the trial's time step,
-    friction impedance ratio and sleep setting; a free-floating object is raised and its
+    friction impedance ratio, integrator and sleep setting; a free-floating object is raised and its
     gravity compensated."""
     options, sleep = scene.model.opt, int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     options.enableflags = (
@@ -96,6 +101,7 @@ def _start(scene: Scene, config: TrialConfig) -> None:
     scene.reset()
     options.timestep = config.timestep
     options.impratio = config.impratio
+    options.integrator = INTEGRATORS[config.integrator]
     scene.model.body_gravcomp[scene.object_body] = 1.0 if config.free_floating else 0.0
     if config.free_floating:
         scene.data.qpos[scene.object_qpos + 2] += config.float_height
