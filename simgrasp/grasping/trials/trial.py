@@ -92,8 +92,8 @@ def _initial_pose7(scene: Scene, config: TrialConfig) -> list[float]:
 
 def _start(scene: Scene, config: TrialConfig) -> None:
     """Reset the scene for a trial (``mj_resetData``, no rebuild) with the trial's time step,
-    friction impedance ratio, integrator and sleep setting; a free-floating object is raised and its
-    gravity compensated."""
+    friction impedance ratio, integrator and sleep setting; a free-floating object is raised
+    and its gravity compensated."""
     options, sleep = scene.model.opt, int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     options.enableflags = (
         (options.enableflags | sleep) if config.sleep else (options.enableflags & ~sleep)

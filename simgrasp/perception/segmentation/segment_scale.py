@@ -2,8 +2,8 @@
 
 Every pixel-sized setting of :class:`SegmentConfig` (normal blocks, attach and contact reach,
 least segment and side-part sizes) was chosen on Kinect-class frames: osd-learn's 640 x 480
-scenes about 0.8 m away, where one pixel covers about 1.6 mm of a surface facing the sensor.
-A RealSense frame of 1280 x 720 from 0.5 m covers about 0.8 mm a pixel: the same windows then
+scenes about 0.8 m away, where one pixel covers about 1.4 mm of a surface facing the sensor.
+A RealSense frame of 1280 x 720 from 0.5 m covers about 0.65 mm a pixel: the same windows then
 span half the surface, the normals see twice the noise relative to their baseline, and a
 bumpy object breaks into pieces. The cloud's own pixel footprint, measured here, sets an
 integer scale ``k``: normal blocks ``k`` pixels a side, pixel reaches ``k`` times longer and
