@@ -65,7 +65,7 @@ def hires_frames(cache: Path | None) -> list[cv.Frame]:
                 arrays = {
                     f"{k}{i}": a for i, v in enumerate(views) for k, a in zip("plv", v, strict=True)
                 }
-                np.savez(path, **arrays)
+                np.savez(path, **arrays)  # type: ignore[arg-type]
         group = "stereo-tune" if seed == cv.TUNE_SEED else "stereo-10-20"
         _, width, height, _ = HIRES
         for index, (points, labels, viewpoint) in enumerate(views):
@@ -77,7 +77,9 @@ def hires_frames(cache: Path | None) -> list[cv.Frame]:
     return frames
 
 
-def _render(target: str, seed: int, clutter: int) -> list[tuple[np.ndarray, ...]]:
+def _render(
+    target: str, seed: int, clutter: int
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """(points world frame, labels, camera position) of each fine view of one scene: the
     scene is built once to find where its target settles, then with four cameras
     ``HIRES``'s distance from there."""
@@ -113,7 +115,8 @@ def _render(target: str, seed: int, clutter: int) -> list[tuple[np.ndarray, ...]
 def footprint_mm(frame: cv.Frame) -> float:
     """The frame's pixel footprint (mm), over its finite points."""
     cloud = frame.cloud
-    return 1000.0 * pixel_footprint(cloud, np.isfinite(cloud.points).all(axis=1))
+    finite = np.asarray(np.isfinite(cloud.points).all(axis=1), dtype=bool)
+    return 1000.0 * pixel_footprint(cloud, finite)
 
 
 def main(argv: list[str] | None = None) -> int:
