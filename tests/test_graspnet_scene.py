@@ -53,6 +53,8 @@ def test_detect_segment_on_the_real_drill_first_and_retrained_classifier(
     in_grip = grip["graspnet_example_drill"].contains(np.nan_to_num(grid.reshape(-1, 3), nan=1e3))
     segmentation = segment_scene(read_scene(frame))
     assert segmentation.pixel_scale == 2
+    assert main(["segment", str(frame)]) == 0
+    assert capsys.readouterr().out.rstrip().endswith("pixel settings at scale 2")
     drill = max(
         segmentation.objects, key=lambda o: int((segmentation.object_mask(o.label) & in_grip).sum())
     )

@@ -60,5 +60,6 @@ def run(options: Options) -> int:
         print(f"  object {obj.label}: {obj.points} points, center [{center}] m, {extent} cm{part}")
     if not result.objects:
         print("  no object on the table")
-    print(f"  {result.timings_s['total'] * 1000:.0f} ms")
+    scale = f", pixel settings at scale {result.pixel_scale}" if result.pixel_scale > 1 else ""
+    print(f"  {result.timings_s['total'] * 1000:.0f} ms{scale}")
     return 0
