@@ -39,8 +39,10 @@ import itertools  # noqa: E402
 import json  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import TYPE_CHECKING  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -50,6 +52,9 @@ from simgrasp.evaluation.segment_eval import FIRST_PART, osd_scenes, part_ious  
 from simgrasp.perception.scene_cloud import SceneCloud, read_scene  # noqa: E402
 from simgrasp.perception.segmentation.segment import segment_scene  # noqa: E402
 from simgrasp.perception.segmentation.segment_config import SegmentConfig  # noqa: E402
+
+if TYPE_CHECKING:
+    from simgrasp.grasping.trials.chain_config import ChainConfig
 
 GROUPS = {
     "boxes": range(0, 17),
@@ -109,40 +114,57 @@ def simulated_frames(
     labeled exactly (20 the target, 30, 40, ... the distractors, 1 the table)."""
     frames = []
     for target, seed, clutter in scenes:
-        path = cache / f"{target}_s{seed}_c{clutter}.npz" if cache else None
-        if path is not None and path.exists():
-            stored = np.load(path)
-            views = [tuple(stored[f"{k}{i}"] for k in "plv") for i in range(len(stored.files) // 3)]
-        else:
-            views = _render(target, seed, clutter)
-            if path is not None:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                np.savez(
-                    path,
-                    **{
-                        f"{k}{i}": a
-                        for i, v in enumerate(views)
-                        for k, a in zip("plv", v, strict=True)
-                    },
-                )
+        views = cached_views(cache, (target, seed, clutter), _render)
         for index, (points, labels, viewpoint) in enumerate(views):
-            cloud = SceneCloud(points, 640, 480, viewpoint, _drop_small_parts(labels))
+            cloud = SceneCloud(points, 640, 480, viewpoint, drop_small_parts(labels))
             frames.append(Frame(f"{target}_s{seed}_c{clutter}_v{index}", group, cloud))
     return frames
 
 
-def _render(target: str, seed: int, clutter: int) -> list[tuple[np.ndarray, ...]]:
-    """(points (H*W, 3) world frame, labels (H*W,), camera position (3,) world frame) of each
-    kinect view of one scene."""
-    from simgrasp.assets.model import model_for
+View = tuple[np.ndarray, np.ndarray, np.ndarray]
+"""(points (H*W, 3) world frame, labels (H*W,), camera position (3,) world frame)."""
+
+
+def cached_views(
+    cache: Path | None, scene: tuple[str, int, int], render: Callable[[str, int, int], list[View]]
+) -> list[View]:
+    """The views of one (target, seed, distractors) scene: read from ``cache`` when it holds
+    them, else rendered by ``render`` and written there."""
+    target, seed, clutter = scene
+    path = cache / f"{target}_s{seed}_c{clutter}.npz" if cache else None
+    if path is not None and path.exists():
+        stored = np.load(path)
+        return [
+            (stored[f"p{i}"], stored[f"l{i}"], stored[f"v{i}"])
+            for i in range(len(stored.files) // 3)
+        ]
+    views = render(target, seed, clutter)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        arrays = {f"{k}{i}": a for i, v in enumerate(views) for k, a in zip("plv", v, strict=True)}
+        np.savez(path, **arrays)  # type: ignore[arg-type]
+    return views
+
+
+def _render(target: str, seed: int, clutter: int) -> list[View]:
+    """The kinect views of one scene (:data:`View`)."""
     from simgrasp.grasping.trials.chain_config import ChainConfig
+
+    config = ChainConfig.of(scene__clutter=clutter, sensor__kind="kinect")
+    return labeled_views(target, seed, config)
+
+
+def labeled_views(target: str, seed: int, config: ChainConfig) -> list[View]:
+    """Every camera view of the clutter scene of ``target`` and ``seed`` built with the chain
+    settings ``config``, through its sensor model, labeled exactly (20 the
+    target, 30, 40, ... the distractors, 1 the table, 0 no return)."""
+    from simgrasp.assets.model import model_for
     from simgrasp.grippers import make_gripper
     from simgrasp.scenes.kept_renderer import kept_renderer
     from simgrasp.scenes.observe import observe
     from simgrasp.scenes.perceive import organized_cloud
     from simgrasp.scenes.scene import build_scene
 
-    config = ChainConfig.of(scene__clutter=clutter, sensor__kind="kinect")
     scene = build_scene(model_for(target), make_gripper("builtin"), config.scene, seed)
     observation = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor)
     views = []
@@ -158,11 +180,11 @@ def _render(target: str, seed: int, clutter: int) -> list[tuple[np.ndarray, ...]
     return views
 
 
-def _drop_small_parts(labels: np.ndarray) -> np.ndarray:
-    """``labels`` with parts of fewer than ``MIN_SIM_PART_PX`` points set to 0 (not scored)."""
+def drop_small_parts(labels: np.ndarray, min_px: int = MIN_SIM_PART_PX) -> np.ndarray:
+    """``labels`` with parts of fewer than ``min_px`` points set to 0 (not scored)."""
     labels = labels.astype(np.int64).copy()
     parts, counts = np.unique(labels[labels >= FIRST_PART], return_counts=True)
-    labels[np.isin(labels, parts[counts < MIN_SIM_PART_PX])] = 0
+    labels[np.isin(labels, parts[counts < min_px])] = 0
     return labels
 
 
@@ -230,7 +252,7 @@ def tune_score(
     tune = [stats([s for g in GROUPS if g != held_out for s in result[g]])]
     if with_sim:
         tune.append(stats(result[SIM_TUNE]))
-    return (float(np.mean([t["mean_iou"] for t in tune])), -sum(t["under_0.5"] for t in tune))
+    return (float(np.mean([t["mean_iou"] for t in tune])), -int(sum(t["under_0.5"] for t in tune)))
 
 
 def folds(

@@ -53,43 +53,24 @@ def hires_frames(cache: Path | None) -> list[cv.Frame]:
     """The fine stereo views of ``SCENES``, group ``stereo-tune`` (seed 100) or
     ``stereo-10-20``."""
     frames = []
+    _, width, height, _ = HIRES
     for target, seed, clutter in SCENES:
-        path = cache / f"{target}_s{seed}_c{clutter}.npz" if cache else None
-        if path is not None and path.exists():
-            stored = np.load(path)
-            views = [tuple(stored[f"{k}{i}"] for k in "plv") for i in range(len(stored.files) // 3)]
-        else:
-            views = _render(target, seed, clutter)
-            if path is not None:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                arrays = {
-                    f"{k}{i}": a for i, v in enumerate(views) for k, a in zip("plv", v, strict=True)
-                }
-                np.savez(path, **arrays)  # type: ignore[arg-type]
         group = "stereo-tune" if seed == cv.TUNE_SEED else "stereo-10-20"
-        _, width, height, _ = HIRES
+        views = cv.cached_views(cache, (target, seed, clutter), _render)
         for index, (points, labels, viewpoint) in enumerate(views):
-            labels = labels.astype(np.int64).copy()
-            parts, counts = np.unique(labels[labels >= cv.FIRST_PART], return_counts=True)
-            labels[np.isin(labels, parts[counts < HIRES_MIN_PART_PX])] = 0
-            cloud = SceneCloud(points, width, height, viewpoint, labels)
+            kept = cv.drop_small_parts(labels, HIRES_MIN_PART_PX)
+            cloud = SceneCloud(points, width, height, viewpoint, kept)
             frames.append(cv.Frame(f"{target}_s{seed}_c{clutter}_v{index}", group, cloud))
     return frames
 
 
-def _render(
-    target: str, seed: int, clutter: int
-) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """(points world frame, labels, camera position) of each fine view of one scene: the
-    scene is built once to find where its target settles, then with four cameras
-    ``HIRES``'s distance from there."""
+def _render(target: str, seed: int, clutter: int) -> list[cv.View]:
+    """The fine views of one scene (``segment_cv.View``): the scene is built once to find
+    where its target settles, then with four cameras ``HIRES``'s distance from there."""
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grippers import make_gripper
     from simgrasp.scenes.camera import default_viewpoints
-    from simgrasp.scenes.kept_renderer import kept_renderer
-    from simgrasp.scenes.observe import observe
-    from simgrasp.scenes.perceive import organized_cloud
     from simgrasp.scenes.scene import build_scene
 
     sensor, width, height, distance = HIRES
@@ -97,19 +78,7 @@ def _render(
     aim = build_scene(model_for(target), make_gripper("builtin"), first.scene, seed).object_pose()
     cameras = tuple(default_viewpoints(aim[:3, 3], distance, n=4, width=width, height=height))
     config = ChainConfig.of(scene__clutter=clutter, sensor__kind=sensor, scene__cameras=cameras)
-    scene = build_scene(model_for(target), make_gripper("builtin"), config.scene, seed)
-    observation = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor)
-    views = []
-    for frame in observation.frames:
-        labels = np.zeros(frame.depth.shape, dtype=np.int64)
-        labels[frame.geom_ids == scene.table_geom] = 1
-        labels[frame.body_ids == scene.object_body] = cv.FIRST_PART
-        for index, distractor in enumerate(scene.distractors):
-            labels[frame.body_ids == scene.model.body(distractor.body).id] = 30 + 10 * index
-        labels[~(frame.depth > 0)] = 0
-        cloud = organized_cloud(frame)
-        views.append((cloud.points, labels.reshape(-1), np.asarray(cloud.viewpoint)))
-    return views
+    return cv.labeled_views(target, seed, config)
 
 
 def footprint_mm(frame: cv.Frame) -> float:

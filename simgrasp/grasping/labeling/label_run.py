@@ -53,19 +53,26 @@ def file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
+SETTINGS_ADDED = {
+    "shake": None,
+    "start_tolerance": None,
+    "impratio": MOUNT_IMPRATIO,
+    "integrator": "implicitfast",
+}
+"""Trial settings added after label runs existed, with the value every earlier run had:
+``run.json`` leaves a setting out while it holds that value, so earlier directories resume
+and only runs whose physics changed are refused."""
+
+
 def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dict[str, Any]:
     """What ``run.json`` holds: the label config, the grasp file's SHA-256 and row count,
     every trial setting of the protocol, the gripper's time-step cap where the protocol
     coarsens the step."""
     run = {**asdict(config), "grasps_sha256": file_digest(grasp_file), "count": len(grasps)}
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
-    for key in ("shake", "start_tolerance"):  # None: run.json as before these settings
-        if run["trial"][key] is None:
+    for key, before in SETTINGS_ADDED.items():
+        if run["trial"][key] == before:
             del run["trial"][key]
-    if run["trial"]["impratio"] == MOUNT_IMPRATIO:  # every run's ratio before the setting
-        del run["trial"]["impratio"]
-    if run["trial"]["integrator"] == "implicitfast":  # every run's integrator before the setting
-        del run["trial"]["integrator"]
     if config.trial.hold_timestep is not None:  # the step actually used is capped by the gripper
         run["gripper_max_timestep"] = make_gripper(config.gripper).max_timestep
     return run
