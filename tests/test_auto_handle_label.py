@@ -16,6 +16,7 @@ from simgrasp.assets.generated import generate_tool
 from simgrasp.assets.labels import HandleLabel, load_handle_label, write_label_file
 from simgrasp.cli import main
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
+from simgrasp.handles.revolution import RevolutionConfig
 from simgrasp.handles.virtual_scan import ScanConfig
 from simgrasp.perception import sample_surface
 from tests.data_needs import require_data
@@ -146,12 +147,12 @@ FLAT_STRAP_MUG = "Mug_b7841572364fd9ce1249ffc39a0c3c0b_0.0003944227048461527.h5"
 """A tune-half ACRONYM mug whose strap is a flat band: no candidate passes the flatness test."""
 
 
-def test_free_space_fallback_labels_a_flat_strap_the_default_misses() -> None:
+def test_free_space_fallback_labels_a_flat_strap_the_detector_misses() -> None:
     from simgrasp.evaluation.acronym_handles import read_acronym, subset_shares
 
     root = require_data("acronym")
     item = read_acronym(root / "affordance" / "grasps" / FLAT_STRAP_MUG)
-    full = replace(FAST, scan=ScanConfig())
+    full = replace(FAST, scan=ScanConfig(), revolution=RevolutionConfig(margin=0.0))
     assert auto_handle_label(item.mesh, item.name, full).label.regions == ()
     fallback = replace(full, free_space_fallback=True, axis_reach=0.0)  # the fallback alone
     label = auto_handle_label(item.mesh, item.name, fallback).label
@@ -293,3 +294,40 @@ def test_resplit_drops_a_blade_root_joined_to_the_handle_only_by_its_guard() -> 
         candidates, surface, "knife", replace(AutoLabelConfig(), resplit=True)
     )
     assert len(split.parts) == 1 and (split.parts[0] == np.arange(30)).all()
+
+
+def test_the_default_labels_a_solid_fin_standing_off_a_mug() -> None:
+    """The tune-half mug whose handle is a solid fin: no detector part, but the fin stands off
+    the body of revolution, and the default labels it (0 of its 30 handle grasps before)."""
+    from simgrasp.evaluation.acronym_handles import read_acronym, subset_shares
+
+    root = require_data("acronym")
+    item = read_acronym(root / "affordance" / "grasps" / FLAT_STRAP_MUG)
+    result = auto_handle_label(item.mesh, item.name, replace(FAST, scan=ScanConfig()))
+    assert not result.parts and len(result.standoff) == 1
+    shares = subset_shares(item, result.label)
+    handle, pour = shares["good_grasp"], shares["good_pour"]
+    assert handle["on_handle"] / handle["grasps"] >= 0.5
+    assert pour["on_handle"] / pour["grasps"] <= 0.02
+
+
+def test_a_round_hammer_handle_is_no_body_its_head_stands_off() -> None:
+    """A hammer's round handle passes the body-of-revolution test and its head stands off it;
+    the head must not join the label, because the part it touches (the handle) is the body."""
+    from simgrasp.handles.revolution import fit_revolution, standoff_pieces, standoff_points
+    from simgrasp.handles.virtual_scan import scan_mesh
+
+    asset = generate_tool("hammer", 1)
+    views = scan_mesh(asset.mesh, FAST.scan)
+    surface = np.concatenate([v.points for v in views])
+    revolution = fit_revolution(
+        surface, np.concatenate([v.normals for v in views]), FAST.revolution
+    )
+    assert revolution is not None
+    standoff = standoff_points(surface, revolution, FAST.revolution.margin)
+    assert standoff_pieces(surface, standoff, FAST.revolution)  # the head
+    result = auto_handle_label(asset.mesh, asset.name, FAST)
+    off = auto_handle_label(asset.mesh, asset.name, replace(FAST, revolution=RevolutionConfig(0)))
+    assert result.parts and result.standoff == ()
+    points, _ = sample_surface(asset.mesh, 20000, np.random.default_rng(0))
+    assert np.array_equal(result.label.contains(points), off.label.contains(points))
