@@ -184,8 +184,9 @@ def test_glob_of_one_file_labels_it_as_a_data_set(tmp_path: Path) -> None:
         "--mass", "0.1", "--no-picture", "--out", str(out), cwd=tmp_path,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    indices = [json.loads(line)["index"] for line in (out / "a" / "labels.jsonl").open()]
-    assert sorted(indices) == [0, 1]
+    rows = [json.loads(line) for line in (out / "a" / "labels.jsonl").open()]
+    assert sorted(r["index"] for r in rows) == [0, 1]
+    assert {r["handle_source"] for r in rows} == {"automatic"}
     summary = json.loads((out / "summary.json").read_text())
     assert [row["file"] for row in summary["files"]] == ["a.json"]
 

@@ -67,6 +67,7 @@ def test_known_grasps_get_the_expected_labels(known_set: Path, tmp_path: Path, p
     assert "non-finite" in records[3]["problem"]
     assert summary["success_on_handle"] == 1 and summary["success_off_handle"] == 1
     assert summary["invalid"] == 1 and summary["scored"] == 3
+    assert summary["handle_source"] == ["shipped"]
     lines = (tmp_path / LABELS_FILE).read_text().splitlines()
     assert sorted(json.loads(line)["index"] for line in lines) == [0, 1, 2, 3]
 

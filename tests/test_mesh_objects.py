@@ -112,6 +112,37 @@ def test_catalog_and_handle_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     assert np.allclose(asset.mesh.extents, BOX_M)
     assert (asset.mass, asset.friction) == (0.5, 0.6)
     assert asset.handle.contains([[0, 0, 0.045], [0, 0, -0.045]]).tolist() == [True, False]
+    assert asset.handle_source == "file"
+
+
+def test_a_mesh_without_handle_file_gets_the_automatic_label_cached(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """No ``handles``: the label ``label-handles`` finds (a generated mug's strap), kept in the
+    cache and read back from it the second time; a YCB object's label is the shipped one."""
+    from simgrasp.assets.auto_handles import automatic_handle_label
+    from simgrasp.assets.cache import cache_dir
+    from simgrasp.assets.generated import generate_tool
+    from simgrasp.perception import sample_surface
+
+    monkeypatch.setenv("SIMGRASP_CACHE_DIR", str(tmp_path / "cache"))
+    mug = generate_tool("mug", 0)
+    path = tmp_path / "mug.stl"
+    mug.mesh.export(path)
+    asset = load_object(str(path))
+    assert asset.handle_source == "automatic" and asset.handle.regions
+    points, _ = sample_surface(mug.mesh, 20000, np.random.default_rng(0))
+    found, exact = asset.handle.contains(points), mug.handle.contains(points)
+    assert (found & exact).sum() / exact.sum() >= 0.9 and found.mean() <= 0.5  # strap and root
+    (entry,) = cache_dir("handle-labels").glob("*.json")
+    stamp = entry.stat().st_mtime_ns
+    again = automatic_handle_label(asset.mesh, "again")
+    assert entry.stat().st_mtime_ns == stamp and again.object_name == "again"
+    assert np.array_equal(again.contains(points), found)
+    entry.write_text("not json")  # a damaged entry is rebuilt, not an error
+    assert np.array_equal(automatic_handle_label(asset.mesh, "x").contains(points), found)
+    assert json.loads(entry.read_text())["objects"]
+    assert load_object("gen_mug_s0").handle_source == "shipped"
 
 
 def _simgrasp(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
@@ -136,6 +167,8 @@ def test_trial_of_a_mesh_in_millimetres_needs_units_then_runs(tmp_path: Path) ->
     record = json.loads(done.stdout)
     assert record["object"] == f"{path}?units=mm&mass=0.2"
     assert record["failure"] != "no_grasp"
+    assert record["handle_source"] == "automatic"  # a box: its automatic label is empty
+    assert record["on_handle"] is False
 
 
 @pytest.mark.parametrize(

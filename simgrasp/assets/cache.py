@@ -30,12 +30,13 @@ CACHE_ENV = "SIMGRASP_CACHE_DIR"
 FORMAT_VERSION = 1
 
 
-def cache_dir() -> Path:
-    """The directory holding decomposition entries (created on demand); a ValueError naming
-    it when it cannot be a directory (``SIMGRASP_CACHE_DIR`` naming a file, say)."""
+def cache_dir(kind: str = "decompositions") -> Path:
+    """The directory holding the cache entries of ``kind`` (``decompositions``; the automatic
+    handle labels' ``handle-labels``), created on demand; an error naming it when it cannot be
+    a directory (``SIMGRASP_CACHE_DIR`` naming a file, say)."""
     variable = os.environ.get(CACHE_ENV)
     root = variable or platformdirs.user_cache_dir("simgrasp")
-    path = Path(root) / "decompositions"
+    path = Path(root) / kind
     try:
         path.mkdir(parents=True, exist_ok=True)
     except (FileExistsError, NotADirectoryError):

@@ -8,8 +8,8 @@ and, after a ``?``, how to read it as a rigid object (``&``-separated ``key=valu
   :data:`DEFAULT_DENSITY`;
 - ``friction``: the sliding friction of the object's surface (default: the model's 0.8);
 - ``handles``: a handle label file in the format of ``models/handles/ycb_handles.json``; its
-  entry named as the mesh file's stem, or its only entry, is the object's handle (default: no
-  handle).
+  entry named as the mesh file's stem, or its only entry, is the object's handle (default: the
+  automatic label ``simgrasp label-handles`` finds, :mod:`simgrasp.assets.auto_handles`).
 
 The spec is the object's name everywhere (``trial``, ``evaluate``, ``label-grasps``, the env,
 the records), so a worker process rebuilds the same object from it. The mesh stays in its
@@ -26,11 +26,13 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Literal
 from urllib.parse import parse_qsl, urlencode
 
 import numpy as np
 import trimesh
 
+from simgrasp.assets.auto_handles import automatic_handle_label
 from simgrasp.assets.labels import HandleLabel, load_label_file
 from simgrasp.assets.mesh_check import (
     MAX_PLAUSIBLE_EXTENT_M,
@@ -200,14 +202,17 @@ def relabeled(asset: ObjectAsset, name: str) -> ObjectAsset:
     if set(query) != {"handles"}:
         raise SimgraspError(f"object {name!r}: only a mesh file takes options other than handles")
     label = _label_of(Path(query["handles"]), (name.partition("?")[0], asset.name), name)
-    return replace(asset, name=name, handle=label)
+    return replace(asset, name=name, handle=label, handle_source="file")
 
 
-def _handle(spec: MeshObjectSpec, name: str) -> HandleLabel:
-    """The handle label of the spec's ``handles`` file (entry by mesh stem, or the only one)."""
+def _handle(
+    spec: MeshObjectSpec, name: str, mesh: trimesh.Trimesh
+) -> tuple[HandleLabel, Literal["file", "automatic"]]:
+    """The handle label of the spec's ``handles`` file (entry by mesh stem, or the only one),
+    else the mesh's automatic one, and which it is."""
     if spec.handles is None:
-        return HandleLabel(name)
-    return _label_of(spec.handles, (spec.path.stem,), name)
+        return automatic_handle_label(mesh, name), "automatic"
+    return _label_of(spec.handles, (spec.path.stem,), name), "file"
 
 
 def _label_of(path: Path, keys: tuple[str, ...], name: str) -> HandleLabel:
@@ -252,11 +257,14 @@ def load_mesh_object(name: str) -> ObjectAsset:
     """The object of a mesh spec ``name`` (module docstring)."""
     spec = parse_mesh_spec(name)
     mesh = _read_mesh(spec)
+    mass = _mass(spec, mesh)
+    handle, handle_source = _handle(spec, name, mesh)
     return ObjectAsset(
         name=name,
         mesh=mesh,
-        handle=_handle(spec, name),
-        mass=_mass(spec, mesh),
+        handle=handle,
+        mass=mass,
         source="mesh",
         friction=spec.friction,
+        handle_source=handle_source,
     )

@@ -27,6 +27,9 @@ class ObjectAsset:
         texture_file: the texture image for ``mesh_file``, if any.
         friction: the surface's sliding friction, if the object's source sets one (else the
             model's default).
+        handle_source: where ``handle`` came from: ``"shipped"`` (the package's YCB labels,
+            a generated tool's exact one), ``"file"`` (a ``handles`` file the user gave) or
+            ``"automatic"`` (:mod:`simgrasp.assets.auto_handles`, a mesh given none).
     """
 
     name: str
@@ -37,3 +40,4 @@ class ObjectAsset:
     mesh_file: Path | None = None
     texture_file: Path | None = None
     friction: float | None = None
+    handle_source: Literal["shipped", "file", "automatic"] = "shipped"

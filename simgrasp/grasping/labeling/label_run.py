@@ -161,6 +161,7 @@ def summarize(
         "success_on_handle": len(on_handle),
         "success_off_handle": len(held) - len(on_handle),
         "on_handle_share_of_successes": len(on_handle) / len(held) if held else 0.0,
+        "handle_source": sorted({r["handle_source"] for r in executed if "handle_source" in r}),
         "failures": dict(Counter(r["failure"] for r in records if r["failure"])),
         "labeled_this_run": new,
         "wall_s_this_run": wall_s,

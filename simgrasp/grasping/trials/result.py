@@ -50,6 +50,10 @@ class TrialResult:
     score: float | None = None
     """How firmly the object was held, in [0, 1] (protocols with a shake,
     :mod:`simgrasp.grasping.trials.shake`); None, and left out of the record, otherwise."""
+    handle_source: str = "shipped"
+    """Where the handle label ``on_handle`` was scored against came from
+    (:attr:`simgrasp.assets.object.ObjectAsset.handle_source`: ``shipped``, ``file`` or
+    ``automatic``)."""
 
     def to_json(self) -> dict[str, Any]:
         """The record as a dict of JSON types (shallow: its lists are this result's own);

@@ -151,6 +151,7 @@ def run_trial(
         sim_time=float(scene.data.time),
         steps=trial.runner.steps,
         timings_s=trial.timings,
+        handle_source=scene.object_model.asset.handle_source,
         **trial.record,
     )
 
