@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from simgrasp.assets.graspnet_frame import GRASPNET_EXAMPLE, read_graspnet_frame
-from simgrasp.assets.labels import HandleLabel, load_label_file
 from simgrasp.assets.real import default_real_dir
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
 from simgrasp.handles.scene_detect import detect_in_scene
+from simgrasp.labels import HandleLabel, load_label_file
 from simgrasp.resources import model_path
 
 SETTINGS: dict[str, tuple[QuadricDetectorConfig, SingleViewConfig | None]] = {

@@ -13,11 +13,11 @@ import pytest
 import trimesh
 
 from simgrasp.assets.generated import generate_tool
-from simgrasp.assets.labels import HandleLabel, load_handle_label, write_label_file
 from simgrasp.cli import main
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 from simgrasp.handles.revolution import RevolutionConfig
 from simgrasp.handles.virtual_scan import ScanConfig
+from simgrasp.labels import HandleLabel, load_handle_label, write_label_file
 from simgrasp.perception import sample_surface
 from tests.data_needs import require_data
 
@@ -256,7 +256,8 @@ def test_section_stops_end_a_tube_at_a_disc_across_it() -> None:
 def test_only_flat_candidates_thinner_than_the_part_block_its_reach() -> None:
     """A flat handle's own flat fits (as thick as the part, knife 89e8) leave the reach along
     the handle open; a blade's thin fits still block it."""
-    from simgrasp.handles.auto_label import Candidates, part_surface
+    from simgrasp.handles.auto_label import Candidates
+    from simgrasp.handles.label_surface import part_surface
 
     tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
     centers = np.array([[0.005, 0, 0], [0.005, 0, 0.001], [0.005, 0, 0.015], [0.005, 0, -0.015]])

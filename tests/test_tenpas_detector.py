@@ -10,10 +10,10 @@ import pytest
 import trimesh
 from scipy.spatial import cKDTree
 
-from simgrasp.assets.labels import ycb_handle_label
 from simgrasp.handles import TenPasConfig, detect
 from simgrasp.handles.detection import TIMING_STEPS
 from simgrasp.handles.tenpas_detector import align_shells, detect_tenpas_handles
+from simgrasp.labels import ycb_handle_label
 
 from shapes import hammer_like
 

@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 from data_needs import ROBOTIQ
 
-from simgrasp.assets.labels import Box, Capsule
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.grasp import Grasp, tcp_pose
 from simgrasp.grasping.trials.trial import run_trial
 from simgrasp.grasping.trials.trial_config import FAST_TRIAL, TrialConfig
 from simgrasp.grippers import make_gripper
+from simgrasp.labels import Box, Capsule
 from simgrasp.scenes.scene import Scene, build_scene
 
 GRIPPERS = ("builtin", ROBOTIQ)

@@ -20,9 +20,9 @@ from pathlib import Path
 import trimesh
 
 from simgrasp.assets.cache import cache_dir, cache_key
-from simgrasp.assets.labels import HandleLabel, load_label_file, write_label_file
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
+from simgrasp.labels import HandleLabel, load_label_file, write_label_file
 
 log = logging.getLogger(__name__)
 

@@ -38,9 +38,9 @@ from simgrasp.assets.generated_shapes import (
     x_box_region,
     x_cylinder,
 )
-from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.errors import SimgraspError
+from simgrasp.labels import Box, Capsule, HandleLabel, Region
 from simgrasp.seeding import rng_for
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import Box, Capsule
+from simgrasp.labels import Box, Capsule
 
 # Densities (kg/m^3) of the materials the parts are made of.
 DENSITY_WOOD = 700.0

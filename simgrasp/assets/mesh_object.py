@@ -33,7 +33,6 @@ import numpy as np
 import trimesh
 
 from simgrasp.assets.auto_handles import automatic_handle_label
-from simgrasp.assets.labels import HandleLabel, load_label_file
 from simgrasp.assets.mesh_check import (
     MAX_PLAUSIBLE_EXTENT_M,
     MIN_PLAUSIBLE_EXTENT_M,
@@ -44,6 +43,7 @@ from simgrasp.assets.mesh_check import (
 )
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.labels import HandleLabel, load_label_file
 
 MESH_SUFFIXES = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
 UNITS = {"mm": 0.001, "cm": 0.01, "m": 1.0}

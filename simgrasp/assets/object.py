@@ -8,7 +8,7 @@ from typing import Literal
 
 import trimesh
 
-from simgrasp.assets.labels import HandleLabel
+from simgrasp.labels import HandleLabel
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 The shipped file ``models/handles/osd_learn_handles.json`` labels the side handles of the pot
 in the osd-learn scenes: ``{"objects": {"learn33": {"object": 3, "regions": [...]}}}`` with the
-regions of :mod:`simgrasp.assets.labels` (boxes, capsules) in the sensor frame and ``object``
+regions of :mod:`simgrasp.labels` (boxes, capsules) in the sensor frame and ``object``
 the pot's ground-truth object id (part labels ``10 object`` .. ``10 object + 9``).
 """
 
@@ -12,8 +12,8 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from simgrasp.assets.labels import HandleLabel
 from simgrasp.errors import SimgraspError
+from simgrasp.labels import HandleLabel
 from simgrasp.resources import model_path
 
 OSD_LABELS_FILE = ("handles", "osd_learn_handles.json")

@@ -11,11 +11,11 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from simgrasp.assets.labels import ycb_handle_label
 from simgrasp.assets.mesh_check import load_mesh_file
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.ycb_catalog import find_ycb_entry
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.labels import ycb_handle_label
 
 YCB_DIR_ENV = "SIMGRASP_YCB_DIR"
 

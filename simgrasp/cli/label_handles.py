@@ -5,7 +5,7 @@ scanned from many directions, our quadric detector runs on every scan and its ca
 clustered into the oriented boxes of ``models/handles/ycb_handles.json``
 (:mod:`simgrasp.handles.auto_label`), in the scaled mesh's own frame. ``--plot`` draws the
 label on the scanned surface for review. Read the result with
-``simgrasp.assets.labels.load_handle_label``.
+``simgrasp.labels.load_handle_label``.
 """
 
 from __future__ import annotations
@@ -43,8 +43,8 @@ class Options:
 
 
 def run(options: Options) -> int:
-    from simgrasp.assets.labels import write_label_file
     from simgrasp.handles.auto_label import auto_handle_label
+    from simgrasp.labels import write_label_file
     from simgrasp.stdout_guard import stdout_to_stderr
 
     name = options.name or options.mesh.stem

@@ -20,10 +20,10 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import HandleLabel
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.scoring import handle_fraction
 from simgrasp.grasping.trials.trial_config import HANDLE_MARGIN, ON_HANDLE_THRESHOLD
+from simgrasp.labels import HandleLabel
 from simgrasp.perception import sample_surface
 from simgrasp.seeding import rng_for
 

@@ -16,7 +16,7 @@ A TOML file of ``[[cloud]]`` tables, each::
 ``cut = "table"`` keeps the points above the scene's dominant plane (the table of
 :func:`simgrasp.perception.segmentation.segment.fit_table_plane`) in its largest connected
 cluster: the object a user's segmenter would hand over. Labels are regions
-(:mod:`simgrasp.assets.labels`) in the cloud's frame, in meters. The shipped manifest is
+(:mod:`simgrasp.labels`) in the cloud's frame, in meters. The shipped manifest is
 ``models/handles/real_detect.toml``.
 """
 
@@ -30,9 +30,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import HandleLabel, load_label_file
 from simgrasp.assets.real import default_real_dir
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.labels import HandleLabel, load_label_file
 from simgrasp.perception.units import UNIT_SCALE, Units, cloud_in_meters
 from simgrasp.resources import model_path
 

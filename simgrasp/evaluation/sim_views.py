@@ -21,9 +21,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import HandleLabel
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.single_view import SingleViewConfig
+from simgrasp.labels import HandleLabel
 from simgrasp.perception.camera import CameraIntrinsics, depth_to_points_cam
 from simgrasp.seeding import rng_for
 

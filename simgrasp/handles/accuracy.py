@@ -7,8 +7,8 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import HandleLabel
 from simgrasp.handles.detection import Detection
+from simgrasp.labels import HandleLabel
 
 
 def detection_accuracy(detection: Detection, label: HandleLabel) -> float:

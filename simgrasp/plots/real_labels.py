@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from numpy.typing import NDArray  # noqa: E402
 
-from simgrasp.assets.labels import HandleLabel  # noqa: E402
+from simgrasp.labels import HandleLabel  # noqa: E402
 from simgrasp.plots.scene_labels import region_outline  # noqa: E402
 
 VIEWS = (("x, y", 0, 1), ("x, z", 0, 2), ("z, y", 2, 1))

@@ -12,9 +12,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from numpy.typing import NDArray  # noqa: E402
 
-from simgrasp.assets.labels import Box, Capsule, Region  # noqa: E402
 from simgrasp.assets.real import LabeledScene  # noqa: E402
 from simgrasp.assets.scene_labels import SceneHandleLabel  # noqa: E402
+from simgrasp.labels import Box, Capsule, Region  # noqa: E402
 
 # (title, horizontal axis, vertical axis, flip vertical): sensor frame x right, y down, z forward
 VIEWS = (("camera (x, -y)", 0, 1, True), ("top (x, z)", 0, 2, False), ("side (z, -y)", 2, 1, True))

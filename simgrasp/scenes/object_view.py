@@ -9,8 +9,8 @@ import numpy as np
 from PIL import Image
 
 from simgrasp._mujoco import mujoco
-from simgrasp.assets.labels import Capsule
 from simgrasp.assets.model import ObjectModel
+from simgrasp.labels import Capsule
 from simgrasp.transforms import rotation_to_quat_wxyz
 
 LABEL_GROUP = 4

@@ -14,7 +14,7 @@ import plotly.graph_objects as go
 import trimesh
 from numpy.typing import NDArray
 
-from simgrasp.assets.labels import Box, Capsule, HandleLabel
+from simgrasp.labels import Box, Capsule, HandleLabel
 
 COLORS = {"on_handle": "#2ca02c", "off_handle": "#1f77b4", "failed": "#d62728"}
 """Outcome colors, as ``labels.png`` draws them (matplotlib's tab:green, tab:blue, tab:red)."""

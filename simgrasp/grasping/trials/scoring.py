@@ -3,7 +3,7 @@
 The trial collects the finger-object contacts (:class:`FingerContacts`, from its geom codes);
 these functions score them. Contact points are world-frame positions (``points_world``,
 meters) unless named ``points_object`` (the object's mesh frame, the frame its
-:class:`~simgrasp.assets.labels.HandleLabel` lives in).
+:class:`~simgrasp.labels.HandleLabel` lives in).
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp._mujoco import mujoco
-from simgrasp.assets.labels import Box, Capsule, HandleLabel, Region
 from simgrasp.grasping.trials.trial_config import HANDLE_MARGIN
+from simgrasp.labels import Box, Capsule, HandleLabel, Region
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,149 @@
+"""A handle part's region on the scanned surface, and the boxes that make it a label.
+
+:func:`part_surface` takes the scanned points that belong to one part of
+:mod:`simgrasp.handles.auto_label` (near its candidates, or reached along their axes,
+:mod:`simgrasp.handles.axis_reach`); :func:`standoff_joining` adds the surface that stands off
+a body of revolution (:mod:`simgrasp.handles.revolution`); :func:`slab_boxes` turns points into
+oriented boxes, one per slab along their main axis. Mesh frame, meters.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from simgrasp.handles.axis_reach import (
+    SectionStop,
+    near_within_stops,
+    reached_along_axes,
+    section_stops,
+)
+from simgrasp.handles.revolution import fit_revolution, standoff_pieces, standoff_points
+from simgrasp.labels import Box
+
+if TYPE_CHECKING:
+    from simgrasp.handles.auto_label import AutoLabelConfig, Candidates
+
+
+def standoff_joining(
+    candidates: Candidates,
+    parts: tuple[NDArray[np.int64], ...],
+    surface: NDArray[np.float64],
+    normals: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> tuple[NDArray[np.int64], ...]:
+    """Indices into ``surface`` of the pieces standing off a body of revolution
+    (:mod:`simgrasp.handles.revolution`) that join the label: those within ``region_radius``
+    of the surface of a part that stands off the body itself (most of its candidates beyond
+    the wall: a strap, not a hammer's round handle under its head), or all of them when there
+    is no part; none on other shapes."""
+    revolution = fit_revolution(surface, normals, config.revolution)
+    if revolution is None:
+        return ()
+    margin = config.revolution.margin
+    pieces = standoff_pieces(
+        surface, standoff_points(surface, revolution, margin), config.revolution
+    )
+    if not parts or not pieces:
+        return tuple(pieces)
+    own = np.zeros(len(surface), dtype=bool)
+    for part in parts:
+        if standoff_points(candidates.centers[part], revolution, margin).mean() >= 0.5:
+            own |= part_surface(candidates, part, surface, config)
+    if not own.any():
+        return ()
+    tree = cKDTree(surface[own])
+    return tuple(
+        piece
+        for piece in pieces
+        if np.isfinite(
+            tree.query(surface[piece], distance_upper_bound=config.region_radius)[0]
+        ).any()
+    )
+
+
+def part_boxes(
+    candidates: Candidates,
+    part: NDArray[np.int64],
+    surface: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> list[Box]:
+    """Oriented boxes around the scanned surface of one part (:func:`part_surface`), one per
+    slab along its main axis (:func:`slab_boxes`)."""
+    return slab_boxes(surface[part_surface(candidates, part, surface, config)], config)
+
+
+def slab_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Box]:
+    """One oriented box, grown by ``margin``, per slab of ``points`` along their main axis
+    (``segments`` slabs of equal point count)."""
+    if len(points) < 4:
+        return []
+    centered = points - points.mean(axis=0)
+    main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
+    along = centered @ main_axis
+    edges = np.quantile(along, np.linspace(0.0, 1.0, config.segments + 1))
+    slab = np.clip(np.searchsorted(edges, along, side="right") - 1, 0, config.segments - 1)
+    boxes = [_box(points[slab == s], config.margin) for s in range(config.segments)]
+    return [b for b in boxes if b is not None]
+
+
+def _box(points: NDArray[np.float64], margin: float) -> Box | None:
+    """The oriented bounding box (trimesh) of ``points``, grown by ``margin``."""
+    if len(points) < 4:
+        return None
+    try:
+        box_T_points, extents = trimesh.bounds.oriented_bounds(points)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    points_T_box = np.linalg.inv(box_T_points)
+    rotation = points_T_box[:3, :3]
+    if np.linalg.det(rotation) < 0:
+        rotation = rotation * np.array([1.0, 1.0, -1.0])
+    half = np.maximum(np.asarray(extents, float) / 2.0, 1e-4) + margin
+    return Box(points_T_box[:3, 3].copy(), rotation, half)
+
+
+def part_surface(
+    candidates: Candidates,
+    part: NDArray[np.int64],
+    surface: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> NDArray[np.bool_]:
+    """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
+    candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
+    the narrow candidates that failed the flatness test and are thinner than the part
+    (``block_width_ratio``)."""
+    tree = cKDTree(surface)
+    flat = (candidates.widths <= config.max_width) & (candidates.flatness > config.max_flatness)
+    if config.block_width_ratio > 0:
+        flat &= candidates.widths <= config.block_width_ratio * np.median(candidates.widths[part])
+    blocked = np.zeros(len(surface), dtype=bool)
+    if config.flat_block > 0 and flat.any():
+        blocked = cKDTree(candidates.centers[flat]).query(surface)[0] <= config.flat_block
+    handle_points, axes = candidates.handle_points[part], candidates.axes[part]
+    semi = np.fmin(candidates.semi_major[part], config.reach_max_semi_axis)
+    stops = np.tile([-np.inf, np.inf], (len(part), 1))
+    if config.stop_growth > 0:
+        stop = SectionStop(config.stop_growth, config.stop_ring, config.stop_slab)
+        reach = max(config.axis_reach, config.region_radius)
+        own, typical = candidates.centers[part], np.fmin(semi, np.nanmedian(semi))
+        stops = section_stops(
+            tree, surface, own, handle_points, axes, typical, reach=reach, stop=stop
+        )
+    near = near_within_stops(
+        tree, surface, candidates.centers[part], handle_points, axes, stops, config.region_radius
+    )
+    reached = reached_along_axes(
+        surface,
+        handle_points,
+        axes,
+        semi + config.reach_pad,
+        reach=config.axis_reach,
+        blocked=blocked,
+        stops=stops,
+    )
+    return near | reached
