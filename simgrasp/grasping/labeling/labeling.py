@@ -174,6 +174,12 @@ def label_records(
             yield invalid_record(index, grasps.problems[index], config)
         else:
             jobs.append((index, grasps.object_T_tcp[index], float(grasps.width[index])))
+    if jobs and run.workers > 1:
+        from simgrasp.assets.model import model_for
+
+        # built here once, so that its disk caches (CoACD's hulls, an automatic handle label)
+        # are filled before the workers build it at the same time
+        model_for(config.object, ycb_dir)
     warm_calls = ((),) * run.workers
     work = Work(label_one, (config, ycb_dir), warm_up=prepare, warm_calls=warm_calls)
     yield from run_tasks(work, jobs, run)
