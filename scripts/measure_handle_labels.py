@@ -13,7 +13,10 @@ The subsets are AffordanceGrasp's: mugs ``good_grasp`` on the handle against ``g
 given: as the issue words it (``good_grasp`` as the handle subset) and by where the grasps are.
 ``--labels-dir DIR`` restricts every subset to the grasps our simulator held
 (``DIR/<file stem>/labels.jsonl``, rows with ``index`` and ``success``; files without one
-are left out; grasps without a row count as not held). Writes
+are left out; grasps without a row count as not held); with ``--on-handle trial`` as well, a
+grasp is on the handle when its trial scored it so (the fingers' contacts in the simulator
+against the label the run used: the automatic one, for these meshes), not by the pads'
+geometric sweep. Writes
 ``handle_labels.md`` and ``per_file.json`` (counts only: no mesh-derived geometry).
 
     python scripts/measure_handle_labels.py --out docs/results/handle-labels
@@ -30,7 +33,13 @@ from pathlib import Path
 import numpy as np
 
 from simgrasp.config.tree import flatten
-from simgrasp.evaluation.acronym_handles import held_from_labels, read_acronym, subset_shares
+from simgrasp.evaluation.acronym_handles import (
+    held_from_labels,
+    read_acronym,
+    subset_shares,
+    trial_labels,
+    trial_subset_shares,
+)
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 
 GOAL_ON, GOAL_OFF = 0.90, 0.95
@@ -41,17 +50,22 @@ HANDLE_SUBSETS = {
 }
 
 
-def settings_key(labels_dir: Path | None) -> str:
-    """What a row was measured under: the labeler's settings and the held-grasp folder."""
-    given = {"label": flatten(AutoLabelConfig()), "labels_dir": str(labels_dir)}
+def settings_key(labels_dir: Path | None, on_handle: str) -> str:
+    """What a row was measured under: the labeler's settings, the held-grasp folder and who
+    scores on_handle (``geometric`` keeps the keys of the rows measured before it existed)."""
+    given: dict[str, object] = {"label": flatten(AutoLabelConfig()), "labels_dir": str(labels_dir)}
+    if on_handle != "geometric":
+        given["on_handle"] = on_handle
     return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def measure(data: Path, out: Path, labels_dir: Path | None) -> list[dict[str, object]]:
+def measure(
+    data: Path, out: Path, labels_dir: Path | None, on_handle: str = "geometric"
+) -> list[dict[str, object]]:
     """One row per file: its half, category and per-subset counts. Resumes from
     ``per_file.json``, reusing only rows measured under today's settings (others rerun)."""
     done_file = out / "per_file.json"
-    key = settings_key(labels_dir)
+    key = settings_key(labels_dir, on_handle)
     done = {r["file"]: r for r in json.loads(done_file.read_text())} if done_file.exists() else {}
     rows = []
     for index, path in enumerate(sorted((data / "grasps").glob("*.h5"))):
@@ -63,14 +77,19 @@ def measure(data: Path, out: Path, labels_dir: Path | None) -> list[dict[str, ob
             print(f"{path.stem}: no {labels}, left out", flush=True)
             continue
         item = read_acronym(path)
-        result = auto_handle_label(item.mesh, item.name)
-        held = None if labels is None else held_from_labels(labels, len(item.object_T_hands))
-        shares = subset_shares(item, result.label, held=held)
+        if on_handle == "trial" and labels is not None:
+            shares = trial_subset_shares(item, *trial_labels(labels, len(item.object_T_hands)))
+            boxes = None
+        else:
+            result = auto_handle_label(item.mesh, item.name)
+            held = None if labels is None else held_from_labels(labels, len(item.object_T_hands))
+            shares = subset_shares(item, result.label, held=held)
+            boxes = len(result.label.regions)
         row = {
             "file": path.stem,
             "half": "tune" if index % 2 == 0 else "held-out",
             "category": path.stem.split("_")[0],
-            "boxes": len(result.label.regions),
+            "boxes": boxes,
             "subsets": shares,
             "settings": key,
         }
@@ -115,9 +134,12 @@ def main() -> int:
     parser.add_argument("--data", type=Path, default=default, help="folder holding grasps/")
     parser.add_argument("--out", type=Path, default=Path("docs/results/handle-labels"))
     parser.add_argument("--labels-dir", type=Path, default=None)
+    parser.add_argument("--on-handle", choices=("geometric", "trial"), default="geometric")
     args = parser.parse_args()
+    if args.on_handle == "trial" and args.labels_dir is None:
+        parser.error("--on-handle trial needs --labels-dir (the trials' records)")
     args.out.mkdir(parents=True, exist_ok=True)
-    rows = measure(args.data, args.out, args.labels_dir)
+    rows = measure(args.data, args.out, args.labels_dir, args.on_handle)
     text = table(rows)
     (args.out / "handle_labels.md").write_text(text)
     print(text)

@@ -92,7 +92,13 @@ MUG = "Mug_10f6e09036350e92b3f21f1137c3c347_0.0002682457830986903.h5"
 
 
 def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -> None:
-    from simgrasp.evaluation.acronym_handles import held_from_labels, read_acronym, subset_shares
+    from simgrasp.evaluation.acronym_handles import (
+        held_from_labels,
+        read_acronym,
+        subset_shares,
+        trial_labels,
+        trial_subset_shares,
+    )
 
     root = require_data("acronym")
     item = read_acronym(root / "affordance" / "grasps" / MUG)
@@ -103,11 +109,17 @@ def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -
     pour = shares["good_pour"]
     assert pour["on_handle"] / pour["grasps"] <= 0.05
     first = int(item.subsets["good_grasp"][0])
-    rows = [{"index": first, "success": True}, {"index": first + 1, "success": False}]
+    rows = [
+        {"index": first, "success": True, "on_handle": True},
+        {"index": first + 1, "success": False, "on_handle": False},
+    ]
     labels = tmp_path / "labels.jsonl"
     labels.write_text("".join(json.dumps(r) + "\n" for r in rows))
     held = held_from_labels(labels, len(item.object_T_hands))
     assert subset_shares(item, label, held=held)["good_grasp"]["grasps"] == 1
+    scored = trial_subset_shares(item, *trial_labels(labels, len(item.object_T_hands)))
+    assert scored["good_grasp"] == {"grasps": 1, "on_handle": 1}
+    assert scored["good_pour"]["grasps"] == 0
 
 
 def _tube_points(radius: float, length: float, center_x: float = 0.0) -> np.ndarray:

@@ -147,7 +147,8 @@ def _print_summary(record: dict[str, Any]) -> None:
             f"{record['grasp_candidates']} collision-free grasp(s)"
         )
     if record["failure"] != "no_grasp":
-        handle_share = f"share of contacts {record['handle_fraction']:.2f}"
+        source = record.get("handle_source", "shipped")
+        handle_share = f"share of contacts {record['handle_fraction']:.2f}, {source} label"
         lines += [
             f"on handle    {record['on_handle']}  ({handle_share})",
             f"lift height  {record['lift_height']:.3f} m",

@@ -144,7 +144,14 @@ def subset_shares(
 def held_from_labels(path: Path, grasps: int) -> NDArray[np.bool_]:
     """Which of ``grasps`` grasps a ``labels.jsonl`` of ours says were held (rows with
     ``index`` and ``success``; grasps without a row count as not held)."""
+    return trial_labels(path, grasps)[0]
+
+
+def trial_labels(path: Path, grasps: int) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """(held, on_handle), one bool per grasp, as a ``labels.jsonl`` of ours scored them (rows
+    with ``index``, ``success`` and ``on_handle``; grasps without a row: False, False)."""
     held = np.zeros(grasps, dtype=bool)
+    on_handle = np.zeros(grasps, dtype=bool)
     try:
         lines = Path(path).read_text().splitlines()
     except OSError as exc:
@@ -155,9 +162,24 @@ def held_from_labels(path: Path, grasps: int) -> NDArray[np.bool_]:
         try:
             row = json.loads(line)
             index, success = int(row["index"]), row["success"] is True
+            touched = row.get("on_handle") is True
         except (json.JSONDecodeError, KeyError, TypeError, ValueError) as exc:
             raise SimgraspError(f"{path}:{number}: not a label row ({exc})") from exc
         if not 0 <= index < grasps:
             raise SimgraspError(f"{path}:{number}: grasp index {index} out of range")
-        held[index] = success
-    return held
+        held[index], on_handle[index] = success, touched
+    return held, on_handle
+
+
+def trial_subset_shares(
+    item: AcronymObject, held: NDArray[np.bool_], on_handle: NDArray[np.bool_]
+) -> dict[str, dict[str, float | int]]:
+    """Per ``affordance/good_*`` subset, among the ``held`` grasps: how many, and how many the
+    trials scored ``on_handle`` (the simulator's finger contacts against the object's label,
+    e.g. the automatic one of a mesh given no handle file), not the pads' geometric sweep."""
+    shares: dict[str, dict[str, float | int]] = {}
+    for key, index in sorted(item.subsets.items()):
+        if key.startswith("good_"):
+            chosen = index[held[index]]
+            shares[key] = {"grasps": int(len(chosen)), "on_handle": int(on_handle[chosen].sum())}
+    return shares
