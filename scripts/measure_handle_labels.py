@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from simgrasp.assets.auto_handles import LABELER_VERSION
 from simgrasp.config.tree import flatten
 from simgrasp.evaluation.acronym_handles import (
     held_from_labels,
@@ -51,11 +52,14 @@ HANDLE_SUBSETS = {
 
 
 def settings_key(labels_dir: Path | None, on_handle: str) -> str:
-    """What a row was measured under: the labeler's settings, the held-grasp folder and who
-    scores on_handle (``geometric`` keeps the keys of the rows measured before it existed)."""
-    given: dict[str, object] = {"label": flatten(AutoLabelConfig()), "labels_dir": str(labels_dir)}
-    if on_handle != "geometric":
-        given["on_handle"] = on_handle
+    """What a row was measured under: the labeler's settings and version, the held-grasp
+    folder and who scores on_handle."""
+    given = {
+        "label": flatten(AutoLabelConfig()),
+        "labeler_version": LABELER_VERSION,
+        "labels_dir": str(labels_dir),
+        "on_handle": on_handle,
+    }
     return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
 
 

@@ -344,3 +344,19 @@ def test_a_round_hammer_handle_is_no_body_its_head_stands_off() -> None:
     assert result.parts and result.standoff == ()
     points, _ = sample_surface(asset.mesh, 20000, np.random.default_rng(0))
     assert np.array_equal(result.label.contains(points), off.label.contains(points))
+
+
+def test_a_strap_label_stays_off_the_mug_wall() -> None:
+    """A generated strap mug: the detector's part reaches onto the wall at the strap's roots;
+    on a body of revolution the label keeps the strap and what stands off, not the wall."""
+    asset = generate_tool("strap_mug", 0)
+    points, _ = sample_surface(asset.mesh, 20000, np.random.default_rng(0))
+    on = auto_handle_label(asset.mesh, asset.name, FAST)
+    off = auto_handle_label(asset.mesh, asset.name, replace(FAST, revolution=RevolutionConfig(0)))
+    assert on.parts and on.standoff
+    assert _iou(on.label, asset.handle, asset.mesh) >= 0.7
+    assert (
+        _iou(on.label, asset.handle, asset.mesh) >= _iou(off.label, asset.handle, asset.mesh) + 0.1
+    )
+    wall = ~asset.handle.contains(points)
+    assert on.label.contains(points)[wall].mean() < off.label.contains(points)[wall].mean()

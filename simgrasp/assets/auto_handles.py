@@ -26,6 +26,11 @@ from simgrasp.labels import HandleLabel, load_label_file, write_label_file
 
 log = logging.getLogger(__name__)
 
+LABELER_VERSION = 2
+"""Part of every entry's key with the labeler's settings: raised when
+:func:`simgrasp.handles.auto_label.auto_handle_label` finds other labels with the same settings
+(2: stand-off surface of bodies of revolution, 6 December 2026), so no stale label is read."""
+
 
 def automatic_handle_label(mesh: trimesh.Trimesh, name: str) -> HandleLabel:
     """The automatic handle label of ``mesh`` (its frame, m) for object ``name``, from the
@@ -33,7 +38,8 @@ def automatic_handle_label(mesh: trimesh.Trimesh, name: str) -> HandleLabel:
     from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 
     config = AutoLabelConfig()
-    path = cache_dir("handle-labels") / f"{cache_key(mesh, flatten(config))}.json"
+    fields = {**flatten(config), "labeler_version": LABELER_VERSION}
+    path = cache_dir("handle-labels") / f"{cache_key(mesh, fields)}.json"
     cached = _read(path)
     if cached is None:
         cached = auto_handle_label(mesh, "label", config).label

@@ -43,9 +43,15 @@ from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
-from simgrasp.handles.label_surface import part_boxes, slab_boxes, standoff_joining
+from simgrasp.handles.label_surface import (
+    part_surfaces,
+    slab_boxes,
+    standoff_joining,
+    stands_off,
+)
 from simgrasp.handles.revolution import (
     RevolutionConfig,
+    fit_revolution,
 )
 from simgrasp.handles.virtual_scan import ScanConfig, View, scan_mesh
 from simgrasp.labels import HandleLabel
@@ -218,12 +224,21 @@ def label_from_candidates(
         parts = tuple(uniform_section(candidates, part, config) for part in parts)
     if config.resplit:
         parts = tuple(piece for part in parts for piece in resplit(candidates, part, config))
-    regions = tuple(box for part in parts for box in part_boxes(candidates, part, surface, config))
-    standoff: tuple[NDArray[np.int64], ...] = ()
+    revolution = None
     if normals is not None and config.revolution.margin > 0:
-        standoff = standoff_joining(candidates, parts, surface, normals, config)
-    regions += tuple(box for piece in standoff for box in slab_boxes(surface[piece], config))
-    return AutoLabel(HandleLabel(name, regions), candidates, kept, parts, surface, standoff)
+        revolution = fit_revolution(surface, normals, config.revolution)
+    regions = part_surfaces(candidates, parts, surface, config, revolution)
+    boxes = tuple(box for region in regions for box in slab_boxes(surface[region], config))
+    standoff: tuple[NDArray[np.int64], ...] = ()
+    if revolution is not None:
+        standing = [
+            r
+            for r, p in zip(regions, parts, strict=True)
+            if stands_off(candidates, p, revolution, config)
+        ]
+        standoff = standoff_joining(surface, standing, bool(parts), revolution, config)
+    boxes += tuple(box for piece in standoff for box in slab_boxes(surface[piece], config))
+    return AutoLabel(HandleLabel(name, boxes), candidates, kept, parts, surface, standoff)
 
 
 def pooled_candidates(views: list[View], config: AutoLabelConfig) -> Candidates:

@@ -2,9 +2,10 @@
 
 :func:`part_surface` takes the scanned points that belong to one part of
 :mod:`simgrasp.handles.auto_label` (near its candidates, or reached along their axes,
-:mod:`simgrasp.handles.axis_reach`); :func:`standoff_joining` adds the surface that stands off
-a body of revolution (:mod:`simgrasp.handles.revolution`); :func:`slab_boxes` turns points into
-oriented boxes, one per slab along their main axis. Mesh frame, meters.
+:mod:`simgrasp.handles.axis_reach`); on a body of revolution (:mod:`simgrasp.handles.revolution`)
+:func:`part_surfaces` keeps a strap's region off the body's wall and :func:`standoff_joining`
+adds the surface that stands off the body; :func:`slab_boxes` turns points into oriented
+boxes, one per slab along their main axis. Mesh frame, meters.
 """
 
 from __future__ import annotations
@@ -22,39 +23,63 @@ from simgrasp.handles.axis_reach import (
     reached_along_axes,
     section_stops,
 )
-from simgrasp.handles.revolution import fit_revolution, standoff_pieces, standoff_points
+from simgrasp.handles.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
 
 if TYPE_CHECKING:
     from simgrasp.handles.auto_label import AutoLabelConfig, Candidates
 
 
-def standoff_joining(
+def part_surfaces(
     candidates: Candidates,
     parts: tuple[NDArray[np.int64], ...],
     surface: NDArray[np.float64],
-    normals: NDArray[np.float64],
+    config: AutoLabelConfig,
+    revolution: Revolution | None,
+) -> tuple[NDArray[np.bool_], ...]:
+    """(N,) per part, which ``surface`` points are its region (:func:`part_surface`). On a
+    body of revolution, a part that stands off the body (:func:`stands_off`: a strap) keeps
+    only its points beyond the wall (``revolution.margin``): the wall its reach took at the
+    strap's roots is the body's, and a grasp of the rim beside the strap is no handle grasp.
+    Other parts (a hammer's round handle, itself the body) keep their whole region."""
+    regions = []
+    for part in parts:
+        region = part_surface(candidates, part, surface, config)
+        if revolution is not None and stands_off(candidates, part, revolution, config):
+            region &= standoff_points(surface, revolution, config.revolution.margin)
+        regions.append(region)
+    return tuple(regions)
+
+
+def stands_off(
+    candidates: Candidates,
+    part: NDArray[np.int64],
+    revolution: Revolution,
+    config: AutoLabelConfig,
+) -> bool:
+    """Whether most of the part's candidates lie beyond the body's wall."""
+    beyond = standoff_points(candidates.centers[part], revolution, config.revolution.margin)
+    return bool(beyond.mean() >= 0.5)
+
+
+def standoff_joining(
+    surface: NDArray[np.float64],
+    standing_regions: list[NDArray[np.bool_]],
+    had_parts: bool,
+    revolution: Revolution,
     config: AutoLabelConfig,
 ) -> tuple[NDArray[np.int64], ...]:
-    """Indices into ``surface`` of the pieces standing off a body of revolution
+    """Indices into ``surface`` of the pieces standing off the body of revolution
     (:mod:`simgrasp.handles.revolution`) that join the label: those within ``region_radius``
-    of the surface of a part that stands off the body itself (most of its candidates beyond
-    the wall: a strap, not a hammer's round handle under its head), or all of them when there
-    is no part; none on other shapes."""
-    revolution = fit_revolution(surface, normals, config.revolution)
-    if revolution is None:
-        return ()
-    margin = config.revolution.margin
-    pieces = standoff_pieces(
-        surface, standoff_points(surface, revolution, margin), config.revolution
-    )
-    if not parts or not pieces:
+    of the region of a part that stands off the body itself (``standing_regions``: a strap,
+    not a hammer's round handle under its head), or all of them when there was no part
+    (``had_parts`` false)."""
+    standoff = standoff_points(surface, revolution, config.revolution.margin)
+    pieces = standoff_pieces(surface, standoff, config.revolution)
+    if not had_parts or not pieces:
         return tuple(pieces)
-    own = np.zeros(len(surface), dtype=bool)
-    for part in parts:
-        if standoff_points(candidates.centers[part], revolution, margin).mean() >= 0.5:
-            own |= part_surface(candidates, part, surface, config)
-    if not own.any():
+    own = np.logical_or.reduce(standing_regions) if standing_regions else None
+    if own is None or not own.any():
         return ()
     tree = cKDTree(surface[own])
     return tuple(
@@ -64,17 +89,6 @@ def standoff_joining(
             tree.query(surface[piece], distance_upper_bound=config.region_radius)[0]
         ).any()
     )
-
-
-def part_boxes(
-    candidates: Candidates,
-    part: NDArray[np.int64],
-    surface: NDArray[np.float64],
-    config: AutoLabelConfig,
-) -> list[Box]:
-    """Oriented boxes around the scanned surface of one part (:func:`part_surface`), one per
-    slab along its main axis (:func:`slab_boxes`)."""
-    return slab_boxes(surface[part_surface(candidates, part, surface, config)], config)
 
 
 def slab_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Box]:
