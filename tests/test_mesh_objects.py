@@ -116,7 +116,7 @@ def test_catalog_and_handle_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 
 
 def test_a_mesh_without_handle_file_gets_the_automatic_label_cached(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
     """No ``handles``: the label ``label-handles`` finds (a generated mug's strap), kept in the
     cache and read back from it the second time; a YCB object's label is the shipped one."""
@@ -131,6 +131,8 @@ def test_a_mesh_without_handle_file_gets_the_automatic_label_cached(
     mug.mesh.export(path)
     asset = load_object(str(path))
     assert asset.handle_source == "automatic" and asset.handle.regions
+    note = capsys.readouterr().err.strip().splitlines()
+    assert len(note) == 1 and "has no handle file" in note[0] and "mug.stl" in note[0]
     points, _ = sample_surface(mug.mesh, 20000, np.random.default_rng(0))
     found, exact = asset.handle.contains(points), mug.handle.contains(points)
     assert (found & exact).sum() / exact.sum() >= 0.9 and found.mean() <= 0.5  # strap and root
@@ -138,6 +140,7 @@ def test_a_mesh_without_handle_file_gets_the_automatic_label_cached(
     stamp = entry.stat().st_mtime_ns
     again = automatic_handle_label(asset.mesh, "again")
     assert entry.stat().st_mtime_ns == stamp and again.object_name == "again"
+    assert capsys.readouterr().err == ""  # read from the cache: nothing computed, no note
     assert np.array_equal(again.contains(points), found)
     entry.write_text("not json")  # a damaged entry is rebuilt, not an error
     assert np.array_equal(automatic_handle_label(asset.mesh, "x").contains(points), found)

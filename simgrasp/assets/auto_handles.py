@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import logging
 import os
+import sys
 import tempfile
 from pathlib import Path
 
@@ -42,6 +43,11 @@ def automatic_handle_label(mesh: trimesh.Trimesh, name: str) -> HandleLabel:
     path = cache_dir("handle-labels") / f"{cache_key(mesh, fields)}.json"
     cached = _read(path)
     if cached is None:
+        print(
+            f"note: object {name} has no handle file: finding its handle automatically (once: "
+            f"kept in {path.parent})",
+            file=sys.stderr,
+        )
         cached = auto_handle_label(mesh, "label", config).label
         _write(path, cached)
     return HandleLabel(name, cached.regions, cached.whole_object)
