@@ -151,6 +151,7 @@ def test_graspgen_file_labels_without_object_and_exports(tmp_path: Path) -> None
     ours = exported["grasps"]["qualities"]["simgrasp"]
     assert ours["object_in_gripper"] == [1.0, 1.0]
     assert all(0 < s <= 1 for s in ours["score"])
+    assert ours["on_handle"] == [0.0, 0.0]  # a box: its automatic label is empty
     with np.load(out / "labels.npz") as labels:
         assert labels["score"].tolist() == ours["score"]
 
@@ -284,10 +285,12 @@ def test_export_acronym_read_back(acronym_dir: Path, tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     with h5py.File(out / "export" / Path(EXAMPLE).name) as handle:
         ours = handle["grasps/qualities/simgrasp/object_in_gripper"][()]
+        on_handle = handle["grasps/qualities/simgrasp/on_handle"][()]
         assert "grasps/qualities/flex/object_in_gripper" in handle
     with np.load(out / "labels.npz") as labels:
         assert ours[:4].tolist() == labels["success"].astype(float).tolist()
-    assert (ours[4:] == -1).all() and len(ours) == 2000
+        assert on_handle[:4].tolist() == labels["on_handle"].astype(float).tolist()
+    assert (ours[4:] == -1).all() and len(ours) == 2000 and (on_handle[4:] == -1).all()
     compared = _cli(
         "compare-labels",
         str(out),

@@ -42,7 +42,8 @@ class Options(YcbSource, MeshObjectOptions):
     max_grasps: int | None = None
     """Label only each file's first N grasps."""
     export: Literal["acronym", "graspgen"] | None = None
-    """Also write each input file with our labels under grasps/qualities/simgrasp (OUT/export/)."""
+    """Also write each input file with our labels (object_in_gripper, score, on_handle) under
+    grasps/qualities/simgrasp (OUT/export/)."""
     out: Path | None = None
     """Output directory (default out/labels/OBJECT)."""
     workers: PositiveInt = 1

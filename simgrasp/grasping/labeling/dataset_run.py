@@ -123,4 +123,7 @@ def export_run(grasp_file: Path, out: Path, fmt: str, top: Path) -> Path:
     if wanted != fmt:
         raise SimgraspError(f"--export {fmt} needs {fmt} grasp files, not {grasp_file}")
     success, score, _ = _our_labels(out)
-    return export_labels(grasp_file, top / EXPORT_DIR, success, score)
+    with np.load(out / "labels.npz") as labels:
+        on_handle = labels["on_handle"]
+    qualities = {"object_in_gripper": success, "score": score, "on_handle": on_handle}
+    return export_labels(grasp_file, top / EXPORT_DIR, qualities)

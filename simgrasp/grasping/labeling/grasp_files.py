@@ -9,7 +9,8 @@ name, the files a ``--grasps`` glob or folder means, and our labels written back
   the same, without mass or friction (give ``--mass``/``--density``/``--friction``).
 
 Export (``--export acronym|graspgen``) writes a copy of each input file with our labels added
-under ``grasps/qualities/simgrasp/``: ``object_in_gripper`` (0/1) and ``score`` (ACRONYM: HDF5
+under ``grasps/qualities/simgrasp/``: ``object_in_gripper`` (0/1), ``score`` and ``on_handle``
+(0/1: held with the fingers on the handle label, a file's or the automatic one) (ACRONYM: HDF5
 datasets; GraspGen: JSON lists under ``grasps.qualities.simgrasp``), for training code that
 reads the format.
 """
@@ -111,9 +112,10 @@ def reference_labels(path: Path) -> tuple[np.ndarray, np.ndarray | None] | None:
     return None
 
 
-def export_labels(path: Path, out: Path, success: np.ndarray, score: np.ndarray) -> Path:
-    """A copy of grasp file ``path`` in ``out`` with our labels under
-    ``grasps/qualities/simgrasp`` (rows past the labeled ones: -1); returns the copy."""
+def export_labels(path: Path, out: Path, qualities: dict[str, np.ndarray]) -> Path:
+    """A copy of grasp file ``path`` in ``out`` with our labels (``qualities``: name -> one
+    value per labeled row) under ``grasps/qualities/simgrasp`` (rows past the labeled ones:
+    -1); returns the copy."""
     out.mkdir(parents=True, exist_ok=True)
     target = out / path.name
     if path.suffix.lower() in (".h5", ".hdf5"):
@@ -123,7 +125,7 @@ def export_labels(path: Path, out: Path, success: np.ndarray, score: np.ndarray)
         with h5py.File(target, "r+") as handle:
             count = len(handle["grasps/transforms"])
             group = handle.require_group("grasps/qualities/simgrasp")
-            for name, values in (("object_in_gripper", success), ("score", score)):
+            for name, values in qualities.items():
                 if name in group:
                     del group[name]
                 group[name] = _padded(values, count)
@@ -131,11 +133,8 @@ def export_labels(path: Path, out: Path, success: np.ndarray, score: np.ndarray)
     if is_graspgen(path):
         entries = _json(path)
         count = len(entries["grasps"]["transforms"])
-        qualities = entries["grasps"].setdefault("qualities", {})
-        qualities["simgrasp"] = {
-            "object_in_gripper": _padded(success, count).tolist(),
-            "score": _padded(score, count).tolist(),
-        }
+        saved = entries["grasps"].setdefault("qualities", {})
+        saved["simgrasp"] = {k: _padded(v, count).tolist() for k, v in qualities.items()}
         target.write_text(json.dumps(entries))
         return target
     raise SimgraspError(f"--export writes ACRONYM .h5 or GraspGen .json files, not {path}")
