@@ -12,7 +12,9 @@ the points more than ``margin`` beyond it. A knife, a hammer or a spatula is no 
 revolution: its flat faces' normals are parallel, not radial, and the fit refuses it.
 
 All lengths in meters, in the frame of the points (the mesh frame for
-:mod:`simgrasp.handles.auto_label`).
+:mod:`simgrasp.handles.auto_label`, which uses it to label handles;
+the settings were chosen on ACRONYM mugs and knives: docs/results/handle-labels/README.md,
+fifth round).
 """
 
 from __future__ import annotations
@@ -33,8 +35,8 @@ class RevolutionConfig(Checked):
     """Settings of the body-of-revolution test and of the stand-off region (m, shares)."""
 
     margin: NonNegative = 0.003
-    """Points more than this beyond the wall's radius at their height stand off the body
-    (0: the test is off and nothing stands off)."""
+    """Points more than this beyond the wall's radius at their height stand off the body; a
+    strap's label keeps to them (0: the test is off and nothing stands off)."""
     wall_cosine: Fraction = 0.5
     """Points whose normal makes a cosine of at most this with the axis are the wall's."""
     radial_cosine: Fraction = 0.9
@@ -99,9 +101,8 @@ def fit_revolution(
     ]
     best = max(fits, key=lambda fit: fit[1])
     axis_fit, radial_share, sector_share = best
-    if axis_fit is None or radial_share < config.min_radial_share:
-        return None
-    if sector_share < config.min_sector_share:
+    round_enough = radial_share >= config.min_radial_share
+    if axis_fit is None or not round_enough or sector_share < config.min_sector_share:
         return None
     return _with_wall(points, *axis_fit, config)
 
