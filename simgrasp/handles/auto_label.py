@@ -41,6 +41,7 @@ from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, Pos
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.cross_section import CrossSectionConfig
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
 from simgrasp.handles.label_surface import (
@@ -144,6 +145,11 @@ class AutoLabelConfig(Checked):
     """Boxes per part: its surface split into this many slabs along its main axis."""
     margin: NonNegative = 0.002
     """Each box is grown by this much."""
+    cross_section: CrossSectionConfig = field(default_factory=CrossSectionConfig)
+    """On a long tool, a part's region leaves out the slabs much thinner than where the part
+    was found (:mod:`simgrasp.handles.cross_section`: a knife's blade, a spatula's plate).
+    Chosen on the tune half of the ACRONYM knives: their blade grasps on the label 10 -> 1 of 46
+    held (docs/results/handle-labels/README.md). ``cross_section.min_ratio`` 0: off."""
     revolution: RevolutionConfig = field(default_factory=RevolutionConfig)
     """On a body of revolution (a mug, a jug, a pot), the scanned surface standing off the
     body (:mod:`simgrasp.handles.revolution`) joins the label where it touches a part's

@@ -23,6 +23,7 @@ from simgrasp.handles.axis_reach import (
     reached_along_axes,
     section_stops,
 )
+from simgrasp.handles.cross_section import section_profile, thick_enough
 from simgrasp.handles.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
 
@@ -41,12 +42,20 @@ def part_surfaces(
     body of revolution, a part that stands off the body (:func:`stands_off`: a strap) keeps
     only its points beyond the wall (``revolution.margin``): the wall its reach took at the
     strap's roots is the body's, and a grasp of the rim beside the strap is no handle grasp.
-    Other parts (a hammer's round handle, itself the body) keep their whole region."""
+    Other parts (a hammer's round handle, itself the body) keep their whole region. On a long
+    tool, a part keeps the slabs about as thick as where it was found
+    (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard)."""
+    profile = None
+    if config.cross_section.min_ratio > 0:
+        profile = section_profile(surface, config.cross_section)
     regions = []
     for part in parts:
         region = part_surface(candidates, part, surface, config)
         if revolution is not None and stands_off(candidates, part, revolution, config):
             region &= standoff_points(surface, revolution, config.revolution.margin)
+        if profile is not None:
+            own = candidates.centers[part]
+            region &= thick_enough(surface, own, profile, config.cross_section)
         regions.append(region)
     return tuple(regions)
 

@@ -1,0 +1,102 @@
+"""Where a long tool's cross-section thins: a knife's blade, a spatula's plate, a screwdriver's
+shaft, past the handle.
+
+A handle is held across its section, and on a long tool the section stays about as thick along
+the handle, then falls where the blade or the shaft begins. :func:`section_profile` takes the
+scanned surface of an elongated object (its main extent at least ``min_elongation`` times the
+next, by principal axes), cuts it into slabs ``slab`` thick along the main axis and measures
+each slab's thickness: the 5-95 percentile spread of its points along their own minor
+principal axis across the main axis (a round handle: its diameter; a blade: its few
+millimetres). :func:`thick_enough` keeps the points whose slab is at least ``min_ratio`` times
+as thick as the slabs a handle part was found in, so a handle's label ends where the blade
+begins instead of running past the guard. Settings chosen on the tune half of the ACRONYM
+knives (docs/results/handle-labels/README.md, fifth round). Meters, the frame of the points.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simgrasp.config.checks import Checked, NonNegative, Positive, PositiveInt
+
+
+@dataclass(frozen=True)
+class CrossSectionConfig(Checked):
+    """Settings of the thickness profile along a long tool (m, ratios)."""
+
+    min_ratio: NonNegative = 0.75
+    """A part's region keeps the slabs at least this share as thick as the median of the slabs
+    its candidates lie in (0: off)."""
+    min_elongation: Positive = 3.0
+    """Only objects whose main extent is at least this many times the next get a profile (a
+    mug or a pan does not)."""
+    slab: Positive = 0.002
+    """Slab thickness along the main axis."""
+    min_points: PositiveInt = 20
+    """Slabs with fewer scanned points have no thickness (kept)."""
+
+
+@dataclass(frozen=True)
+class SectionProfile:
+    """The thickness (m) of an elongated object's slabs: ``thickness`` (S,) (NaN where a slab
+    has too few points), slab ``k`` covering ``start + k * slab`` to ``start + (k + 1) * slab``
+    along the unit ``axis`` (3,) from ``center`` (3,)."""
+
+    center: NDArray[np.float64]
+    axis: NDArray[np.float64]
+    start: float
+    slab: float
+    thickness: NDArray[np.float64]
+
+    def slabs_of(self, points: NDArray[np.float64]) -> NDArray[np.int64]:
+        """(N,) the slab of each point, clipped to the profile's ends."""
+        along = (points - self.center) @ self.axis
+        slabs = np.floor((along - self.start) / self.slab).astype(np.int64)
+        return np.clip(slabs, 0, len(self.thickness) - 1)
+
+
+def section_profile(
+    points: NDArray[np.float64], config: CrossSectionConfig
+) -> SectionProfile | None:
+    """The thickness profile of the object that ``points`` (N, 3) scan, or None when it is not
+    elongated (see :class:`CrossSectionConfig`)."""
+    center = points.mean(axis=0)
+    axes = np.linalg.svd(points - center, full_matrices=False)[2]
+    local = (points - center) @ axes.T
+    extents = np.percentile(local, 95, axis=0) - np.percentile(local, 5, axis=0)
+    if extents[0] < config.min_elongation * extents[1]:
+        return None
+    start = float(local[:, 0].min())
+    slabs = np.floor((local[:, 0] - start) / config.slab).astype(np.int64)
+    thickness = np.full(slabs.max() + 1, np.nan)
+    for k in np.unique(slabs):
+        across = local[slabs == k, 1:]
+        if len(across) >= config.min_points:
+            thickness[k] = _minor_spread(across)
+    return SectionProfile(center, axes[0], start, config.slab, thickness)
+
+
+def thick_enough(
+    points: NDArray[np.float64],
+    part_points: NDArray[np.float64],
+    profile: SectionProfile,
+    config: CrossSectionConfig,
+) -> NDArray[np.bool_]:
+    """(N,) which ``points`` lie in slabs at least ``min_ratio`` times as thick as the median
+    slab of ``part_points`` (a handle part's candidates); all of them when that is unknown."""
+    reference = np.nanmedian(profile.thickness[profile.slabs_of(part_points)])
+    if not np.isfinite(reference):
+        return np.ones(len(points), dtype=bool)
+    thickness = profile.thickness[profile.slabs_of(points)]
+    return ~(thickness < config.min_ratio * reference)
+
+
+def _minor_spread(across: NDArray[np.float64]) -> float:
+    """The 5-95 percentile spread (m) of 2-D points along their minor principal axis."""
+    centered = across - across.mean(axis=0)
+    minor = np.linalg.svd(centered, full_matrices=False)[2][-1]
+    along = centered @ minor
+    return float(np.percentile(along, 95) - np.percentile(along, 5))

@@ -1,0 +1,50 @@
+"""The thickness profile of long tools (simgrasp.handles.cross_section) on meshes whose
+answer is known: a knife with a round handle, a guard and a thin blade; a cup."""
+
+from __future__ import annotations
+
+from typing import cast
+
+import numpy as np
+import trimesh
+
+from simgrasp.handles.cross_section import CrossSectionConfig, section_profile, thick_enough
+
+CONFIG = CrossSectionConfig()
+TURN = trimesh.transformations.rotation_matrix(0.9, [1.0, -0.5, 0.3])
+"""The test knife is turned off the axes: the profile must find its long axis itself."""
+
+
+def _knife_points() -> tuple[np.ndarray, np.ndarray]:
+    """Points (m) on a knife turned by :data:`TURN`: a round handle (radius 9 mm, local z -0.05
+    to 0.05), a guard at z 0.05-0.056 and a blade 30 mm wide, 2 mm thick up to z 0.146; and
+    each point's local z."""
+    handle = trimesh.creation.cylinder(radius=0.009, height=0.10, sections=48)
+    guard = trimesh.creation.box([0.036, 0.010, 0.006])
+    guard.apply_translation([0.0, 0.0, 0.053])
+    blade = trimesh.creation.box([0.030, 0.002, 0.09])
+    blade.apply_translation([0.0, 0.0, 0.101])
+    knife = cast(trimesh.Trimesh, trimesh.util.concatenate([handle, guard, blade]))
+    local, _ = trimesh.sample.sample_surface(knife, 40000, seed=0)
+    local = np.asarray(local)
+    return local @ TURN[:3, :3].T, local[:, 2]
+
+
+def test_a_knife_blade_is_thin_and_leaves_the_handle_region() -> None:
+    points, z = _knife_points()
+    profile = section_profile(points, CONFIG)
+    assert profile is not None
+    thickness = profile.thickness[profile.slabs_of(points)]
+    handle, blade = np.abs(z) < 0.045, z > 0.066
+    assert np.all((thickness[handle] > 0.015) & (thickness[handle] < 0.02))  # 18 mm across
+    assert np.all(thickness[blade] < 0.003)  # 2 mm
+    keep = thick_enough(points, points[handle][::50], profile, CONFIG)
+    assert keep[handle].all() and not keep[blade].any()
+    off = thick_enough(points, points[blade][::50], profile, CONFIG)  # found on the blade
+    assert off[blade].all()
+
+
+def test_a_cup_is_not_elongated() -> None:
+    cup = trimesh.creation.cylinder(radius=0.04, height=0.10, sections=64)
+    points, _ = trimesh.sample.sample_surface(cup, 20000, seed=0)
+    assert section_profile(np.asarray(points), CONFIG) is None
