@@ -30,7 +30,7 @@ log = logging.getLogger(__name__)
 LABELER_VERSION = 3
 """Part of every entry's key with the labeler's settings: raised when
 :func:`simgrasp.handles.auto_label.auto_handle_label` finds other labels with the same settings
-(2: bodies of revolution; 3: a long tool's thin sections left out; both 6 December 2026), so
+(2: bodies of revolution; 3: a long tool's thin sections left out; both 5 December 2026), so
 no stale label is read."""
 
 
