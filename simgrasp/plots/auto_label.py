@@ -38,9 +38,10 @@ def draw_auto_label(result: AutoLabel, out: Path, points: int = 30000) -> Path:
         ax.grid(alpha=0.3)
     label = result.label
     fig.suptitle(
-        f"{label.object_name}: {len(result.parts)} handle part(s), {len(result.standoff)} piece(s) "
-        f"standing off a body of revolution, {len(label.regions)} box(es), "
-        f"{inside.mean():.0%} of the scanned surface (red); candidates kept (blue), chosen (black)"
+        f"{label.object_name}: {len(result.parts)} handle part(s), {len(result.standoff)} "
+        f"piece(s) standing off a body of revolution, {len(label.regions)} box(es)\n"
+        f"{inside.mean():.0%} of the scanned surface in the label (red); candidates kept "
+        "(blue), chosen (black)"
     )
     fig.tight_layout()
     fig.savefig(out, dpi=70)
