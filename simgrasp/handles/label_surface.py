@@ -2,10 +2,11 @@
 
 :func:`part_surface` takes the scanned points that belong to one part of
 :mod:`simgrasp.handles.auto_label` (near its candidates, or reached along their axes,
-:mod:`simgrasp.handles.axis_reach`); on a body of revolution (:mod:`simgrasp.handles.revolution`)
-:func:`part_surfaces` keeps a strap's region off the body's wall and :func:`standoff_joining`
-adds the surface that stands off the body; :func:`slab_boxes` turns points into oriented
-boxes, one per slab along their main axis. Mesh frame, meters.
+:mod:`simgrasp.handles.axis_reach`); :func:`part_surfaces` keeps a strap's region off a body
+of revolution's wall (:mod:`simgrasp.handles.revolution`) and a long tool's region off its thin
+sections (:mod:`simgrasp.handles.cross_section`), and :func:`standoff_joining` adds the surface
+that stands off the body; :func:`slab_boxes` turns points into oriented boxes, one per slab
+along their main axis. Mesh frame, meters.
 """
 
 from __future__ import annotations
