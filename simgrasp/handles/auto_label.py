@@ -233,16 +233,16 @@ def label_from_candidates(
     revolution = None
     if normals is not None and config.revolution.margin > 0:
         revolution = fit_revolution(surface, normals, config.revolution)
-    regions = part_surfaces(candidates, parts, surface, config, revolution)
+    standing = tuple(
+        revolution is not None and stands_off(candidates, part, revolution, config)
+        for part in parts
+    )
+    regions = part_surfaces(candidates, parts, surface, config, revolution, standing)
     boxes = tuple(box for region in regions for box in slab_boxes(surface[region], config))
     standoff: tuple[NDArray[np.int64], ...] = ()
     if revolution is not None:
-        standing = [
-            r
-            for r, p in zip(regions, parts, strict=True)
-            if stands_off(candidates, p, revolution, config)
-        ]
-        standoff = standoff_joining(surface, standing, bool(parts), revolution, config)
+        strap_regions = [r for r, stands in zip(regions, standing, strict=True) if stands]
+        standoff = standoff_joining(surface, strap_regions, bool(parts), revolution, config)
     boxes += tuple(box for piece in standoff for box in slab_boxes(surface[piece], config))
     return AutoLabel(HandleLabel(name, boxes), candidates, kept, parts, surface, standoff)
 

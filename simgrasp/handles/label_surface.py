@@ -38,9 +38,11 @@ def part_surfaces(
     surface: NDArray[np.float64],
     config: AutoLabelConfig,
     revolution: Revolution | None,
+    standing: tuple[bool, ...],
 ) -> tuple[NDArray[np.bool_], ...]:
     """(N,) per part, which ``surface`` points are its region (:func:`part_surface`). On a
-    body of revolution, a part that stands off the body (:func:`stands_off`: a strap) keeps
+    body of revolution, a part that stands off the body (``standing``, :func:`stands_off`:
+    a strap) keeps
     only its points beyond the wall (``revolution.margin``): the wall its reach took at the
     strap's roots is the body's, and a grasp of the rim beside the strap is no handle grasp.
     Other parts (a hammer's round handle, itself the body) keep their whole region. On a long
@@ -50,9 +52,9 @@ def part_surfaces(
     if config.cross_section.min_ratio > 0:
         profile = section_profile(surface, config.cross_section)
     regions = []
-    for part in parts:
+    for part, stands in zip(parts, standing, strict=True):
         region = part_surface(candidates, part, surface, config)
-        if revolution is not None and stands_off(candidates, part, revolution, config):
+        if revolution is not None and stands:
             region &= standoff_points(surface, revolution, config.revolution.margin)
         if profile is not None:
             own = candidates.centers[part]

@@ -75,10 +75,7 @@ class Revolution:
         self, points: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """(radial vectors (N, 3), radii (N,), heights (N,)) of ``points`` about the axis."""
-        offsets = points - self.center
-        heights = offsets @ self.axis
-        radial = offsets - heights[:, None] * self.axis
-        return radial, np.linalg.norm(radial, axis=1), heights
+        return _about_axis(points, self.center, self.axis)
 
     def wall_at(self, heights: NDArray[np.float64]) -> NDArray[np.float64]:
         """The wall's radius (m) at ``heights`` (the nearest slab's, beyond the ends the end's)."""
@@ -117,8 +114,7 @@ def _with_wall(
     median over azimuth sectors of each sector's outermost point (a handle fills few sectors);
     slabs seen in under half the sectors take the nearest such slab's radius. None when no
     slab is."""
-    revolution = Revolution(center, axis, 0.0, config.slab, np.zeros(1))
-    radial, radii, heights = revolution.radii_heights(points)
+    radial, radii, heights = _about_axis(points, center, axis)
     bottom = float(heights.min())
     slabs = np.floor((heights - bottom) / config.slab).astype(np.int64)
     outer = np.full((slabs.max() + 1, config.sectors), np.nan)
@@ -185,6 +181,17 @@ def standoff_pieces(
     sizes = np.bincount(piece)
     order = np.argsort(-sizes)
     return [index[piece == p] for p in order if sizes[p] >= config.min_piece_share * len(points)]
+
+
+def _about_axis(
+    points: NDArray[np.float64], center: NDArray[np.float64], axis: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(radial vectors (N, 3), radii (N,), heights (N,)) of ``points`` about the unit ``axis``
+    through ``center``."""
+    offsets = points - center
+    heights = offsets @ axis
+    radial = offsets - heights[:, None] * axis
+    return radial, np.linalg.norm(radial, axis=1), heights
 
 
 def _nearest_point_to_lines(
