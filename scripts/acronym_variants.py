@@ -15,14 +15,22 @@ we hold. A variant changes one thing on the compiled model or the trial settings
 - ``shake_big``: twice the shake (6 cm, 0.3 rad);
 - ``fine_hulls``: CoACD at threshold 0.05, up to 32 hulls, preprocess resolution 50;
 - ``tight_hulls``: CoACD at threshold 0.05, no cap on the hull count, no voxel remeshing
-  (the ACRONYM meshes are watertight): the hulls fill less of a mug's cavity.
+  (the ACRONYM meshes are watertight): the hulls fill less of a mug's cavity;
+- ``imp<R>``: the trial's ``impratio``; ``width<M>``: the fingers' ``solimp`` ramp (m,
+  ``TrialConfig.finger_solimp_width``); ``tc<S>``: the fingers' contact time constant (s);
+  ``noslip<N>``: MuJoCo's noslip iterations (friction without creep).
+
+Variants join with ``+`` (``width0.007+imp0.45``). ``--per-class 0`` labels every one of a
+file's first 500 grasps, and ``--files tune`` names the tune half of ``halves.json``:
 
     python scripts/acronym_variants.py --variants base,mu0.3,condim3 --per-class 20
+    python scripts/acronym_variants.py --files tune --per-class 0 --variants base,imp0.25+width0.001
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 from collections import Counter
 from collections.abc import Callable
@@ -52,6 +60,8 @@ DEFAULT_FILES = (
     "Knife_89e8bae10847eb8a8721ead1444fbb07_0.01976018915084059.h5",
 )
 FINGERS = ("gripper/left_finger", "gripper/right_finger")
+HALVES = Path(__file__).resolve().parents[1] / "docs" / "results" / "acronym" / "halves.json"
+"""The committed split of the affordance files into a tune and a held-out half."""
 FINE_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=32, preprocess_resolution=50)
 TIGHT_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=-1, preprocess_mode="off")
 HULLS = {"fine_hulls": FINE_HULLS, "tight_hulls": TIGHT_HULLS}
@@ -83,8 +93,32 @@ def _shake_big(labeler: GraspLabeler) -> None:
     labeler.trial_config = replace(trial, shake=shake)
 
 
+def _trial(labeler: GraspLabeler, **changes: float) -> None:
+    labeler.trial_config = replace(labeler.trial_config, **changes)
+
+
+def _contact_time(labeler: GraspLabeler, seconds: float) -> None:
+    model = labeler.scene.model
+    left, right = labeler.scene.gripper.finger_geoms
+    model.geom_solref[list(left + right), 0] = seconds
+
+
+def _noslip(labeler: GraspLabeler, iterations: float) -> None:
+    labeler.scene.model.opt.noslip_iterations = int(iterations)
+
+
+def _together(changes: list[Variant]) -> Variant:
+    def apply(labeler: GraspLabeler) -> None:
+        for change in changes:
+            change(labeler)
+
+    return apply
+
+
 def variant(name: str) -> Variant:
     """The change ``name`` makes to a freshly built labeler (module docstring)."""
+    if "+" in name:
+        return _together([variant(part) for part in name.split("+")])
     if name == "base" or name in HULLS:
         return lambda labeler: None
     if name == "shake_big":
@@ -95,6 +129,10 @@ def variant(name: str) -> Variant:
         ("mu", lambda lab, v: _fingers(lab, 0, v)),
         ("tors", lambda lab, v: _fingers(lab, 1, v)),
         ("force", _force),
+        ("imp", lambda lab, v: _trial(lab, impratio=v)),
+        ("width", lambda lab, v: _trial(lab, finger_solimp_width=v)),
+        ("tc", _contact_time),
+        ("noslip", _noslip),
     ):
         if name.startswith(prefix):
             value = float(name[len(prefix) :])
@@ -108,8 +146,12 @@ def subset(path: Path, per_class: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
     if labels is None:
         raise SystemExit(f"{path} has no FleX labels")
     flex = labels[0][:FIRST]
+    if per_class == 0:
+        chosen: list[int] = list(range(len(flex)))
+        with h5py.File(path) as handle:
+            return np.array(chosen), np.asarray(handle["grasps/transforms"][()]), flex
     rng = np.random.default_rng(0)
-    chosen: list[int] = []
+    chosen = []
     for cls in (True, False):
         pool = np.flatnonzero(flex == cls)
         chosen += list(rng.choice(pool, min(per_class, len(pool)), replace=False))
@@ -162,7 +204,11 @@ def main() -> None:
     parser.add_argument("--variants", default="base")
     parser.add_argument("--per-class", type=int, default=20)
     args = parser.parse_args()
-    files = [args.grasps / name for name in args.files.split(",")]
+    names = args.files.split(",")
+    if args.files == "tune":
+        halves = json.loads(HALVES.read_text())
+        names = list(halves["tune/files"])
+    files = [args.grasps / name for name in names]
     missing = [str(f) for f in files if not f.is_file()]
     if missing:
         raise SystemExit(f"no such grasp file: {missing[0]} (set SIMGRASP_ACRONYM_DIR)")

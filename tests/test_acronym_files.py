@@ -82,22 +82,31 @@ def test_franka_hand_holds_a_box_on_the_table(tmp_path: Path) -> None:
     assert record["lift_height"] > 0.15
 
 
+def _trial_physics(labeler: GraspLabeler) -> tuple[float, int, float]:
+    """(impratio, integrator, the fingers' solimp width) the last trial ran with."""
+    model = labeler.scene.model
+    left, right = labeler.scene.gripper.finger_geoms
+    widths = set(model.geom_solimp[list(left + right), 2].tolist())
+    assert len(widths) == 1, widths
+    return (model.opt.impratio, model.opt.integrator, widths.pop())
+
+
 def test_each_protocol_runs_its_trials_with_its_friction_and_integrator(tmp_path: Path) -> None:
-    """``acronym`` trials run with soft friction (``impratio`` 0.25) and the ``discrete``
-    integrator (FleX agreement on the held-out ACRONYM files 0.719 / 0.660 before either, 0.818
-    / 0.815 with both, docs/results/acronym); the other protocols keep the mounted gripper's 10
-    and ``implicitfast``, in the same scene after an ``acronym`` one."""
+    """``acronym`` trials run with soft friction (``impratio`` 0.45), soft finger contacts (a
+    7 mm ``solimp`` ramp) and the ``discrete`` integrator (FleX agreement on the held-out
+    ACRONYM files in docs/results/acronym); the other protocols keep the mounted gripper's 10,
+    the fingers' own 1 mm ramp and ``implicitfast``, in the same scene after an ``acronym``
+    one."""
     seen = {}
     for protocol in ("acronym", "full"):
         labeler = _box_labeler(tmp_path, protocol)
         labeler.label(0, OBJECT_T_TCP, np.nan)
-        options = labeler.scene.model.opt
-        seen[protocol] = (options.impratio, options.integrator)
+        seen[protocol] = _trial_physics(labeler)
         labeler.trial_config = protocol_config("full")
         labeler.label(1, OBJECT_T_TCP, np.nan)
-        seen[f"{protocol} then full"] = (options.impratio, options.integrator)
-    soft = (0.25, mujoco.mjtIntegrator.mjINT_DISCRETE)
-    mounted = (10.0, mujoco.mjtIntegrator.mjINT_IMPLICITFAST)
+        seen[f"{protocol} then full"] = _trial_physics(labeler)
+    soft = (0.45, mujoco.mjtIntegrator.mjINT_DISCRETE, 0.007)
+    mounted = (10.0, mujoco.mjtIntegrator.mjINT_IMPLICITFAST, 0.001)
     expected = {"acronym": soft, "acronym then full": mounted, "full": mounted}
     assert seen == expected | {"full then full": mounted}
     assert TrialConfig().impratio == MOUNT_IMPRATIO == 10.0

@@ -163,19 +163,25 @@ def test_a_run_of_an_older_protocol_definition_is_refused(known_set: Path, tmp_p
 
 
 def test_only_acronym_runs_name_their_soft_friction_and_integrator(known_set: Path) -> None:
-    """run.json of an ``acronym`` run holds its ``impratio`` (0.25) and ``integrator``
-    (discrete), so a directory labeled before either is refused; the other protocols' values
-    are those every run had before the settings existed, left out so their directories still
-    resume."""
+    """run.json of an ``acronym`` run holds its ``impratio`` (0.45), finger ``solimp`` width
+    (7 mm) and ``integrator`` (discrete), so a directory labeled with other physics is refused;
+    the other protocols' values are those every run had before the settings existed, left out
+    so their directories still resume."""
     grasps = read_grasp_set(known_set)
     trials = {
         protocol: run_identity(grasps, LabelConfig(OBJECT, protocol=protocol), known_set)["trial"]
         for protocol in ("acronym", "acronym-fast", "fast", "full")
     }
     for protocol in ("acronym", "acronym-fast"):
-        assert (trials[protocol]["impratio"], trials[protocol]["integrator"]) == (0.25, "discrete")
+        physics = (
+            trials[protocol]["impratio"],
+            trials[protocol]["finger_solimp_width"],
+            trials[protocol]["integrator"],
+        )
+        assert physics == (0.45, 0.007, "discrete")
     for protocol in ("fast", "full"):
-        assert "impratio" not in trials[protocol] and "integrator" not in trials[protocol]
+        for setting in ("impratio", "integrator", "finger_solimp_width"):
+            assert setting not in trials[protocol]
 
 
 def test_resume_after_sigkill(labeler: GraspLabeler, tmp_path: Path) -> None:

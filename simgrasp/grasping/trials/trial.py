@@ -102,10 +102,22 @@ def _start(scene: Scene, config: TrialConfig) -> None:
     options.timestep = config.timestep
     options.impratio = config.impratio
     options.integrator = INTEGRATORS[config.integrator]
+    _set_finger_solimp(scene, config)
     scene.model.body_gravcomp[scene.object_body] = 1.0 if config.free_floating else 0.0
     if config.free_floating:
         scene.data.qpos[scene.object_qpos + 2] += config.float_height
         mujoco.mj_forward(scene.model, scene.data)
+
+
+def _set_finger_solimp(scene: Scene, config: TrialConfig) -> None:
+    """The fingers' ``solimp`` for this trial: the gripper model's own, with the ramp width
+    of ``config.finger_solimp_width`` where it is set (the same scene may run trials of
+    several configs)."""
+    left, right = scene.gripper.finger_geoms
+    solimp = scene.gripper.finger_solimp.copy()
+    if config.finger_solimp_width is not None:
+        solimp[:, 2] = config.finger_solimp_width
+    scene.model.geom_solimp[list(left + right)] = solimp
 
 
 def run_trial(
