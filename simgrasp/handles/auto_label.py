@@ -53,6 +53,7 @@ from simgrasp.handles.label_surface import (
 from simgrasp.handles.revolution import (
     RevolutionConfig,
     fit_revolution,
+    standoff_points,
 )
 from simgrasp.handles.virtual_scan import ScanConfig, View, scan_mesh
 from simgrasp.labels import HandleLabel
@@ -237,12 +238,15 @@ def label_from_candidates(
         revolution is not None and stands_off(candidates, part, revolution, config)
         for part in parts
     )
-    regions = part_surfaces(candidates, parts, surface, config, revolution, standing)
+    beyond = None
+    if revolution is not None:
+        beyond = standoff_points(surface, revolution, config.revolution.margin)
+    regions = part_surfaces(candidates, parts, surface, config, beyond, standing)
     boxes = tuple(box for region in regions for box in slab_boxes(surface[region], config))
     standoff: tuple[NDArray[np.int64], ...] = ()
-    if revolution is not None:
+    if beyond is not None:
         strap_regions = [r for r, stands in zip(regions, standing, strict=True) if stands]
-        standoff = standoff_joining(surface, strap_regions, bool(parts), revolution, config)
+        standoff = standoff_joining(surface, beyond, strap_regions, bool(parts), config)
     boxes += tuple(box for piece in standoff for box in slab_boxes(surface[piece], config))
     return AutoLabel(HandleLabel(name, boxes), candidates, kept, parts, surface, standoff)
 

@@ -37,25 +37,25 @@ def part_surfaces(
     parts: tuple[NDArray[np.int64], ...],
     surface: NDArray[np.float64],
     config: AutoLabelConfig,
-    revolution: Revolution | None,
+    beyond: NDArray[np.bool_] | None,
     standing: tuple[bool, ...],
 ) -> tuple[NDArray[np.bool_], ...]:
     """(N,) per part, which ``surface`` points are its region (:func:`part_surface`). On a
-    body of revolution, a part that stands off the body (``standing``, :func:`stands_off`:
-    a strap) keeps
-    only its points beyond the wall (``revolution.margin``): the wall its reach took at the
-    strap's roots is the body's, and a grasp of the rim beside the strap is no handle grasp.
-    Other parts (a hammer's round handle, itself the body) keep their whole region. On a long
-    tool, a part keeps the slabs about as thick as where it was found
-    (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard)."""
+    body of revolution (``beyond``: which ``surface`` points stand off its wall,
+    :func:`simgrasp.handles.revolution.standoff_points`), a part that stands off the body
+    (``standing``, :func:`stands_off`: a strap) keeps only its points beyond the wall: the
+    wall its reach took at the strap's roots is the body's, and a grasp of the rim beside the
+    strap is no handle grasp. Other parts (a hammer's round handle, itself the body) keep
+    their whole region. On a long tool, a part keeps the slabs about as thick as where it was
+    found (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard)."""
     profile = None
     if config.cross_section.min_ratio > 0:
         profile = section_profile(surface, config.cross_section)
     regions = []
     for part, stands in zip(parts, standing, strict=True):
         region = part_surface(candidates, part, surface, config)
-        if revolution is not None and stands:
-            region &= standoff_points(surface, revolution, config.revolution.margin)
+        if beyond is not None and stands:
+            region &= beyond
         if profile is not None:
             own = candidates.centers[part]
             region &= thick_enough(surface, own, profile, config.cross_section)
@@ -76,22 +76,23 @@ def stands_off(
 
 def standoff_joining(
     surface: NDArray[np.float64],
+    beyond: NDArray[np.bool_],
     standing_regions: list[NDArray[np.bool_]],
     had_parts: bool,
-    revolution: Revolution,
     config: AutoLabelConfig,
 ) -> tuple[NDArray[np.int64], ...]:
-    """Indices into ``surface`` of the pieces standing off the body of revolution
-    (:mod:`simgrasp.handles.revolution`) that join the label: those within ``region_radius``
+    """Indices into ``surface`` of the pieces standing off the body of revolution (``beyond``,
+    :mod:`simgrasp.handles.revolution`) that join the label: those within ``region_radius``
     of the region of a part that stands off the body itself (``standing_regions``: a strap,
     not a hammer's round handle under its head), or all of them when there was no part
     (``had_parts`` false)."""
-    standoff = standoff_points(surface, revolution, config.revolution.margin)
-    pieces = standoff_pieces(surface, standoff, config.revolution)
+    pieces = standoff_pieces(surface, beyond, config.revolution)
     if not had_parts or not pieces:
         return tuple(pieces)
-    own = np.logical_or.reduce(standing_regions) if standing_regions else None
-    if own is None or not own.any():
+    own = np.zeros(len(surface), dtype=bool)
+    for region in standing_regions:
+        own |= region
+    if not own.any():
         return ()
     tree = cKDTree(surface[own])
     return tuple(
