@@ -257,6 +257,48 @@ def _fruit(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bo
     return [Part("body", body, DENSITY_FRUIT, True)], (), True
 
 
+def _blade(length: float, height: float, spine: float, x0: float, z: float) -> trimesh.Trimesh:
+    """A knife blade lying flat: a wedge from its spine (``spine`` thick, at y = 0) to its
+    edge (0.5 mm, at y = -``height``), ``length`` long from ``x0`` along x to a point at the
+    spine, centred at height ``z`` (the convex hull of its corners: watertight)."""
+    edge = 0.0005
+    root = [[x0, 0.0, z + s * spine / 2] for s in (-1, 1)]
+    root += [[x0, -height, z + s * edge / 2] for s in (-1, 1)]
+    tip = [[x0 + length, -0.1 * height, z + s * edge / 2] for s in (-1, 1)]
+    return cast(trimesh.Trimesh, trimesh.Trimesh(np.array(root + tip)).convex_hull)
+
+
+def _knife(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+    """A kitchen or table knife lying flat: a handle 9-13 cm long, either round-ish (an
+    elliptic bar 2.2-2.8 cm in the blade's plane and 1.4-2 cm across it) or flat (1.2-2.2 cm
+    by 3-9 mm: a table knife's, or scales on a tang), optionally a bolster (a short bar 5-20 %
+    wider) where the blade begins, and a wedge blade 9-20 cm long and 1.8-4.5 cm high whose
+    spine is 1.5-3 mm thick; the handle is the label. Made to check the automatic labeler on
+    long tools (``scripts/generated_labels.py``), kept out of the ``generated`` set."""
+    handle_length = uniform(rng, 0.09, 0.13)
+    flat = rng.uniform() < 0.5
+    half_y = uniform(rng, 0.006, 0.011) if flat else uniform(rng, 0.011, 0.014)
+    half_z = uniform(rng, 0.0015, 0.0045) if flat else uniform(rng, 0.007, 0.010)
+    bolster = uniform(rng, 0.008, 0.015) if rng.uniform() < 0.5 else 0.0
+    blade_length = uniform(rng, 0.09, 0.20)
+    blade_height = uniform(rng, 0.018, 0.045)
+    spine = uniform(rng, 0.0015, 0.003)
+    overlap = 0.003
+    handle = x_cylinder(half_y, half_z, 0.0, handle_length, half_z)
+    parts = [Part("handle", handle, DENSITY_WOOD, True)]
+    x_blade = handle_length - overlap
+    if bolster > 0:
+        grow = uniform(rng, 1.05, 1.2)
+        end = handle_length + bolster
+        ring = x_cylinder(grow * half_y, min(grow * half_z, half_z + 0.002), x_blade, end, half_z)
+        parts.append(Part("bolster", ring, DENSITY_STEEL, False))
+        x_blade = end - overlap
+    blade = _blade(blade_length, blade_height, spine, x_blade, half_z)
+    blade.apply_translation([0.0, 0.6 * half_y, 0.0])
+    parts.append(Part("blade", blade, DENSITY_STEEL, False))
+    return parts, (x_box_region(0.0, handle_length, half_y, half_z, half_z),), False
+
+
 _BUILDERS: dict[
     str, Callable[[np.random.Generator], tuple[list[Part], tuple[Region, ...], bool]]
 ] = {
@@ -269,6 +311,7 @@ _BUILDERS: dict[
     "fruit": _fruit,
     "strap_mug": _strap_mug,
     "drill": _drill,
+    "knife": _knife,
 }
 
 GENERATED_KINDS: tuple[str, ...] = tuple(_BUILDERS)
