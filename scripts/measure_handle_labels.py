@@ -16,7 +16,9 @@ given: as the issue words it (``good_grasp`` as the handle subset) and by where 
 are left out; grasps without a row count as not held); with ``--on-handle trial`` as well, a
 grasp is on the handle when its trial scored it so (the fingers' contacts in the simulator
 against the label the run used: the automatic one, for these meshes), not by the pads'
-geometric sweep. Writes
+geometric sweep; with ``--on-handle contacts``, the trials' recorded finger contacts scored
+again against the label made now (to try labeler settings, given as flags such as
+``--label.segments 4``, on a finished run). Writes
 ``handle_labels.md`` and ``per_file.json`` (counts only: no mesh-derived geometry).
 
     python scripts/measure_handle_labels.py --out docs/results/handle-labels
@@ -28,11 +30,14 @@ import argparse
 import hashlib
 import json
 import os
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 
 from simgrasp.assets.auto_handles import LABELER_VERSION
+from simgrasp.config.arguments import add_settings_arguments, settings_from_args
 from simgrasp.config.tree import flatten
 from simgrasp.evaluation.acronym_handles import (
     held_from_labels,
@@ -51,11 +56,31 @@ HANDLE_SUBSETS = {
 }
 
 
-def settings_key(labels_dir: Path | None, on_handle: str) -> str:
+OnHandle = Literal["geometric", "trial", "contacts"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options:
+    data: Path = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym")) / "affordance"
+    """Folder holding ``grasps/`` (default: ``$SIMGRASP_ACRONYM_DIR/affordance``)."""
+    out: Path = Path("docs/results/handle-labels")
+    """Folder of ``handle_labels.md`` and ``per_file.json``."""
+    labels_dir: Path | None = None
+    """A label run's folder: only the grasps it held count."""
+    on_handle: OnHandle = "geometric"
+    """Who scores on_handle: the pads' geometric sweep, the run's trials, or the run's recorded
+    contacts against the label made now (the last two need ``--labels-dir``)."""
+    half: Literal["tune", "held-out", "all"] = "all"
+    """Measure only the files of this half (a settings search looks at ``tune`` only)."""
+    label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
+
+
+def settings_key(options: Options) -> str:
     """What a row was measured under: the labeler's settings and version, the held-grasp
     folder and who scores on_handle."""
+    labels_dir, on_handle = options.labels_dir, options.on_handle
     given = {
-        "label": flatten(AutoLabelConfig()),
+        "label": flatten(options.label),
         "labeler_version": LABELER_VERSION,
         "labels_dir": str(labels_dir),
         "on_handle": on_handle,
@@ -63,16 +88,23 @@ def settings_key(labels_dir: Path | None, on_handle: str) -> str:
     return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def measure(
-    data: Path, out: Path, labels_dir: Path | None, on_handle: str = "geometric"
-) -> list[dict[str, object]]:
+def measure(options: Options) -> list[dict[str, object]]:
     """One row per file: its half, category and per-subset counts. Resumes from
     ``per_file.json``, reusing only rows measured under today's settings (others rerun)."""
+    data, out, labels_dir, on_handle = (
+        options.data,
+        options.out,
+        options.labels_dir,
+        options.on_handle,
+    )
     done_file = out / "per_file.json"
-    key = settings_key(labels_dir, on_handle)
+    key = settings_key(options)
     done = {r["file"]: r for r in json.loads(done_file.read_text())} if done_file.exists() else {}
     rows = []
     for index, path in enumerate(sorted((data / "grasps").glob("*.h5"))):
+        half = "tune" if index % 2 == 0 else "held-out"
+        if options.half not in (half, "all"):
+            continue
         if done.get(path.stem, {}).get("settings") == key:
             rows.append(done[path.stem])
             continue
@@ -84,14 +116,19 @@ def measure(
         if on_handle == "trial" and labels is not None:
             shares = trial_subset_shares(item, *trial_labels(labels, len(item.object_T_hands)))
             boxes = None
+        elif on_handle == "contacts" and labels is not None:
+            result = auto_handle_label(item.mesh, item.name, options.label)
+            scored = trial_labels(labels, len(item.object_T_hands), result.label)
+            shares = trial_subset_shares(item, *scored)
+            boxes = len(result.label.regions)
         else:
-            result = auto_handle_label(item.mesh, item.name)
+            result = auto_handle_label(item.mesh, item.name, options.label)
             held = None if labels is None else held_from_labels(labels, len(item.object_T_hands))
             shares = subset_shares(item, result.label, held=held)
             boxes = len(result.label.regions)
         row = {
             "file": path.stem,
-            "half": "tune" if index % 2 == 0 else "held-out",
+            "half": half,
             "category": path.stem.split("_")[0],
             "boxes": boxes,
             "subsets": shares,
@@ -134,18 +171,14 @@ def table(rows: list[dict]) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    default = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym")) / "affordance"
-    parser.add_argument("--data", type=Path, default=default, help="folder holding grasps/")
-    parser.add_argument("--out", type=Path, default=Path("docs/results/handle-labels"))
-    parser.add_argument("--labels-dir", type=Path, default=None)
-    parser.add_argument("--on-handle", choices=("geometric", "trial"), default="geometric")
-    args = parser.parse_args()
-    if args.on_handle == "trial" and args.labels_dir is None:
-        parser.error("--on-handle trial needs --labels-dir (the trials' records)")
-    args.out.mkdir(parents=True, exist_ok=True)
-    rows = measure(args.data, args.out, args.labels_dir, args.on_handle)
+    add_settings_arguments(parser, Options)
+    options = settings_from_args(Options, parser.parse_args())
+    if options.on_handle != "geometric" and options.labels_dir is None:
+        parser.error(f"--on-handle {options.on_handle} needs --labels-dir (the trials' records)")
+    options.out.mkdir(parents=True, exist_ok=True)
+    rows = measure(options)
     text = table(rows)
-    (args.out / "handle_labels.md").write_text(text)
+    (options.out / "handle_labels.md").write_text(text)
     print(text)
     print("per-file boxes:", np.array([r["boxes"] for r in rows]).tolist())
     return 0

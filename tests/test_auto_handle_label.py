@@ -66,6 +66,17 @@ def test_mesh_in_millimetres_needs_units(tmp_path: Path, capsys: pytest.CaptureF
     assert "at scale 0.5" in err and "--units mm" in err and len(err.splitlines()) == 1
 
 
+def test_a_generated_knife_gets_its_handle_and_not_its_blade() -> None:
+    from simgrasp.assets.generated import generate_parts
+
+    for seed in (0, 2):  # a flat and a round handle, neither with a bolster
+        asset = generate_tool("knife", seed)
+        label = auto_handle_label(asset.mesh, asset.name, FAST).label
+        assert _iou(label, asset.handle, asset.mesh) >= 0.9
+        blade = next(p.mesh for p in generate_parts("knife", seed).parts if p.name == "blade")
+        assert label.contains(blade.sample(5000, seed=0)).mean() <= 0.1
+
+
 def test_handle_less_bodies_get_no_handle_region() -> None:
     for kind in ("can", "fruit"):
         asset = generate_tool(kind, 0)
@@ -121,6 +132,30 @@ def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -
     scored = trial_subset_shares(item, *trial_labels(labels, len(item.object_T_hands)))
     assert scored["good_grasp"] == {"grasps": 1, "on_handle": 1}
     assert scored["good_pour"]["grasps"] == 0
+
+
+def test_recorded_contacts_are_scored_again_against_another_label(tmp_path: Path) -> None:
+    from simgrasp.evaluation.acronym_handles import trial_labels
+    from simgrasp.labels import Box
+
+    box = Box(np.zeros(3), np.eye(3), np.full(3, 0.01))
+    label = HandleLabel("bar", (box,))
+    inside, outside = [[0.0, 0.0, 0.012], [0.0, 0.0, -0.012]], [[0.05, 0.0, 0.0]] * 2
+    rows = [
+        {"index": 0, "success": True, "on_handle": False, "contact_points_object": inside},
+        {"index": 1, "success": True, "on_handle": True, "contact_points_object": outside},
+        {"index": 2, "success": False, "on_handle": False, "contact_points_object": inside},
+    ]
+    labels = tmp_path / "labels.jsonl"
+    labels.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    held, recorded = trial_labels(labels, 4)
+    assert held.tolist() == [True, True, False, False]
+    assert recorded.tolist() == [False, True, False, False]
+    rescored = trial_labels(labels, 4, label)[1]  # contacts within the 5 mm margin count
+    assert rescored.tolist() == [True, False, False, False]
+    labels.write_text(json.dumps({"index": 0, "success": True}) + "\n")
+    with pytest.raises(Exception, match="not a label row"):
+        trial_labels(labels, 4, label)
 
 
 def _tube_points(radius: float, length: float, center_x: float = 0.0) -> np.ndarray:

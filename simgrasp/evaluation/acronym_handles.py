@@ -147,9 +147,14 @@ def held_from_labels(path: Path, grasps: int) -> NDArray[np.bool_]:
     return trial_labels(path, grasps)[0]
 
 
-def trial_labels(path: Path, grasps: int) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+def trial_labels(
+    path: Path, grasps: int, label: HandleLabel | None = None
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
     """(held, on_handle), one bool per grasp, as a ``labels.jsonl`` of ours scored them (rows
-    with ``index``, ``success`` and ``on_handle``; grasps without a row: False, False)."""
+    with ``index``, ``success`` and ``on_handle``; grasps without a row: False, False). Given
+    a ``label``, ``on_handle`` is scored again from the rows' recorded finger contacts
+    (``contact_points_object``) against it, as a trial scores it: a labeler's settings can be
+    tried on a finished label run without running its trials again."""
     held = np.zeros(grasps, dtype=bool)
     on_handle = np.zeros(grasps, dtype=bool)
     try:
@@ -163,12 +168,22 @@ def trial_labels(path: Path, grasps: int) -> tuple[NDArray[np.bool_], NDArray[np
             row = json.loads(line)
             index, success = int(row["index"]), row["success"] is True
             touched = row.get("on_handle") is True
+            if label is not None:
+                touched = success and _contacts_on(row["contact_points_object"], label)
         except (json.JSONDecodeError, KeyError, TypeError, ValueError) as exc:
             raise SimgraspError(f"{path}:{number}: not a label row ({exc})") from exc
         if not 0 <= index < grasps:
             raise SimgraspError(f"{path}:{number}: grasp index {index} out of range")
         held[index], on_handle[index] = success, touched
     return held, on_handle
+
+
+def _contacts_on(points_object: list[list[float]], label: HandleLabel) -> bool:
+    """Whether recorded finger contacts (object frame, m) are on the handle ``label``."""
+    points = np.asarray(points_object, dtype=float).reshape(-1, 3)
+    return (
+        bool(len(points)) and handle_fraction(points, label, HANDLE_MARGIN) >= ON_HANDLE_THRESHOLD
+    )
 
 
 def trial_subset_shares(
