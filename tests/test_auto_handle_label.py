@@ -134,6 +134,26 @@ def test_acronym_mug_handle_grasps_fall_in_the_automatic_label(tmp_path: Path) -
     assert scored["good_pour"]["grasps"] == 0
 
 
+FLAT_KNIFE = "Knife_89e8bae10847eb8a8721ead1444fbb07_0.01976018915084059.h5"
+
+
+def test_a_flat_knife_handle_is_labeled_to_its_end_and_not_its_blade() -> None:
+    """A tune-half ACRONYM table knife whose 3.3 mm flat handle the detector finds only in
+    part: the label runs on along the handle's section to its end, and stops at the blade."""
+    from simgrasp.evaluation.acronym_handles import read_acronym, subset_shares
+
+    root = require_data("acronym")
+    item = read_acronym(root / "affordance" / "grasps" / FLAT_KNIFE)
+    label = auto_handle_label(item.mesh, item.name).label
+    shares = subset_shares(item, label)
+    handle, blade = shares["good_cut"], shares["good_grasp"]  # by location (see the README)
+    assert handle["on_handle"] / handle["grasps"] >= 0.95
+    assert blade["on_handle"] / blade["grasps"] <= 0.1
+    without = replace(AutoLabelConfig(), cross_section=CrossSectionConfig(grow_ratio=0.0))
+    short = subset_shares(item, auto_handle_label(item.mesh, item.name, without).label)
+    assert short["good_cut"]["on_handle"] < handle["on_handle"]
+
+
 def test_recorded_contacts_are_scored_again_against_another_label(tmp_path: Path) -> None:
     from simgrasp.evaluation.acronym_handles import trial_labels
     from simgrasp.labels import Box

@@ -8,7 +8,12 @@ from typing import cast
 import numpy as np
 import trimesh
 
-from simgrasp.handles.cross_section import CrossSectionConfig, section_profile, thick_enough
+from simgrasp.handles.cross_section import (
+    CrossSectionConfig,
+    section_profile,
+    section_run,
+    thick_enough,
+)
 
 CONFIG = CrossSectionConfig()
 TURN = trimesh.transformations.rotation_matrix(0.9, [1.0, -0.5, 0.3])
@@ -48,3 +53,19 @@ def test_a_cup_is_not_elongated() -> None:
     cup = trimesh.creation.cylinder(radius=0.04, height=0.10, sections=64)
     points, _ = trimesh.sample.sample_surface(cup, 20000, seed=0)
     assert section_profile(np.asarray(points), CONFIG) is None
+
+
+def test_a_handle_found_in_part_runs_on_to_its_end_and_stops_at_the_guard() -> None:
+    points, z = _knife_points()
+    profile = section_profile(points, CONFIG)
+    assert profile is not None
+    middle = points[np.abs(z) < 0.01][::50]  # candidates on the middle fifth of the handle
+    run = section_run(points, middle, profile, CONFIG)
+    handle, guard_or_blade = np.abs(z) < 0.048, z > 0.052
+    assert run[handle].mean() > 0.99 and not run[guard_or_blade].any()
+    on_blade = section_run(points, points[z > 0.09][::50], profile, CONFIG)
+    assert not on_blade.any()  # a part on the thinner end does not grow
+    # the guard (36 mm wide, 6 mm long) is twice the handle's width: a looser ratio takes it
+    loose = section_run(points, middle, profile, CrossSectionConfig(grow_ratio=2.5))
+    guard = (z > 0.052) & (z < 0.054)
+    assert loose[guard].all() and not loose[z > 0.066].any()

@@ -148,7 +148,8 @@ class AutoLabelConfig(Checked):
     """Each box is grown by this much."""
     cross_section: CrossSectionConfig = field(default_factory=CrossSectionConfig)
     """On a long tool, a part's region leaves out the slabs much thinner than where the part
-    was found (:mod:`simgrasp.handles.cross_section`: a knife's blade, a spatula's plate).
+    was found (:mod:`simgrasp.handles.cross_section`: a knife's blade, a spatula's plate) and
+    takes the slabs whose section stays like the part's (the rest of a flat handle).
     Chosen on the tune half of the ACRONYM knives: their blade grasps on the label 10 -> 1 of 46
     held (docs/results/handle-labels/README.md). ``cross_section.min_ratio`` 0: off."""
     revolution: RevolutionConfig = field(default_factory=RevolutionConfig)

@@ -24,7 +24,7 @@ from simgrasp.handles.axis_reach import (
     reached_along_axes,
     section_stops,
 )
-from simgrasp.handles.cross_section import section_profile, thick_enough
+from simgrasp.handles.cross_section import section_profile, section_run, thick_enough
 from simgrasp.handles.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
 
@@ -58,6 +58,8 @@ def part_surfaces(
             region &= beyond
         if profile is not None:
             own = candidates.centers[part]
+            if config.cross_section.grow_ratio > 0:
+                region |= section_run(surface, own, profile, config.cross_section)
             region &= thick_enough(surface, own, profile, config.cross_section)
         regions.append(region)
     return tuple(regions)
