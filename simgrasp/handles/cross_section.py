@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy import ndimage
 
 from simgrasp.config.checks import Checked, NonNegative, Positive, PositiveInt
 
@@ -43,12 +44,12 @@ class CrossSectionConfig(Checked):
     grow_ratio: NonNegative = 1.5
     """A part's region also takes every slab of the unbroken runs of slabs, meeting the slabs
     its candidates span, whose thickness and width (the spread along the slab's major axis)
-    stay within this factor of the part's median slab, either way: the
-    rest of a handle the detector found in part (a flat handle's flat end), up to a blade
-    (thinner) or a head (wider). Parts thinner than the tool's median slab (on a blade) do
-    not grow (0: off). Chosen on the tune half of the ACRONYM knives (flat-handled 89e8: 33 ->
-    48 of 48 handle grasps on the label; 1.33-2.0 alike) with the generated long tools
-    unchanged (docs/results/handle-labels/README.md, sixth round)."""
+    stay within this factor of the part's median slab, either way: the rest of a handle the
+    detector found in part (a flat handle's flat end), up to a blade (thinner) or a head
+    (wider). Parts thinner than the tool's median slab (on a blade) do not grow (0: off).
+    Chosen on the tune half of the ACRONYM knives (flat-handled 89e8: 33 -> 48 of 48 held
+    handle grasps on the label; 1.33-2.0 alike) with the generated long tools unchanged
+    (docs/results/handle-labels/README.md, sixth round)."""
 
 
 @dataclass(frozen=True)
@@ -120,9 +121,8 @@ def section_run(
     median is unknown or the part is thinner than the tool's median slab."""
     own = profile.slabs_of(part_points)
     thick, wide = np.nanmedian(profile.thickness[own]), np.nanmedian(profile.width[own])
-    none = np.zeros(len(points), dtype=bool)
     if not (np.isfinite(thick) and np.isfinite(wide)) or thick < np.nanmedian(profile.thickness):
-        return none
+        return np.zeros(len(points), dtype=bool)
     ratio = config.grow_ratio
     alike = (
         (profile.thickness >= thick / ratio)
@@ -130,9 +130,9 @@ def section_run(
         & (profile.width >= wide / ratio)
         & (profile.width <= wide * ratio)
     )
-    run = np.cumsum(np.diff(np.concatenate([[False], alike]).astype(int)) == 1) * alike
-    runs = np.unique(run[own.min() : own.max() + 1])
-    return np.isin(run[profile.slabs_of(points)], runs[runs > 0])
+    run_of_slab = ndimage.label(alike)[0]  # 0: not alike; 1, 2, ...: unbroken runs
+    meeting = np.setdiff1d(run_of_slab[own.min() : own.max() + 1], [0])
+    return np.isin(run_of_slab[profile.slabs_of(points)], meeting)
 
 
 def _spreads(across: NDArray[np.float64]) -> tuple[float, float]:
