@@ -71,7 +71,7 @@ def main() -> None:
     baseline = replace(
         config,
         revolution=RevolutionConfig(margin=0.0),
-        cross_section=CrossSectionConfig(min_ratio=0.0),
+        cross_section=CrossSectionConfig(min_ratio=0.0, grow_ratio=0.0),
     )
     print("one process (one core); median of", args.repeats, "runs, seconds")
     print(

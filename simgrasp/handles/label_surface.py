@@ -46,11 +46,13 @@ def part_surfaces(
     (``standing``, :func:`stands_off`: a strap) keeps only its points beyond the wall: the
     wall its reach took at the strap's roots is the body's, and a grasp of the rim beside the
     strap is no handle grasp. Other parts (a hammer's round handle, itself the body) keep
-    their whole region. On a long tool, a part keeps the slabs about as thick as where it was
+    their whole region. On a long tool, a part takes the runs of slabs whose section stays like
+    its own (the rest of a flat handle) and keeps the slabs about as thick as where it was
     found (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard)."""
     profile = None
-    if config.cross_section.min_ratio > 0:
-        profile = section_profile(surface, config.cross_section)
+    section = config.cross_section
+    if section.min_ratio > 0 or section.grow_ratio > 0:
+        profile = section_profile(surface, section)
     regions = []
     for part, stands in zip(parts, standing, strict=True):
         region = part_surface(candidates, part, surface, config)
@@ -58,9 +60,10 @@ def part_surfaces(
             region &= beyond
         if profile is not None:
             own = candidates.centers[part]
-            if config.cross_section.grow_ratio > 0:
-                region |= section_run(surface, own, profile, config.cross_section)
-            region &= thick_enough(surface, own, profile, config.cross_section)
+            if section.grow_ratio > 0:
+                region |= section_run(surface, own, profile, section)
+            if section.min_ratio > 0:
+                region &= thick_enough(surface, own, profile, section)
         regions.append(region)
     return tuple(regions)
 
