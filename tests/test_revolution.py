@@ -80,3 +80,17 @@ def test_a_flat_blade_and_a_box_are_no_bodies_of_revolution() -> None:
     for extents in ([0.03, 0.002, 0.15], [0.06, 0.04, 0.1]):
         points, normals = _surface(_tilted(trimesh.creation.box(extents)))
         assert fit_revolution(points, normals, CONFIG) is None
+
+
+def test_a_mug_with_a_big_handle_is_one_and_a_drill_is_not() -> None:
+    """A generated mug whose big round handle's sides make up much of its wall (radial share
+    0.84) is a body of revolution; a generated drill, round about its housing, is not: its
+    wall leaves azimuth sectors nearly empty (fill 0.64), so its battery cannot stand off."""
+    from simgrasp.assets.generated import generate_tool
+    from simgrasp.handles.virtual_scan import ScanConfig, scan_mesh
+
+    for kind, seed, expected in (("mug", 0, True), ("drill", 2, False)):
+        views = scan_mesh(generate_tool(kind, seed).mesh, ScanConfig())
+        points = np.concatenate([v.points for v in views])
+        normals = np.concatenate([v.normals for v in views])
+        assert (fit_revolution(points, normals, CONFIG) is not None) == expected, kind

@@ -8,13 +8,16 @@ scanned points and normals (the direction the wall's normals are perpendicular t
 point their lines pass nearest), says whether the surface is one at all (most wall normals
 point at the axis, from every side) and takes, per height slab, the wall's radius as the
 median over azimuth sectors of each sector's outermost point; :func:`standoff_points` marks
-the points more than ``margin`` beyond it. A knife, a hammer or a spatula is no body of
-revolution: its flat faces' normals are parallel, not radial, and the fit refuses it.
+the points more than ``margin`` beyond it. A flat knife or a spatula is no body of
+revolution: its flat faces' normals are parallel, not radial, and the fit refuses it; a drill,
+round about its housing, leaves azimuth sectors nearly empty. A tool whose round handle is
+most of it (a hammer, a screwdriver) is one about its handle; the handle is then the body, and
+:mod:`simgrasp.handles.label_surface` keeps its label whole.
 
 All lengths in meters, in the frame of the points (the mesh frame for
 :mod:`simgrasp.handles.auto_label`, which uses it to label handles;
-the settings were chosen on ACRONYM mugs and knives: docs/results/handle-labels/README.md,
-fifth round).
+the settings were chosen on ACRONYM mugs and knives and on generated objects:
+docs/results/handle-labels/README.md, fifth and sixth rounds).
 """
 
 from __future__ import annotations
@@ -42,14 +45,15 @@ class RevolutionConfig(Checked):
     radial_cosine: Fraction = 0.9
     """A wall point's normal points at the axis when the cosine between its normal and its
     radial direction (both across the axis) is at least this ..."""
-    min_radial_share: Fraction = 0.85
+    min_radial_share: Fraction = 0.8
     """... and the surface is a body of revolution when at least this share of its wall
-    points do ..."""
+    points do (a mug with a big round handle: 0.84; ACRONYM knives up to 0.70) ..."""
     sectors: PositiveInt = 24
     """... and its wall points fill every one of this many azimuth sectors round the axis
     with at least ``min_sector_share`` of their number divided by the sector count."""
-    min_sector_share: Fraction = 0.5
-    """See ``sectors``."""
+    min_sector_share: Fraction = 0.7
+    """See ``sectors`` (mugs and pans fill 0.76 or more; a drill about its housing 0.56-0.64,
+    ACRONYM knives up to 0.69: docs/results/handle-labels/README.md, sixth round)."""
     slab: Positive = 0.004
     """Height slabs (along the axis) in which the wall's radius is taken."""
     link: Positive = 0.003
