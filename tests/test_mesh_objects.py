@@ -135,7 +135,9 @@ def test_a_mesh_without_handle_file_gets_the_automatic_label_cached(
     assert len(note) == 1 and "has no handle file" in note[0] and "mug.stl" in note[0]
     points, _ = sample_surface(mug.mesh, 20000, np.random.default_rng(0))
     found, exact = asset.handle.contains(points), mug.handle.contains(points)
-    assert (found & exact).sum() / exact.sum() >= 0.9 and found.mean() <= 0.5  # strap and root
+    # the handle beyond the wall's margin (its roots are the wall's), and nothing of the body
+    both = (found & exact).sum()
+    assert both / exact.sum() >= 0.75 and both / found.sum() >= 0.95
     (entry,) = cache_dir("handle-labels").glob("*.json")
     stamp = entry.stat().st_mtime_ns
     again = automatic_handle_label(asset.mesh, "again")
