@@ -31,6 +31,7 @@ from scipy.spatial import cKDTree
 from simgrasp.assets.auto_handles import LABELER_VERSION
 from simgrasp.assets.generated import GENERATED_KINDS, generate_parts, generate_tool
 from simgrasp.config.arguments import add_settings_arguments, settings_from_args
+from simgrasp.config.checks import Checked, Positive, PositiveInt
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
@@ -115,12 +116,12 @@ def table(rows: list[dict]) -> str:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options:
+class Options(Checked):
     kinds: tuple[str, ...] = ("knife",)
     """Generated kinds to measure."""
-    seeds: int = 20
+    seeds: PositiveInt = 20
     """Seeds 0 .. N-1 of each kind."""
-    near: float = 0.005
+    near: Positive = 0.005
     """Margin (m) around the labeled surface counted as on the label."""
     out: Path = Path("docs/results/generated-labels")
     """Folder of ``rows.jsonl`` and ``generated_labels.md``."""

@@ -39,6 +39,7 @@ import numpy as np
 from simgrasp.assets.auto_handles import LABELER_VERSION
 from simgrasp.config.arguments import add_settings_arguments, settings_from_args
 from simgrasp.config.tree import flatten
+from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.acronym_handles import (
     held_from_labels,
     read_acronym,
@@ -172,7 +173,10 @@ def table(rows: list[dict]) -> str:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     add_settings_arguments(parser, Options)
-    options = settings_from_args(Options, parser.parse_args())
+    try:
+        options = settings_from_args(Options, parser.parse_args())
+    except SimgraspError as error:
+        parser.exit(2, f"error: {error}\n")
     if options.on_handle != "geometric" and options.labels_dir is None:
         parser.error(f"--on-handle {options.on_handle} needs --labels-dir (the trials' records)")
     options.out.mkdir(parents=True, exist_ok=True)
