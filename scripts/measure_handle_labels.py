@@ -79,12 +79,11 @@ class Options:
 def settings_key(options: Options) -> str:
     """What a row was measured under: the labeler's settings and version, the held-grasp
     folder and who scores on_handle."""
-    labels_dir, on_handle = options.labels_dir, options.on_handle
     given = {
         "label": flatten(options.label),
         "labeler_version": LABELER_VERSION,
-        "labels_dir": str(labels_dir),
-        "on_handle": on_handle,
+        "labels_dir": str(options.labels_dir),
+        "on_handle": options.on_handle,
     }
     return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
 
@@ -92,17 +91,12 @@ def settings_key(options: Options) -> str:
 def measure(options: Options) -> list[dict[str, object]]:
     """One row per file: its half, category and per-subset counts. Resumes from
     ``per_file.json``, reusing only rows measured under today's settings (others rerun)."""
-    data, out, labels_dir, on_handle = (
-        options.data,
-        options.out,
-        options.labels_dir,
-        options.on_handle,
-    )
-    done_file = out / "per_file.json"
+    labels_dir, on_handle = options.labels_dir, options.on_handle
+    done_file = options.out / "per_file.json"
     key = settings_key(options)
     done = {r["file"]: r for r in json.loads(done_file.read_text())} if done_file.exists() else {}
     rows = []
-    for index, path in enumerate(sorted((data / "grasps").glob("*.h5"))):
+    for index, path in enumerate(sorted((options.data / "grasps").glob("*.h5"))):
         half = "tune" if index % 2 == 0 else "held-out"
         if options.half not in (half, "all"):
             continue

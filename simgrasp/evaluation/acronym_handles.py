@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.scoring import handle_fraction
@@ -72,11 +72,7 @@ def on_handle(
 ) -> NDArray[np.bool_]:
     """For each hand pose (K, 4, 4), whether its pad contacts are scored on the handle."""
     return np.array(
-        [
-            handle_fraction(pad_contacts(points_object, pose, pads), label, HANDLE_MARGIN)
-            >= ON_HANDLE_THRESHOLD
-            for pose in object_T_hands
-        ],
+        [_contacts_on(pad_contacts(points_object, pose, pads), label) for pose in object_T_hands],
         dtype=bool,
     )
 
@@ -178,8 +174,9 @@ def trial_labels(
     return held, on_handle
 
 
-def _contacts_on(points_object: list[list[float]], label: HandleLabel) -> bool:
-    """Whether recorded finger contacts (object frame, m) are on the handle ``label``."""
+def _contacts_on(points_object: ArrayLike, label: HandleLabel) -> bool:
+    """Whether finger contacts (object frame, m; recorded or the pads' sweep) are on the
+    handle ``label``, as a trial scores ``on_handle``."""
     points = np.asarray(points_object, dtype=float).reshape(-1, 3)
     return (
         bool(len(points)) and handle_fraction(points, label, HANDLE_MARGIN) >= ON_HANDLE_THRESHOLD
