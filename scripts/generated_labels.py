@@ -8,8 +8,8 @@ handle (a knife's blade and bolster, a hammer's head) the share of its surface w
 ``--near`` (5 mm, the trials' on-handle margin) of labeled surface, i.e. where a grasp on that
 part would count as on the handle. This is the place to choose labeler settings outside the
 ACRONYM files (``docs/results/handle-labels/README.md``). Rows go to ``rows.jsonl`` as they
-finish (a rerun keeps those measured under the same settings); ``generated_labels.md`` is the
-table.
+finish (a rerun keeps those measured under the same settings on the same meshes);
+``generated_labels.md`` is the table.
 
     python scripts/generated_labels.py --kinds knife --seeds 20 --out docs/results/generated-labels
 
@@ -44,6 +44,12 @@ def settings_key(config: AutoLabelConfig) -> str:
     """The labeler's settings and version a row was measured under."""
     given = {"label": flatten(config), "labeler_version": LABELER_VERSION}
     return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def mesh_key(kind: str, seed: int) -> str:
+    """A hash of the generated object's mesh: a row measured on another build is stale."""
+    mesh = generate_tool(kind, seed).mesh
+    return hashlib.sha256(mesh.vertices.tobytes() + mesh.faces.tobytes()).hexdigest()[:16]
 
 
 def measure_one(kind: str, seed: int, config: AutoLabelConfig, near: float) -> dict[str, object]:
@@ -139,7 +145,13 @@ def run(options: Options) -> str:
     done = []
     if done_file.exists():
         done = [json.loads(line) for line in done_file.read_text().splitlines() if line]
-    done = [r for r in done if r.get("settings") == key and r.get("near_margin") == options.near]
+    done = [
+        r
+        for r in done
+        if r.get("settings") == key
+        and r.get("near_margin") == options.near
+        and r.get("mesh") == mesh_key(r["kind"], r["seed"])
+    ]
     have = {(r["kind"], r["seed"]) for r in done}
     with done_file.open("w") as handle:
         handle.writelines(json.dumps(r) + "\n" for r in done)
@@ -148,7 +160,7 @@ def run(options: Options) -> str:
             if (kind, seed) in have:
                 continue
             row = measure_one(kind, seed, options.label, options.near)
-            row.update(settings=key, near_margin=options.near)
+            row.update(settings=key, near_margin=options.near, mesh=mesh_key(kind, seed))
             done.append(row)
             with done_file.open("a") as handle:
                 handle.write(json.dumps(row) + "\n")
