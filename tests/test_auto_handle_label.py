@@ -16,6 +16,7 @@ from simgrasp.assets.generated import generate_tool
 from simgrasp.cli import main
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 from simgrasp.handles.cross_section import CrossSectionConfig
+from simgrasp.handles.label_surface import slab_boxes
 from simgrasp.handles.revolution import RevolutionConfig
 from simgrasp.handles.virtual_scan import ScanConfig
 from simgrasp.labels import HandleLabel, load_handle_label, write_label_file
@@ -75,6 +76,22 @@ def test_a_generated_knife_gets_its_handle_and_not_its_blade() -> None:
         assert _iou(label, asset.handle, asset.mesh) >= 0.9
         blade = next(p.mesh for p in generate_parts("knife", seed).parts if p.name == "blade")
         assert label.contains(blade.sample(5000, seed=0)).mean() <= 0.1
+
+
+def test_a_thin_grooved_flat_handle_is_found_on_the_looser_flatness() -> None:
+    """gen_knife_s14: a flat 18 x 3.7 mm handle with finger grooves, whose fits are flatter
+    than ``max_flatness``: found only by the retry at ``retry_flatness``, and not its blade."""
+    from simgrasp.assets.generated import generate_parts
+
+    asset = generate_tool("knife", 14)
+    parts = generate_parts("knife", 14).parts
+    handle = np.concatenate([p.mesh.sample(4000, seed=0) for p in parts if p.is_handle])
+    blade = next(p.mesh for p in parts if p.name == "blade").sample(5000, seed=0)
+    label = auto_handle_label(asset.mesh, asset.name, FAST).label
+    assert label.contains(handle).mean() >= 0.95
+    assert label.contains(blade).mean() <= 0.1
+    strict = replace(FAST, retry_flatness=0.0)
+    assert auto_handle_label(asset.mesh, asset.name, strict).label.regions == ()
 
 
 def test_handle_less_bodies_get_no_handle_region() -> None:
@@ -183,6 +200,26 @@ def _tube_points(radius: float, length: float, center_x: float = 0.0) -> np.ndar
     angle, z = np.meshgrid(np.linspace(0, 2 * np.pi, 120, endpoint=False), np.arange(-1, 1, 0.01))
     x = center_x + radius * np.cos(angle).ravel()
     return np.column_stack([x, radius * np.sin(angle).ravel(), z.ravel() * length / 2])
+
+
+def test_kmeans_pieces_follow_a_loop_where_slabs_span_its_opening() -> None:
+    """A loop of three quarters of a ring (3 cm radius, 6 x 12 mm section), as a strap with
+    its roots: k-means boxes follow the ring and leave most of its opening free; boxes of
+    slabs along its main axis span all of it."""
+    rng = np.random.default_rng(0)
+    angle = rng.uniform(-0.75 * np.pi, 0.75 * np.pi, 3000)
+    radius = 0.03 + rng.uniform(-0.003, 0.003, 3000)
+    height = rng.uniform(-0.006, 0.006, 3000)
+    loop = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), height])
+    grid = np.mgrid[-0.03:0.031:0.0025, -0.03:0.031:0.0025].reshape(2, -1).T
+    opening = np.column_stack([grid, np.zeros(len(grid))])[np.linalg.norm(grid, axis=1) < 0.022]
+    covered = {}
+    for pieces in ("kmeans", "slabs"):
+        boxes = slab_boxes(loop, replace(AutoLabelConfig(), pieces=pieces))
+        label = HandleLabel("loop", tuple(boxes))
+        assert len(boxes) == 3 and label.contains(loop).mean() == 1.0
+        covered[pieces] = label.contains(opening).mean()
+    assert covered["kmeans"] <= 0.2 and covered["slabs"] == 1.0
 
 
 def test_free_space_is_empty_around_a_free_tube_and_full_beside_a_wall() -> None:

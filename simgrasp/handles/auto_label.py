@@ -4,7 +4,8 @@ The mesh is scanned from many directions (:mod:`simgrasp.handles.virtual_scan`);
 detector runs on every view; its accepted neighborhoods (candidates) from all views are pooled
 in the mesh frame and kept when they look like a handle's cross-section: narrow enough to be a
 handle rather than the object's body (``max_width``) and round rather than flat
-(``max_flatness``: a blade's or a wall's fits are flat). The kept candidates are clustered by
+(``max_flatness``: a blade's or a wall's fits are flat; looser, ``retry_flatness``, when that
+finds nothing on an object that is not a body of revolution). The kept candidates are clustered by
 single linkage; clusters seen from enough views, with enough support against the best one,
 become handle parts; a part's candidates much wider than its median (``max_section_ratio``:
 a knife's blade root or guard fitted as one wide round section) are then left out and,
@@ -31,6 +32,7 @@ an empty label (no handle).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import Literal
 
 import numpy as np
 import trimesh
@@ -76,7 +78,13 @@ class AutoLabelConfig(Checked):
     """Candidates wider than this (the detector's grasp width) are the object's body."""
     max_flatness: Positive = 2.0
     """Candidates whose larger transverse semi-axis exceeds this many times the smaller are
-    flat (a blade, a wall) and are dropped."""
+    flat (a blade, a wall) and are dropped ..."""
+    retry_flatness: NonNegative = 3.0
+    """... but when no part is found that way on an object that is not a body of revolution,
+    the candidates up to this flatness are clustered again: a thin flat handle (a table
+    knife's, 3-4 mm thick) broken by finger grooves fits as flat as 2-3, and a blade's fits
+    stay flatter (chosen on generated knives, docs/results/generated-labels/README.md; 0:
+    off)."""
     cluster_distance: Positive = 0.006
     """Single-linkage distance joining kept candidate centers into one part."""
     free_space_fallback: bool = False
@@ -143,7 +151,11 @@ class AutoLabelConfig(Checked):
     stop_slab: Positive = 0.002
     """... in slabs this thick along it."""
     segments: PositiveInt = 3
-    """Boxes per part: its surface split into this many slabs along its main axis."""
+    """Boxes per part: its surface split into this many pieces ..."""
+    pieces: Literal["slabs", "kmeans"] = "kmeans"
+    """... k-means clusters of its points (they follow a curved strap instead of spanning its
+    opening: generated mugs' IoU 0.77 -> 0.86, docs/results/generated-labels/README.md), or
+    slabs of equal point count along its main axis (the labels before 6 December 2026)."""
     margin: NonNegative = 0.002
     """Each box is grown by this much."""
     cross_section: CrossSectionConfig = field(default_factory=CrossSectionConfig)
@@ -222,9 +234,15 @@ def label_from_candidates(
     """The label made from pooled ``candidates`` and the scanned ``surface`` (mesh frame, m)
     with its unit ``normals`` (None: no stand-off test): everything of
     :func:`auto_handle_label` after the scans and the detector."""
+    revolution = None
+    if normals is not None and config.revolution.margin > 0:
+        revolution = fit_revolution(surface, normals, config.revolution)
     narrow = candidates.widths <= config.max_width
     kept = narrow & (candidates.flatness <= config.max_flatness)
     parts = handle_parts(candidates, kept, config)
+    if not parts and revolution is None and config.retry_flatness > config.max_flatness:
+        kept = narrow & (candidates.flatness <= config.retry_flatness)
+        parts = handle_parts(candidates, kept, config)
     if config.free_space_fallback and not parts and narrow.any():
         kept = narrow & (free_space_shares(candidates, surface, config) <= config.max_occupancy)
         parts = handle_parts(candidates, kept, config)
@@ -232,9 +250,6 @@ def label_from_candidates(
         parts = tuple(uniform_section(candidates, part, config) for part in parts)
     if config.resplit:
         parts = tuple(piece for part in parts for piece in resplit(candidates, part, config))
-    revolution = None
-    if normals is not None and config.revolution.margin > 0:
-        revolution = fit_revolution(surface, normals, config.revolution)
     standing = tuple(
         revolution is not None and stands_off(candidates, part, revolution, config)
         for part in parts

@@ -6,7 +6,7 @@
 of revolution's wall (:mod:`simgrasp.handles.revolution`) and a long tool's region off its thin
 sections (:mod:`simgrasp.handles.cross_section`), and :func:`standoff_joining` adds the surface
 that stands off the body; :func:`slab_boxes` turns points into oriented boxes, one per slab
-along their main axis. Mesh frame, meters.
+along their main axis (or per k-means piece). Mesh frame, meters.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
+from scipy.cluster.vq import kmeans2
 from scipy.spatial import cKDTree
 
 from simgrasp.handles.axis_reach import (
@@ -110,16 +111,19 @@ def standoff_joining(
 
 
 def slab_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Box]:
-    """One oriented box, grown by ``margin``, per slab of ``points`` along their main axis
-    (``segments`` slabs of equal point count)."""
+    """One oriented box, grown by ``margin``, per piece of ``points``: ``segments`` slabs of
+    equal point count along their main axis, or ``segments`` k-means clusters (``pieces``)."""
     if len(points) < 4:
         return []
-    centered = points - points.mean(axis=0)
-    main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
-    along = centered @ main_axis
-    edges = np.quantile(along, np.linspace(0.0, 1.0, config.segments + 1))
-    slab = np.clip(np.searchsorted(edges, along, side="right") - 1, 0, config.segments - 1)
-    boxes = [_box(points[slab == s], config.margin) for s in range(config.segments)]
+    if config.pieces == "kmeans" and len(points) > config.segments:
+        piece = kmeans2(points, config.segments, minit="++", seed=config.seed)[1]
+    else:
+        centered = points - points.mean(axis=0)
+        main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
+        along = centered @ main_axis
+        edges = np.quantile(along, np.linspace(0.0, 1.0, config.segments + 1))
+        piece = np.clip(np.searchsorted(edges, along, side="right") - 1, 0, config.segments - 1)
+    boxes = [_box(points[piece == s], config.margin) for s in range(config.segments)]
     return [b for b in boxes if b is not None]
 
 
