@@ -16,7 +16,7 @@ from simgrasp.assets.generated import generate_tool
 from simgrasp.cli import main
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 from simgrasp.handles.cross_section import CrossSectionConfig
-from simgrasp.handles.label_surface import slab_boxes
+from simgrasp.handles.label_surface import piece_boxes
 from simgrasp.handles.revolution import RevolutionConfig
 from simgrasp.handles.virtual_scan import ScanConfig
 from simgrasp.labels import HandleLabel, load_handle_label, write_label_file
@@ -215,7 +215,7 @@ def test_kmeans_pieces_follow_a_loop_where_slabs_span_its_opening() -> None:
     opening = np.column_stack([grid, np.zeros(len(grid))])[np.linalg.norm(grid, axis=1) < 0.022]
     covered = {}
     for pieces in ("kmeans", "slabs"):
-        boxes = slab_boxes(loop, replace(AutoLabelConfig(), pieces=pieces))
+        boxes = piece_boxes(loop, replace(AutoLabelConfig(), pieces=pieces))
         label = HandleLabel("loop", tuple(boxes))
         assert len(boxes) == 3 and label.contains(loop).mean() == 1.0
         covered[pieces] = label.contains(opening).mean()

@@ -19,8 +19,9 @@ sideways) are clustered instead. Each part's scanned surface points (those near 
 candidates, followed ``axis_reach`` along the candidates' axes but not onto the surface of
 flat candidates thinner than the part, a blade, and, optionally, not past where the section
 grows: :mod:`simgrasp.handles.axis_reach`),
-split into ``segments`` along their main axis, give one oriented box per segment (the way
-``models/handles/ycb_handles.json`` was made by hand), grown by ``margin``. On a body of
+split into ``segments`` pieces by k-means (or slabs along their main axis: ``pieces``), give
+one oriented box per piece (the way ``models/handles/ycb_handles.json`` was made by hand),
+grown by ``margin``. On a body of
 revolution (a mug, a jug, a pot: :mod:`simgrasp.handles.revolution`), the scanned surface that
 stands off the body joins the label where it touches a part that stands off the body itself
 (the rest of a strap the detector saw in part), and is the label when no part was found (a flat
@@ -48,7 +49,7 @@ from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
 from simgrasp.handles.label_surface import (
     part_surfaces,
-    slab_boxes,
+    piece_boxes,
     standoff_joining,
     stands_off,
 )
@@ -258,12 +259,12 @@ def label_from_candidates(
     if revolution is not None:
         beyond = standoff_points(surface, revolution, config.revolution.margin)
     regions = part_surfaces(candidates, parts, surface, config, beyond, standing)
-    boxes = tuple(box for region in regions for box in slab_boxes(surface[region], config))
+    boxes = tuple(box for region in regions for box in piece_boxes(surface[region], config))
     standoff: tuple[NDArray[np.int64], ...] = ()
     if beyond is not None:
         strap_regions = [r for r, stands in zip(regions, standing, strict=True) if stands]
         standoff = standoff_joining(surface, beyond, strap_regions, bool(parts), config)
-    boxes += tuple(box for piece in standoff for box in slab_boxes(surface[piece], config))
+    boxes += tuple(box for piece in standoff for box in piece_boxes(surface[piece], config))
     return AutoLabel(HandleLabel(name, boxes), candidates, kept, parts, surface, standoff)
 
 

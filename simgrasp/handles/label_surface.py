@@ -5,8 +5,8 @@
 :mod:`simgrasp.handles.axis_reach`); :func:`part_surfaces` keeps a strap's region off a body
 of revolution's wall (:mod:`simgrasp.handles.revolution`) and a long tool's region off its thin
 sections (:mod:`simgrasp.handles.cross_section`), and :func:`standoff_joining` adds the surface
-that stands off the body; :func:`slab_boxes` turns points into oriented boxes, one per slab
-along their main axis (or per k-means piece). Mesh frame, meters.
+that stands off the body; :func:`piece_boxes` turns points into oriented boxes, one per k-means
+piece (or slab along their main axis). Mesh frame, meters.
 """
 
 from __future__ import annotations
@@ -110,7 +110,7 @@ def standoff_joining(
     )
 
 
-def slab_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Box]:
+def piece_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Box]:
     """One oriented box, grown by ``margin``, per piece of ``points``: ``segments`` slabs of
     equal point count along their main axis, or ``segments`` k-means clusters (``pieces``)."""
     if len(points) < 4:
