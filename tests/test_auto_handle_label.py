@@ -94,6 +94,15 @@ def test_a_thin_grooved_flat_handle_is_found_on_the_looser_flatness() -> None:
     assert auto_handle_label(asset.mesh, asset.name, strict).label.regions == ()
 
 
+def test_the_looser_flatness_finds_no_handle_on_a_flat_bar_of_one_section() -> None:
+    """A ruler (30 x 3 x 0.4 cm) is flat everywhere: the retry's parts would be the whole of
+    it, so it gets no label (it gets one when that test is off)."""
+    ruler = trimesh.creation.box([0.3, 0.03, 0.004])
+    assert auto_handle_label(ruler, "ruler", FAST).label.regions == ()
+    anything = replace(FAST, max_run_share=1.0)
+    assert auto_handle_label(ruler, "ruler", anything).label.regions != ()
+
+
 def test_handle_less_bodies_get_no_handle_region() -> None:
     for kind in ("can", "fruit"):
         asset = generate_tool(kind, 0)

@@ -44,7 +44,7 @@ from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, Pos
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.cross_section import CrossSectionConfig
+from simgrasp.handles.cross_section import CrossSectionConfig, alike_share, section_profile
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
 from simgrasp.handles.label_surface import (
@@ -85,7 +85,10 @@ class AutoLabelConfig(Checked):
     the candidates up to this flatness are clustered again: a thin flat handle (a table
     knife's, 3-4 mm thick) broken by finger grooves fits as flat as 2-3, and a blade's fits
     stay flatter (chosen on generated knives, docs/results/generated-labels/README.md; 0:
-    off)."""
+    off). Only on a long tool, and only parts whose section (``cross_section.grow_ratio``)
+    is not that of ... (:func:`flat_handle_parts`)"""
+    max_run_share: Fraction = 0.9
+    """... more than this share of the scanned surface (a ruler is no handle; 1: off)."""
     cluster_distance: Positive = 0.006
     """Single-linkage distance joining kept candidate centers into one part."""
     free_space_fallback: bool = False
@@ -243,7 +246,7 @@ def label_from_candidates(
     parts = handle_parts(candidates, kept, config)
     if not parts and revolution is None and config.retry_flatness > config.max_flatness:
         kept = narrow & (candidates.flatness <= config.retry_flatness)
-        parts = handle_parts(candidates, kept, config)
+        parts = flat_handle_parts(candidates, kept, surface, config)
     if config.free_space_fallback and not parts and narrow.any():
         kept = narrow & (free_space_shares(candidates, surface, config) <= config.max_occupancy)
         parts = handle_parts(candidates, kept, config)
@@ -347,6 +350,26 @@ def handle_parts(
     best = max(len(c) for c in clusters)
     chosen = [c for c in clusters if len(c) >= config.min_relative_support * best]
     return tuple(sorted(chosen, key=len, reverse=True))
+
+
+def flat_handle_parts(
+    candidates: Candidates,
+    kept: NDArray[np.bool_],
+    surface: NDArray[np.float64],
+    config: AutoLabelConfig,
+) -> tuple[NDArray[np.int64], ...]:
+    """The parts :func:`handle_parts` finds among ``kept`` (the flatter candidates of the
+    retry) on a long tool whose section changes along it: none on an object that is not
+    elongated, or when the slabs alike the parts' section hold more than ``max_run_share`` of
+    the scanned ``surface`` (a ruler, a flat bar: no part of it is a handle), see
+    :func:`simgrasp.handles.cross_section.alike_share`."""
+    parts = handle_parts(candidates, kept, config)
+    profile = section_profile(surface, config.cross_section) if parts else None
+    if profile is None:
+        return ()
+    own = candidates.centers[np.concatenate(parts)]
+    share = alike_share(surface, own, profile, config.cross_section)
+    return () if share > config.max_run_share else parts
 
 
 def uniform_section(

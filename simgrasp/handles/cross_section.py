@@ -120,19 +120,43 @@ def section_run(
     that meet the slabs its candidates span (see :class:`CrossSectionConfig`); none when that
     median is unknown or the part is thinner than the tool's median slab."""
     own = profile.slabs_of(part_points)
-    thick, wide = np.nanmedian(profile.thickness[own]), np.nanmedian(profile.width[own])
-    if not (np.isfinite(thick) and np.isfinite(wide)) or thick < np.nanmedian(profile.thickness):
+    alike = _alike_slabs(profile, own, config.grow_ratio)
+    if alike is None or np.nanmedian(profile.thickness[own]) < np.nanmedian(profile.thickness):
         return np.zeros(len(points), dtype=bool)
-    ratio = config.grow_ratio
-    alike = (
+    run_of_slab = ndimage.label(alike)[0]  # 0: not alike; 1, 2, ...: unbroken runs
+    meeting = np.setdiff1d(run_of_slab[own.min() : own.max() + 1], [0])
+    return np.isin(run_of_slab[profile.slabs_of(points)], meeting)
+
+
+def alike_share(
+    points: NDArray[np.float64],
+    part_points: NDArray[np.float64],
+    profile: SectionProfile,
+    config: CrossSectionConfig,
+) -> float:
+    """The share of ``points`` in slabs whose thickness and width stay within ``grow_ratio``
+    of the median slab of ``part_points`` (a part's candidates), wherever they lie: near 1 on
+    an object of one section all along (a ruler); 0 when that median is unknown."""
+    alike = _alike_slabs(profile, profile.slabs_of(part_points), config.grow_ratio)
+    if alike is None:
+        return 0.0
+    return float(alike[profile.slabs_of(points)].mean())
+
+
+def _alike_slabs(
+    profile: SectionProfile, own: NDArray[np.int64], ratio: float
+) -> NDArray[np.bool_] | None:
+    """(S,) which slabs' thickness and width stay within ``ratio`` of the median of slabs
+    ``own``, either way; None when that median is unknown."""
+    thick, wide = np.nanmedian(profile.thickness[own]), np.nanmedian(profile.width[own])
+    if not (np.isfinite(thick) and np.isfinite(wide)):
+        return None
+    return (
         (profile.thickness >= thick / ratio)
         & (profile.thickness <= thick * ratio)
         & (profile.width >= wide / ratio)
         & (profile.width <= wide * ratio)
     )
-    run_of_slab = ndimage.label(alike)[0]  # 0: not alike; 1, 2, ...: unbroken runs
-    meeting = np.setdiff1d(run_of_slab[own.min() : own.max() + 1], [0])
-    return np.isin(run_of_slab[profile.slabs_of(points)], meeting)
 
 
 def _spreads(across: NDArray[np.float64]) -> tuple[float, float]:
