@@ -6,10 +6,12 @@ from __future__ import annotations
 from typing import cast
 
 import numpy as np
+import pytest
 import trimesh
 
 from simgrasp.handles.cross_section import (
     CrossSectionConfig,
+    alike_share,
     section_profile,
     section_run,
     thick_enough,
@@ -69,3 +71,17 @@ def test_a_handle_found_in_part_runs_on_to_its_end_and_stops_at_the_guard() -> N
     loose = section_run(points, middle, profile, CrossSectionConfig(grow_ratio=2.5))
     guard = (z > 0.052) & (z < 0.054)
     assert loose[guard].all() and not loose[z > 0.066].any()
+
+
+def test_the_share_alike_a_part_is_its_handle_on_a_knife_and_all_of_a_bar() -> None:
+    points, z = _knife_points()
+    profile = section_profile(points, CONFIG)
+    assert profile is not None
+    middle = points[np.abs(z) < 0.01][::50]
+    handle_share = float((np.abs(z) < 0.05).mean())  # the handle's share of the surface
+    assert alike_share(points, middle, profile, CONFIG) == pytest.approx(handle_share, abs=0.03)
+    bar = trimesh.creation.box([0.3, 0.03, 0.004])
+    bar_points = np.asarray(trimesh.sample.sample_surface(bar, 20000, seed=0)[0])
+    bar_profile = section_profile(bar_points, CONFIG)
+    assert bar_profile is not None
+    assert alike_share(bar_points, bar_points[::100], bar_profile, CONFIG) > 0.95
