@@ -8,7 +8,7 @@ handle (a knife's blade and bolster, a hammer's head) the share of its surface w
 ``--near`` (5 mm, the trials' on-handle margin) of labeled surface, i.e. where a grasp on that
 part would count as on the handle. This is the place to choose labeler settings outside the
 ACRONYM files (``docs/results/handle-labels/README.md``). Rows go to ``rows.jsonl`` as they
-finish (a rerun keeps those measured under the same settings on the same meshes);
+finish (a rerun keeps those measured under the same settings on the same meshes and labels);
 ``generated_labels.md`` is the table.
 
     python scripts/generated_labels.py --kinds knife --seeds 20 --out docs/results/generated-labels
@@ -47,9 +47,12 @@ def settings_key(config: AutoLabelConfig) -> str:
 
 
 def mesh_key(kind: str, seed: int) -> str:
-    """A hash of the generated object's mesh: a row measured on another build is stale."""
-    mesh = generate_tool(kind, seed).mesh
-    return hashlib.sha256(mesh.vertices.tobytes() + mesh.faces.tobytes()).hexdigest()[:16]
+    """A hash of the generated object's mesh and exact label: a row measured on another
+    build is stale."""
+    asset = generate_tool(kind, seed)
+    label = json.dumps(asset.handle.to_json(), sort_keys=True).encode()
+    mesh = asset.mesh.vertices.tobytes() + asset.mesh.faces.tobytes()
+    return hashlib.sha256(mesh + label).hexdigest()[:16]
 
 
 def measure_one(kind: str, seed: int, config: AutoLabelConfig, near: float) -> dict[str, object]:
@@ -77,6 +80,16 @@ def measure_one(kind: str, seed: int, config: AutoLabelConfig, near: float) -> d
         "near": near_part,
         "near_exact": near_exact,
     }
+
+
+def read_rows(path: Path) -> list[dict]:
+    """The rows of a ``rows.jsonl`` file; a line that is not JSON is one clear error."""
+    try:
+        return [json.loads(line) for line in path.read_text().splitlines() if line]
+    except json.JSONDecodeError as error:
+        raise SimgraspError(
+            f"{path}: not a rows file ({error}); remove it to start again"
+        ) from None
 
 
 def _near_share(
@@ -144,12 +157,13 @@ def run(options: Options) -> str:
     done_file = options.out / "rows.jsonl"
     done = []
     if done_file.exists():
-        done = [json.loads(line) for line in done_file.read_text().splitlines() if line]
+        done = read_rows(done_file)
     done = [
         r
         for r in done
         if r.get("settings") == key
         and r.get("near_margin") == options.near
+        and r.get("kind") in GENERATED_KINDS
         and r.get("mesh") == mesh_key(r["kind"], r["seed"])
     ]
     have = {(r["kind"], r["seed"]) for r in done}

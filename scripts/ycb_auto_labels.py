@@ -11,8 +11,8 @@ label is empty; otherwise the row gives the share of their surface it labels. Ne
 labeler's settings nor its detector's were chosen on these labels
 (``docs/results/handle-labels/README.md``, ``docs/results/generated-labels/README.md``).
 Rows go to ``rows.jsonl`` as they finish (a rerun keeps those measured under the same
-settings); ``ycb_auto_labels.md`` is the table. The YCB meshes come from ``SIMGRASP_YCB_DIR``;
-nothing derived from them but these figures is written.
+settings and shipped labels); ``ycb_auto_labels.md`` is the table. The YCB meshes come from
+``SIMGRASP_YCB_DIR``; nothing derived from them but these figures is written.
 
     SIMGRASP_YCB_DIR=../shared/ycb python scripts/ycb_auto_labels.py
 """
@@ -20,12 +20,13 @@ nothing derived from them but these figures is written.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from generated_labels import settings_key
+from generated_labels import read_rows, settings_key
 
 from simgrasp.assets.registry import load_object
 from simgrasp.config.arguments import add_settings_arguments, settings_from_args
@@ -50,10 +51,11 @@ def measure_one(name: str, config: AutoLabelConfig) -> dict[str, object]:
         "object": asset.name,
         "shipped": "whole" if shipped.whole_object else "handle" if shipped.regions else "none",
         "parts": len(found.parts),
+        "boxes": len(found.label.regions),
         "labeled_share": round(float(labeled.mean()), 3),
     }
-    if shipped.regions and not shipped.whole_object:
-        exact = shipped.contains(points)
+    exact = shipped.contains(points)
+    if shipped.regions and not shipped.whole_object and exact.any():
         both = int((labeled & exact).sum())
         row["iou"] = round(both / int((labeled | exact).sum()), 3)
         row["recall"] = round(both / int(exact.sum()), 3)
@@ -64,19 +66,20 @@ def measure_one(name: str, config: AutoLabelConfig) -> dict[str, object]:
 def table(rows: list[dict]) -> str:
     """One line per object, then the handle objects' median IoU and the others' verdicts."""
     lines = [
-        "| object | shipped label | automatic parts | IoU | recall | precision | surface labeled |",
+        "| object | shipped label | automatic parts (boxes) | IoU | recall | precision "
+        "| surface labeled |",
         "|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         cells = [r.get(k) for k in ("iou", "recall", "precision")]
         shown = ["-" if c is None else f"{c:.2f}" for c in cells]
         lines.append(
-            f"| {r['object']} | {r['shipped']} | {r['parts']} | {' | '.join(shown)} "
+            f"| {r['object']} | {r['shipped']} | {r['parts']} ({r['boxes']}) | {' | '.join(shown)} "
             f"| {r['labeled_share']:.2f} |"
         )
-    handles = [r["iou"] for r in rows if r["shipped"] == "handle"]
+    handles = [r["iou"] for r in rows if r.get("iou") is not None]
     others = [r for r in rows if r["shipped"] != "handle"]
-    empty = sum(r["parts"] == 0 for r in others)
+    empty = sum(r["boxes"] == 0 for r in others)
     if handles:
         lines.append(
             f"\nObjects with a handle: {len(handles)}, IoU median {np.median(handles):.2f}, "
@@ -90,7 +93,8 @@ def table(rows: list[dict]) -> str:
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     objects: tuple[str, ...] = ()
-    """YCB objects to measure (empty: every object of the shipped label file)."""
+    """YCB objects to measure by their full names (``025_mug``; empty: every object of the
+    shipped label file)."""
     out: Path = Path("docs/results/ycb-auto-labels")
     """Folder of ``rows.jsonl`` and ``ycb_auto_labels.md``."""
     label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
@@ -98,28 +102,32 @@ class Options(Checked):
 
 def run(options: Options) -> str:
     """Measure every object not yet in ``rows.jsonl`` under these settings; the table."""
-    names = options.objects or tuple(sorted(load_label_file(SHIPPED)))
+    shipped = load_label_file(SHIPPED)
+    names = options.objects or tuple(sorted(shipped))
+    unknown = [n for n in names if n not in shipped]
+    if unknown:
+        raise SimgraspError(f"no shipped YCB label for {unknown}; known: {', '.join(shipped)}")
     key = settings_key(options.label)
+    labels_key = hashlib.sha256(SHIPPED.read_bytes()).hexdigest()[:16]
     options.out.mkdir(parents=True, exist_ok=True)
     done_file = options.out / "rows.jsonl"
     done = []
     if done_file.exists():
-        done = [json.loads(line) for line in done_file.read_text().splitlines() if line]
-    done = [r for r in done if r.get("settings") == key]
+        done = read_rows(done_file)
+    done = [r for r in done if r.get("settings") == key and r.get("labels") == labels_key]
     with done_file.open("w") as handle:
         handle.writelines(json.dumps(r) + "\n" for r in done)
     have = {r["object"] for r in done}
     for name in names:
-        if load_object(name).name in have:
+        if name in have:
             continue
         row = measure_one(name, options.label)
-        row["settings"] = key
+        row.update(settings=key, labels=labels_key)
         done.append(row)
         with done_file.open("a") as handle:
             handle.write(json.dumps(row) + "\n")
         print(json.dumps(row), flush=True)
-    wanted = {load_object(n).name for n in names}
-    text = table(sorted((r for r in done if r["object"] in wanted), key=lambda r: r["object"]))
+    text = table(sorted((r for r in done if r["object"] in names), key=lambda r: r["object"]))
     (options.out / "ycb_auto_labels.md").write_text(text)
     return text
 

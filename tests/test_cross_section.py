@@ -85,3 +85,6 @@ def test_the_share_alike_a_part_is_its_handle_on_a_knife_and_all_of_a_bar() -> N
     bar_profile = section_profile(bar_points, CONFIG)
     assert bar_profile is not None
     assert alike_share(bar_points, bar_points[::100], bar_profile, CONFIG) > 0.95
+    assert np.isnan(
+        alike_share(bar_points, bar_points[::100], bar_profile, CrossSectionConfig(grow_ratio=0))
+    )

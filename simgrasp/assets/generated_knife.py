@@ -45,13 +45,14 @@ def knife(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], boo
     flat = rng.uniform() < 0.5
     half_y = uniform(rng, 0.006, 0.011) if flat else uniform(rng, 0.011, 0.014)
     half_z = uniform(rng, 0.0015, 0.0045) if flat else uniform(rng, 0.007, 0.010)
-    grip, label = _knife_grip(rng, handle_length, half_y, half_z, flat)
+    grip, rivets, label = _knife_grip(rng, handle_length, half_y, half_z, flat)
     bolster = uniform(rng, 0.008, 0.015) if rng.uniform() < 0.5 else 0.0
     blade_length = uniform(rng, 0.09, 0.20)
     blade_height = uniform(rng, 0.018, 0.045)
     spine = uniform(rng, 0.0015, min(0.004, 1.5 * half_z))
     overlap = 0.003
     parts = [Part("handle", mesh, DENSITY_WOOD, True) for mesh in grip]
+    parts += [Part("handle", mesh, DENSITY_STEEL, True) for mesh in rivets]
     x_blade = handle_length - overlap
     if bolster > 0:
         grow = uniform(rng, 1.05, 1.2)
@@ -67,12 +68,13 @@ def knife(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], boo
 
 def _knife_grip(
     rng: np.random.Generator, length: float, half_y: float, half_z: float, flat: bool
-) -> tuple[list[trimesh.Trimesh], Box]:
-    """A knife's handle along x from 0 to ``length`` (axis at height ``half_z``) and its label
-    box: plain, with 3-4 finger grooves (every other section 15-25 % narrower in the blade's
-    plane) or with a pommel (a butt cap 1-1.5 cm long and 15-30 % wider); a flat handle has
-    2-3 rivets through it (2-2.5 mm radius, standing 0.5 mm proud of each side) on about half
-    of them. Features that could split the detector's candidates along a handle."""
+) -> tuple[list[trimesh.Trimesh], list[trimesh.Trimesh], Box]:
+    """A knife's handle along x from 0 to ``length`` (axis at height ``half_z``): its meshes,
+    its rivets (steel; none on most) and its label box. Plain, with 3-4 finger grooves (every
+    other section 15-25 % narrower in the blade's plane) or with a pommel (a butt cap 1-1.5 cm
+    long and 15-30 % wider); a flat handle has 2-3 rivets through it (2-2.5 mm radius,
+    standing 0.5 mm proud of each side) on about half of them. Features that could split the
+    detector's candidates along a handle."""
     style = rng.integers(3)
     start, wide_y, wide_z = 0.0, half_y, half_z
     if style == 1:
@@ -93,11 +95,12 @@ def _knife_grip(
         start = -uniform(rng, 0.010, 0.015)
         wide_y, wide_z = grow * half_y, min(grow * half_z, half_z + 0.002)
         grip.append(x_cylinder(wide_y, wide_z, start, 0.002, half_z))
+    rivets: list[trimesh.Trimesh] = []
     if flat and rng.uniform() < 0.5:
         radius = uniform(rng, 0.002, 0.0025)
         for x in np.linspace(0.2, 0.8, int(rng.integers(2, 4))) * length:
             rivet = trimesh.creation.cylinder(radius=radius, height=2 * half_z + 0.001, sections=24)
             rivet.apply_translation([x, 0.0, half_z])
-            grip.append(rivet)
+            rivets.append(rivet)
         wide_z = max(wide_z, half_z + 0.0005)
-    return grip, x_box_region(start, length, wide_y, wide_z, half_z)
+    return grip, rivets, x_box_region(start, length, wide_y, wide_z, half_z)

@@ -81,14 +81,16 @@ class AutoLabelConfig(Checked):
     """Candidates whose larger transverse semi-axis exceeds this many times the smaller are
     flat (a blade, a wall) and are dropped ..."""
     retry_flatness: NonNegative = 3.0
-    """... but when no part is found that way on an object that is not a body of revolution,
-    the candidates up to this flatness are clustered again: a thin flat handle (a table
+    """... but when no part is found that way on an object with no body-of-revolution fit
+    (or no normals, or ``revolution.margin`` 0), the candidates up to this flatness are
+    clustered again: a thin flat handle (a table
     knife's, 3-4 mm thick) broken by finger grooves fits as flat as 2-3, and a blade's fits
-    stay flatter (chosen on generated knives, docs/results/generated-labels/README.md; 0:
-    off). Only on a long tool, and only parts whose section (``cross_section.grow_ratio``)
-    is not that of ... (:func:`flat_handle_parts`)"""
+    stay flatter (chosen on generated knives, docs/results/generated-labels/README.md; at
+    most ``max_flatness``: off). Only on a long tool, and only parts whose section
+    (``cross_section.grow_ratio``) is not that of ... (:func:`flat_handle_parts`)"""
     max_run_share: Fraction = 0.9
-    """... more than this share of the scanned surface (a ruler is no handle; 1: off)."""
+    """... more than this share of the scanned surface (a ruler is no handle; 1: any share,
+    as long as it is measured)."""
     cluster_distance: Positive = 0.006
     """Single-linkage distance joining kept candidate centers into one part."""
     free_space_fallback: bool = False
@@ -176,7 +178,8 @@ class AutoLabelConfig(Checked):
     tune mugs 0.860 -> 0.918 of handle grasps on the label, other grasps off it unchanged;
     knives are refused by the test. ``revolution.margin`` 0: off."""
     seed: int = 0
-    """Seeds the detector's neighborhood sampling (view k uses seed + k)."""
+    """Seeds the detector's neighborhood sampling (view k uses seed + k) and the k-means
+    pieces."""
 
 
 @dataclass(frozen=True)
@@ -361,15 +364,15 @@ def flat_handle_parts(
     """The parts :func:`handle_parts` finds among ``kept`` (the flatter candidates of the
     retry) on a long tool whose section changes along it: none on an object that is not
     elongated, or when the slabs alike the parts' section hold more than ``max_run_share`` of
-    the scanned ``surface`` (a ruler, a flat bar: no part of it is a handle), see
-    :func:`simgrasp.handles.cross_section.alike_share`."""
+    the scanned ``surface`` (a ruler, a flat bar: no part of it is a handle) or that share is
+    not measured, see :func:`simgrasp.handles.cross_section.alike_share`."""
     parts = handle_parts(candidates, kept, config)
     profile = section_profile(surface, config.cross_section) if parts else None
     if profile is None:
         return ()
     own = candidates.centers[np.concatenate(parts)]
     share = alike_share(surface, own, profile, config.cross_section)
-    return () if share > config.max_run_share else parts
+    return parts if share <= config.max_run_share else ()  # NaN: not measured, refused
 
 
 def uniform_section(

@@ -136,10 +136,13 @@ def alike_share(
 ) -> float:
     """The share of ``points`` in slabs whose thickness and width stay within ``grow_ratio``
     of the median slab of ``part_points`` (a part's candidates), wherever they lie: near 1 on
-    an object of one section all along (a ruler); 0 when that median is unknown."""
-    alike = _alike_slabs(profile, profile.slabs_of(part_points), config.grow_ratio)
+    an object of one section all along (a ruler); NaN when that median is unknown, there are
+    no points or ``grow_ratio`` is under 1 (no measure of alike)."""
+    alike = None
+    if config.grow_ratio >= 1 and len(points):
+        alike = _alike_slabs(profile, profile.slabs_of(part_points), config.grow_ratio)
     if alike is None:
-        return 0.0
+        return float("nan")
     return float(alike[profile.slabs_of(points)].mean())
 
 

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
-from scipy.cluster.vq import kmeans2
+from scipy.cluster.vq import ClusterError, kmeans2
 from scipy.spatial import cKDTree
 
 from simgrasp.handles.axis_reach import (
@@ -115,9 +115,10 @@ def piece_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Bo
     equal point count along their main axis, or ``segments`` k-means clusters (``pieces``)."""
     if len(points) < 4:
         return []
-    if config.pieces == "kmeans" and len(points) > config.segments:
-        piece = kmeans2(points, config.segments, minit="++", seed=config.seed)[1]
-    else:
+    piece = None
+    if config.pieces == "kmeans" and len(points) >= 4 * config.segments:
+        piece = _kmeans_pieces(points, config.segments, config.seed)
+    if piece is None:
         centered = points - points.mean(axis=0)
         main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
         along = centered @ main_axis
@@ -127,13 +128,23 @@ def piece_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Bo
     return [b for b in boxes if b is not None]
 
 
+def _kmeans_pieces(points: NDArray[np.float64], pieces: int, seed: int) -> NDArray[np.int64] | None:
+    """(N,) the k-means piece of each point, or None when a piece comes out empty (points
+    repeated or too few apart): the caller then cuts slabs."""
+    try:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return kmeans2(points, pieces, minit="++", missing="raise", rng=seed)[1]
+    except ClusterError:
+        return None
+
+
 def _box(points: NDArray[np.float64], margin: float) -> Box | None:
     """The oriented bounding box (trimesh) of ``points``, grown by ``margin``."""
     if len(points) < 4:
         return None
     try:
         box_T_points, extents = trimesh.bounds.oriented_bounds(points)
-    except (ValueError, np.linalg.LinAlgError):
+    except (ValueError, TypeError, np.linalg.LinAlgError):
         return None
     points_T_box = np.linalg.inv(box_T_points)
     rotation = points_T_box[:3, :3]
