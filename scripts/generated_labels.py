@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,6 +31,7 @@ from scipy.spatial import cKDTree
 
 from simgrasp.assets.auto_handles import LABELER_VERSION
 from simgrasp.assets.generated import GENERATED_KINDS, generate_parts, generate_tool
+from simgrasp.assets.object import ObjectAsset
 from simgrasp.config.arguments import add_settings_arguments, settings_from_args
 from simgrasp.config.checks import Checked, Positive, PositiveInt
 from simgrasp.config.tree import flatten
@@ -46,10 +48,9 @@ def settings_key(config: AutoLabelConfig) -> str:
     return hashlib.sha256(json.dumps(given, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def mesh_key(kind: str, seed: int) -> str:
-    """A hash of the generated object's mesh and exact label: a row measured on another
-    build is stale."""
-    asset = generate_tool(kind, seed)
+def mesh_key(asset: ObjectAsset) -> str:
+    """A hash of a generated object's mesh and exact label: a row measured on another build
+    is stale."""
     label = json.dumps(asset.handle.to_json(), sort_keys=True).encode()
     mesh = asset.mesh.vertices.tobytes() + asset.mesh.faces.tobytes()
     return hashlib.sha256(mesh + label).hexdigest()[:16]
@@ -79,17 +80,31 @@ def measure_one(kind: str, seed: int, config: AutoLabelConfig, near: float) -> d
         "recall": round(float((labeled & exact).sum() / exact.sum()), 3) if exact.any() else None,
         "near": near_part,
         "near_exact": near_exact,
+        "mesh": mesh_key(asset),
     }
 
 
-def read_rows(path: Path) -> list[dict]:
-    """The rows of a ``rows.jsonl`` file; a line that is not JSON is one clear error."""
+def kept_rows(path: Path, keep: Callable[[dict], bool]) -> list[dict]:
+    """The rows of a ``rows.jsonl`` file (none when it is missing) that ``keep`` accepts; the
+    file is rewritten with those only, so a killed run loses no kept row. A line that is not
+    JSON is one clear error."""
     try:
-        return [json.loads(line) for line in path.read_text().splitlines() if line]
+        rows = [json.loads(line) for line in path.read_text().splitlines() if line]
+    except FileNotFoundError:
+        rows = []
     except json.JSONDecodeError as error:
-        raise SimgraspError(
-            f"{path}: not a rows file ({error}); remove it to start again"
-        ) from None
+        message = f"{path}: not a rows file ({error}); remove it to start again"
+        raise SimgraspError(message) from None
+    rows = [r for r in rows if keep(r)]
+    path.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    return rows
+
+
+def add_row(path: Path, row: dict) -> None:
+    """Append ``row`` to a ``rows.jsonl`` file as soon as it is measured, and print it."""
+    with path.open("a") as handle:
+        handle.write(json.dumps(row) + "\n")
+    print(json.dumps(row), flush=True)
 
 
 def _near_share(
@@ -155,30 +170,24 @@ def run(options: Options) -> str:
     key = settings_key(options.label)
     options.out.mkdir(parents=True, exist_ok=True)
     done_file = options.out / "rows.jsonl"
-    done = []
-    if done_file.exists():
-        done = read_rows(done_file)
-    done = [
-        r
-        for r in done
-        if r.get("settings") == key
-        and r.get("near_margin") == options.near
-        and r.get("kind") in GENERATED_KINDS
-        and r.get("mesh") == mesh_key(r["kind"], r["seed"])
-    ]
+    done = kept_rows(
+        done_file,
+        lambda r: (
+            r.get("settings") == key
+            and r.get("near_margin") == options.near
+            and r.get("kind") in GENERATED_KINDS
+            and r.get("mesh") == mesh_key(generate_tool(r["kind"], r["seed"]))
+        ),
+    )
     have = {(r["kind"], r["seed"]) for r in done}
-    with done_file.open("w") as handle:
-        handle.writelines(json.dumps(r) + "\n" for r in done)
     for kind in options.kinds:
         for seed in range(options.seeds):
             if (kind, seed) in have:
                 continue
             row = measure_one(kind, seed, options.label, options.near)
-            row.update(settings=key, near_margin=options.near, mesh=mesh_key(kind, seed))
+            row.update(settings=key, near_margin=options.near)
             done.append(row)
-            with done_file.open("a") as handle:
-                handle.write(json.dumps(row) + "\n")
-            print(json.dumps(row), flush=True)
+            add_row(done_file, row)
     wanted = [r for r in done if r["kind"] in options.kinds and r["seed"] < options.seeds]
     text = table(wanted)
     (options.out / "generated_labels.md").write_text(text)

@@ -21,12 +21,11 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from generated_labels import read_rows, settings_key
+from generated_labels import add_row, kept_rows, settings_key
 
 from simgrasp.assets.registry import load_object
 from simgrasp.config.arguments import add_settings_arguments, settings_from_args
@@ -111,12 +110,9 @@ def run(options: Options) -> str:
     labels_key = hashlib.sha256(SHIPPED.read_bytes()).hexdigest()[:16]
     options.out.mkdir(parents=True, exist_ok=True)
     done_file = options.out / "rows.jsonl"
-    done = []
-    if done_file.exists():
-        done = read_rows(done_file)
-    done = [r for r in done if r.get("settings") == key and r.get("labels") == labels_key]
-    with done_file.open("w") as handle:
-        handle.writelines(json.dumps(r) + "\n" for r in done)
+    done = kept_rows(
+        done_file, lambda r: r.get("settings") == key and r.get("labels") == labels_key
+    )
     have = {r["object"] for r in done}
     for name in names:
         if name in have:
@@ -124,9 +120,7 @@ def run(options: Options) -> str:
         row = measure_one(name, options.label)
         row.update(settings=key, labels=labels_key)
         done.append(row)
-        with done_file.open("a") as handle:
-            handle.write(json.dumps(row) + "\n")
-        print(json.dumps(row), flush=True)
+        add_row(done_file, row)
     text = table(sorted((r for r in done if r["object"] in names), key=lambda r: r["object"]))
     (options.out / "ycb_auto_labels.md").write_text(text)
     return text
