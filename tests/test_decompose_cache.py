@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import multiprocessing
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -121,3 +123,15 @@ def test_a_cache_dir_variable_naming_a_file_is_a_clear_error(
     monkeypatch.setenv(cache.CACHE_ENV, str(not_a_dir))
     with pytest.raises(ValueError, match=rf"SIMGRASP_CACHE_DIR={not_a_dir}.*not a directory"):
         decompose.decompose(generate_tool("hammer", 3).mesh, CONFIG, "gen_hammer_s3")
+
+
+def test_open3d_imports_after_a_coacd_run() -> None:
+    """A script that decomposes first and scans (Open3D) second must not crash on import:
+    loading coacd's library before scipy.spatial makes ``import open3d`` raise std::bad_cast."""
+    script = (
+        "import simgrasp.assets.decompose as d, trimesh\n"
+        "d.run_coacd(trimesh.creation.box((0.1, 0.05, 0.02)), d.DecompositionConfig(), 'box')\n"
+        "import open3d\n"
+    )
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr[-500:]

@@ -10,7 +10,6 @@ import threading
 from dataclasses import asdict, dataclass
 from typing import Literal
 
-import coacd
 import numpy as np
 import trimesh
 from tqdm import tqdm
@@ -95,6 +94,10 @@ def run_coacd(
     """Run CoACD once (no cache), with a spinner on stderr when it is a terminal."""
     global _coacd_calls
     _check_mesh(mesh, object_name)
+    # Imported here, after trimesh has loaded scipy.spatial: a process that loads coacd's
+    # library first cannot import open3d afterwards (ImportError: std::bad_cast).
+    import coacd
+
     coacd.set_log_level("error")
     params = asdict(config)
     done = threading.Event()
