@@ -16,6 +16,8 @@ we hold. A variant changes one thing on the compiled model or the trial settings
 - ``fine_hulls``: CoACD at threshold 0.05, up to 32 hulls, preprocess resolution 50;
 - ``tight_hulls``: CoACD at threshold 0.05, no cap on the hull count, no voxel remeshing
   (the ACRONYM meshes are watertight): the hulls fill less of a mug's cavity;
+- ``no_remesh``: CoACD's default threshold and hull cap, without its voxel remeshing (which
+  CoACD's ``auto`` runs on these watertight meshes, thickening a 3 mm blade to about 6 mm);
 - ``imp<R>``: the trial's ``impratio``; ``width<M>``: the fingers' ``solimp`` ramp (m,
   ``TrialConfig.finger_solimp_width``); ``tc<S>``: the fingers' contact time constant (s);
   ``noslip<N>``: MuJoCo's noslip iterations (friction without creep).
@@ -64,7 +66,8 @@ HALVES = Path(__file__).resolve().parents[1] / "docs" / "results" / "acronym" / 
 """The committed split of the affordance files into a tune and a held-out half."""
 FINE_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=32, preprocess_resolution=50)
 TIGHT_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=-1, preprocess_mode="off")
-HULLS = {"fine_hulls": FINE_HULLS, "tight_hulls": TIGHT_HULLS}
+NO_REMESH = DecompositionConfig(preprocess_mode="off")
+HULLS = {"fine_hulls": FINE_HULLS, "tight_hulls": TIGHT_HULLS, "no_remesh": NO_REMESH}
 Variant = Callable[[GraspLabeler], None]
 Row = tuple[str, bool, bool, str | None]
 """(category, FleX success, our success, our failure)."""
