@@ -229,6 +229,11 @@ def test_kmeans_pieces_follow_a_loop_where_slabs_span_its_opening() -> None:
         assert len(boxes) == 3 and label.contains(loop).mean() == 1.0
         covered[pieces] = label.contains(opening).mean()
     assert covered["kmeans"] <= 0.2 and covered["slabs"] == 1.0
+    first = piece_boxes(loop, AutoLabelConfig())
+    again = piece_boxes(loop, replace(AutoLabelConfig(), seed=7))
+    assert all(np.array_equal(a.center, b.center) for a, b in zip(first, again, strict=True)), (
+        "k-means pieces start from the slabs: no seed may change them"
+    )
 
 
 def test_free_space_is_empty_around_a_free_tube_and_full_beside_a_wall() -> None:

@@ -159,9 +159,10 @@ class AutoLabelConfig(Checked):
     segments: PositiveInt = 3
     """Boxes per part: its surface split into this many pieces ..."""
     pieces: Literal["slabs", "kmeans"] = "kmeans"
-    """... k-means clusters of its points (they follow a curved strap instead of spanning its
-    opening: generated mugs' IoU 0.77 -> 0.86, docs/results/generated-labels/README.md), or
-    slabs of equal point count along its main axis (the labels before 6 December 2026)."""
+    """... k-means clusters of its points, started from the slabs' centroids (they follow a
+    curved strap instead of spanning its opening: generated mugs' IoU 0.77 -> 0.86,
+    docs/results/generated-labels/README.md), or slabs of equal point count along its main
+    axis (the labels before 6 December 2026)."""
     margin: NonNegative = 0.002
     """Each box is grown by this much."""
     cross_section: CrossSectionConfig = field(default_factory=CrossSectionConfig)
@@ -178,8 +179,7 @@ class AutoLabelConfig(Checked):
     tune mugs 0.860 -> 0.918 of handle grasps on the label, other grasps off it unchanged;
     knives are refused by the test. ``revolution.margin`` 0: off."""
     seed: int = 0
-    """Seeds the detector's neighborhood sampling (view k uses seed + k) and the k-means
-    pieces."""
+    """Seeds the detector's neighborhood sampling (view k uses seed + k)."""
 
 
 @dataclass(frozen=True)

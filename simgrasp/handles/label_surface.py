@@ -112,28 +112,39 @@ def standoff_joining(
 
 def piece_boxes(points: NDArray[np.float64], config: AutoLabelConfig) -> list[Box]:
     """One oriented box, grown by ``margin``, per piece of ``points``: ``segments`` slabs of
-    equal point count along their main axis, or ``segments`` k-means clusters (``pieces``)."""
+    equal point count along their main axis, or ``segments`` k-means clusters started from
+    those slabs (``pieces``)."""
     if len(points) < 4:
         return []
-    piece = None
+    piece = _slab_pieces(points, config.segments)
     if config.pieces == "kmeans" and len(points) >= 4 * config.segments:
-        piece = _kmeans_pieces(points, config.segments, config.seed)
-    if piece is None:
-        centered = points - points.mean(axis=0)
-        main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
-        along = centered @ main_axis
-        edges = np.quantile(along, np.linspace(0.0, 1.0, config.segments + 1))
-        piece = np.clip(np.searchsorted(edges, along, side="right") - 1, 0, config.segments - 1)
+        clusters = _kmeans_from(points, piece, config.segments)
+        piece = piece if clusters is None else clusters
     boxes = [_box(points[piece == s], config.margin) for s in range(config.segments)]
     return [b for b in boxes if b is not None]
 
 
-def _kmeans_pieces(points: NDArray[np.float64], pieces: int, seed: int) -> NDArray[np.int64] | None:
-    """(N,) the k-means piece of each point, or None when a piece comes out empty (points
-    repeated or too few apart): the caller then cuts slabs."""
+def _slab_pieces(points: NDArray[np.float64], pieces: int) -> NDArray[np.int64]:
+    """(N,) the slab of each point: ``pieces`` slabs of equal point count along the main axis."""
+    centered = points - points.mean(axis=0)
+    main_axis = np.linalg.svd(centered, full_matrices=False)[2][0]
+    along = centered @ main_axis
+    edges = np.quantile(along, np.linspace(0.0, 1.0, pieces + 1))
+    return np.clip(np.searchsorted(edges, along, side="right") - 1, 0, pieces - 1)
+
+
+def _kmeans_from(
+    points: NDArray[np.float64], slab: NDArray[np.int64], pieces: int
+) -> NDArray[np.int64] | None:
+    """(N,) k-means pieces started from the centroids of ``slab``'s pieces (no random draw:
+    the same points always give the same boxes), or None when a piece comes out empty (points
+    repeated or too few apart): the caller then keeps the slabs."""
+    if (np.bincount(slab, minlength=pieces) == 0).any():
+        return None
+    start = np.array([points[slab == s].mean(axis=0) for s in range(pieces)])
     try:
         with np.errstate(divide="ignore", invalid="ignore"):
-            return kmeans2(points, pieces, minit="++", missing="raise", rng=seed)[1]
+            return kmeans2(points, start, minit="matrix", missing="raise")[1]
     except ClusterError:
         return None
 
