@@ -40,6 +40,7 @@ from simgrasp.assets.generated_shapes import (
     x_box_region,
     x_cylinder,
 )
+from simgrasp.assets.generated_wrench import wrench
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.errors import SimgraspError
 from simgrasp.labels import Box, Capsule, HandleLabel, Region
@@ -272,6 +273,7 @@ _BUILDERS: dict[
     "strap_mug": _strap_mug,
     "drill": _drill,
     "knife": knife,
+    "wrench": wrench,
 }
 
 GENERATED_KINDS: tuple[str, ...] = tuple(_BUILDERS)

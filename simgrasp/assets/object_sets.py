@@ -36,10 +36,10 @@ TRAINING_KINDS = ("strap_mug", "drill")
 (``scripts/train_candidate_classifier.py``), loadable by name (``gen_strap_mug_s3``,
 ``gen_drill_s1``) but kept out of the ``generated`` set, so the committed sweeps of that set
 keep their objects."""
-CHECK_KINDS = ("knife",)
+CHECK_KINDS = ("knife", "wrench")
 """Generated kinds made for checking the automatic handle labeler on long tools
-(``scripts/generated_labels.py``), loadable by name (``gen_knife_s2``) and kept out of the
-``generated`` set like :data:`TRAINING_KINDS`."""
+(``scripts/generated_labels.py``), loadable by name (``gen_knife_s2``, ``gen_wrench_s0``) and
+kept out of the ``generated`` set like :data:`TRAINING_KINDS`."""
 GENERATED_OBJECTS = tuple(
     f"gen_{kind}" for kind in GENERATED_KINDS if kind not in TRAINING_KINDS + CHECK_KINDS
 )
