@@ -1,5 +1,6 @@
 """The thickness profile of long tools (simgrasp.handles.cross_section) on meshes whose
-answer is known: a knife with a round handle, a guard and a thin blade; a cup."""
+answer is known: a knife with a round handle, a guard and a thin blade; a spanner's flat bar
+between heads; a cup."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import trimesh
 from simgrasp.handles.cross_section import (
     CrossSectionConfig,
     alike_share,
+    off_head,
     section_profile,
     section_run,
     thick_enough,
@@ -88,3 +90,25 @@ def test_the_share_alike_a_part_is_its_handle_on_a_knife_and_all_of_a_bar() -> N
     assert np.isnan(
         alike_share(bar_points, bar_points[::100], bar_profile, CrossSectionConfig(grow_ratio=0))
     )
+
+
+def test_a_head_wider_and_thicker_than_the_bar_leaves_the_region_a_plate_does_not() -> None:
+    """A flat bar (14 x 6 mm, local z -0.06 to 0.06) with a head 30 x 9 mm at one end and a
+    plate 60 x 2 mm at the other: the head grows both ways and is left out, the plate only
+    widens and stays (a spatula's plate is left out by its thinness, not here)."""
+    bar = trimesh.creation.box([0.014, 0.006, 0.12])
+    head = trimesh.creation.box([0.030, 0.009, 0.03])
+    head.apply_translation([0.0, 0.0, -0.075])
+    plate = trimesh.creation.box([0.060, 0.002, 0.05])
+    plate.apply_translation([0.0, 0.0, 0.085])
+    tool = cast(trimesh.Trimesh, trimesh.util.concatenate([bar, head, plate]))
+    local = np.asarray(trimesh.sample.sample_surface(tool, 40000, seed=0)[0])
+    points, z = local @ TURN[:3, :3].T, local[:, 2]
+    profile = section_profile(points, CONFIG)
+    assert profile is not None
+    middle = points[np.abs(z) < 0.03][::50]
+    config = CrossSectionConfig(head_width_ratio=1.2)
+    keep = off_head(points, middle, profile, config)
+    assert keep[np.abs(z) < 0.055].all() and not keep[z < -0.065].any()
+    assert keep[z > 0.065].all()
+    assert off_head(points, middle, profile, CrossSectionConfig(head_width_ratio=0.0)).all()

@@ -34,6 +34,16 @@ class CrossSectionConfig(Checked):
     min_ratio: NonNegative = 0.75
     """A part's region keeps the slabs at least this share as thick as the median of the slabs
     its candidates lie in (0: off)."""
+    head_width_ratio: NonNegative = 1.2
+    """A part's region leaves out the slabs more than this many times as wide (the spread
+    along the slab's major axis) as the median of the slabs its candidates lie in, and at
+    least ``head_thickness_ratio`` times as thick: a head beyond a bar (a wrench's ring, a
+    hammer's head) grows both ways, a spatula's plate only widens (0: off). Chosen on
+    generated long tools (wrenches' median IoU 0.67 -> 0.75, hammers' 0.92 -> 0.97, knives,
+    spatulas and screwdrivers within +0.01; 1.5 gave less), with the ACRONYM tune half
+    unchanged (docs/results/handle-labels/README.md, ninth round)."""
+    head_thickness_ratio: NonNegative = 1.0
+    """... the thickness factor of that test."""
     min_elongation: Positive = 3.0
     """Only objects whose main extent is at least this many times the next get a profile (a
     mug or a pan does not)."""
@@ -107,6 +117,26 @@ def thick_enough(
         return np.ones(len(points), dtype=bool)
     thickness = profile.thickness[profile.slabs_of(points)]
     return ~(thickness < config.min_ratio * reference)
+
+
+def off_head(
+    points: NDArray[np.float64],
+    part_points: NDArray[np.float64],
+    profile: SectionProfile,
+    config: CrossSectionConfig,
+) -> NDArray[np.bool_]:
+    """(N,) which ``points`` lie outside the slabs both wider and thicker than the median slab
+    of ``part_points`` by ``head_width_ratio`` and ``head_thickness_ratio``; all of them when
+    that median is unknown or the test is off."""
+    own = profile.slabs_of(part_points)
+    wide, thick = np.nanmedian(profile.width[own]), np.nanmedian(profile.thickness[own])
+    if config.head_width_ratio <= 0 or not (np.isfinite(wide) and np.isfinite(thick)):
+        return np.ones(len(points), dtype=bool)
+    slabs = profile.slabs_of(points)
+    head = (profile.width[slabs] > config.head_width_ratio * wide) & (
+        profile.thickness[slabs] >= config.head_thickness_ratio * thick
+    )
+    return ~head
 
 
 def section_run(

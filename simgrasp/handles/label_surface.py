@@ -25,7 +25,12 @@ from simgrasp.handles.axis_reach import (
     reached_along_axes,
     section_stops,
 )
-from simgrasp.handles.cross_section import section_profile, section_run, thick_enough
+from simgrasp.handles.cross_section import (
+    off_head,
+    section_profile,
+    section_run,
+    thick_enough,
+)
 from simgrasp.handles.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
 
@@ -48,11 +53,12 @@ def part_surfaces(
     wall its reach took at the strap's roots is the body's, and a grasp of the rim beside the
     strap is no handle grasp. Other parts (a hammer's round handle, itself the body) keep
     their whole region. On a long tool, a part takes the runs of slabs whose section stays like
-    its own (the rest of a flat handle) and keeps the slabs about as thick as where it was
-    found (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard)."""
+    its own (the rest of a flat handle), keeps the slabs about as thick as where it was
+    found (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard) and
+    leaves out the slabs both wider and thicker than it (a head)."""
     profile = None
     section = config.cross_section
-    if section.min_ratio > 0 or section.grow_ratio > 0:
+    if section.min_ratio > 0 or section.grow_ratio > 0 or section.head_width_ratio > 0:
         profile = section_profile(surface, section)
     regions = []
     for part, stands in zip(parts, standing, strict=True):
@@ -65,6 +71,7 @@ def part_surfaces(
                 region |= section_run(surface, own, profile, section)
             if section.min_ratio > 0:
                 region &= thick_enough(surface, own, profile, section)
+            region &= off_head(surface, own, profile, section)
         regions.append(region)
     return tuple(regions)
 
