@@ -44,15 +44,15 @@ from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, Pos
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.cross_section import CrossSectionConfig, alike_share, section_profile
+from simgrasp.handles.cross_section import (
+    CrossSectionConfig,
+    SectionProfile,
+    alike_share,
+    section_profile,
+)
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
-from simgrasp.handles.label_surface import (
-    part_surfaces,
-    piece_boxes,
-    standoff_joining,
-    stands_off,
-)
+from simgrasp.handles.label_surface import part_surfaces, piece_boxes, standoff_joining, stands_off
 from simgrasp.handles.revolution import (
     RevolutionConfig,
     fit_revolution,
@@ -83,11 +83,11 @@ class AutoLabelConfig(Checked):
     retry_flatness: NonNegative = 3.0
     """... but when no part is found that way on an object with no body-of-revolution fit
     (or no normals, or ``revolution.margin`` 0), the candidates up to this flatness are
-    clustered again: a thin flat handle (a table
-    knife's, 3-4 mm thick) broken by finger grooves fits as flat as 2-3, and a blade's fits
-    stay flatter (chosen on generated knives, docs/results/generated-labels/README.md; at
-    most ``max_flatness``: off). Only on a long tool, and only parts whose section
-    (``cross_section.grow_ratio``) is not that of ... (:func:`flat_handle_parts`)"""
+    clustered again: a thin flat handle (a table knife's, 3-4 mm thick) broken by finger
+    grooves fits as flat as 2-3, and a blade's fits stay flatter (chosen on generated knives,
+    docs/results/generated-labels/README.md; at most ``max_flatness``: off). Only on a long
+    tool, and only parts whose section (``cross_section.grow_ratio``) is not that of ...
+    (:func:`flat_handle_parts`)"""
     max_run_share: Fraction = 0.9
     """... more than this share of the scanned surface (a ruler is no handle; 1: any share,
     as long as it is measured)."""
@@ -247,9 +247,10 @@ def label_from_candidates(
     narrow = candidates.widths <= config.max_width
     kept = narrow & (candidates.flatness <= config.max_flatness)
     parts = handle_parts(candidates, kept, config)
+    profile = section_profile(surface, config.cross_section)
     if not parts and revolution is None and config.retry_flatness > config.max_flatness:
         kept = narrow & (candidates.flatness <= config.retry_flatness)
-        parts = flat_handle_parts(candidates, kept, surface, config)
+        parts = flat_handle_parts(candidates, kept, surface, profile, config)
     if config.free_space_fallback and not parts and narrow.any():
         kept = narrow & (free_space_shares(candidates, surface, config) <= config.max_occupancy)
         parts = handle_parts(candidates, kept, config)
@@ -264,7 +265,7 @@ def label_from_candidates(
     beyond = None
     if revolution is not None:
         beyond = standoff_points(surface, revolution, config.revolution.margin)
-    regions = part_surfaces(candidates, parts, surface, config, beyond, standing)
+    regions = part_surfaces(candidates, parts, surface, config, beyond, standing, profile)
     boxes = tuple(box for region in regions for box in piece_boxes(surface[region], config))
     standoff: tuple[NDArray[np.int64], ...] = ()
     if beyond is not None:
@@ -359,16 +360,16 @@ def flat_handle_parts(
     candidates: Candidates,
     kept: NDArray[np.bool_],
     surface: NDArray[np.float64],
+    profile: SectionProfile | None,
     config: AutoLabelConfig,
 ) -> tuple[NDArray[np.int64], ...]:
     """The parts :func:`handle_parts` finds among ``kept`` (the flatter candidates of the
-    retry) on a long tool whose section changes along it: none on an object that is not
-    elongated, or when the slabs alike the parts' section hold more than ``max_run_share`` of
-    the scanned ``surface`` (a ruler, a flat bar: no part of it is a handle) or that share is
-    not measured, see :func:`simgrasp.handles.cross_section.alike_share`."""
+    retry) on a long tool whose section changes along it: none without a ``profile`` (not
+    elongated), or when the slabs alike the parts' section hold more than ``max_run_share`` of
+    the scanned ``surface`` (a ruler, a flat bar: no handle) or that share is not measured
+    (:func:`simgrasp.handles.cross_section.alike_share`)."""
     parts = handle_parts(candidates, kept, config)
-    profile = section_profile(surface, config.cross_section) if parts else None
-    if profile is None:
+    if profile is None or not parts:
         return ()
     own = candidates.centers[np.concatenate(parts)]
     share = alike_share(surface, own, profile, config.cross_section)

@@ -81,6 +81,10 @@ class SectionProfile:
         slabs = np.floor((along - self.start) / self.slab).astype(np.int64)
         return np.clip(slabs, 0, len(self.thickness) - 1)
 
+    def median_of(self, slabs: NDArray[np.int64]) -> tuple[float, float]:
+        """The median thickness and width (m) over ``slabs`` (NaN where none is known)."""
+        return float(np.nanmedian(self.thickness[slabs])), float(np.nanmedian(self.width[slabs]))
+
 
 def section_profile(
     points: NDArray[np.float64], config: CrossSectionConfig
@@ -112,7 +116,7 @@ def thick_enough(
 ) -> NDArray[np.bool_]:
     """(N,) which ``points`` lie in slabs at least ``min_ratio`` times as thick as the median
     slab of ``part_points`` (a handle part's candidates); all of them when that is unknown."""
-    reference = np.nanmedian(profile.thickness[profile.slabs_of(part_points)])
+    reference = profile.median_of(profile.slabs_of(part_points))[0]
     if not np.isfinite(reference):
         return np.ones(len(points), dtype=bool)
     thickness = profile.thickness[profile.slabs_of(points)]
@@ -128,8 +132,7 @@ def off_head(
     """(N,) which ``points`` lie outside the slabs both wider and thicker than the median slab
     of ``part_points`` by ``head_width_ratio`` and ``head_thickness_ratio``; all of them when
     that median is unknown or the test is off."""
-    own = profile.slabs_of(part_points)
-    wide, thick = np.nanmedian(profile.width[own]), np.nanmedian(profile.thickness[own])
+    thick, wide = profile.median_of(profile.slabs_of(part_points))
     if config.head_width_ratio <= 0 or not (np.isfinite(wide) and np.isfinite(thick)):
         return np.ones(len(points), dtype=bool)
     slabs = profile.slabs_of(points)
@@ -151,7 +154,7 @@ def section_run(
     median is unknown or the part is thinner than the tool's median slab."""
     own = profile.slabs_of(part_points)
     alike = _alike_slabs(profile, own, config.grow_ratio)
-    if alike is None or np.nanmedian(profile.thickness[own]) < np.nanmedian(profile.thickness):
+    if alike is None or profile.median_of(own)[0] < np.nanmedian(profile.thickness):
         return np.zeros(len(points), dtype=bool)
     run_of_slab = ndimage.label(alike)[0]  # 0: not alike; 1, 2, ...: unbroken runs
     meeting = np.setdiff1d(run_of_slab[own.min() : own.max() + 1], [0])
@@ -181,7 +184,7 @@ def _alike_slabs(
 ) -> NDArray[np.bool_] | None:
     """(S,) which slabs' thickness and width stay within ``ratio`` of the median of slabs
     ``own``, either way; None when that median is unknown."""
-    thick, wide = np.nanmedian(profile.thickness[own]), np.nanmedian(profile.width[own])
+    thick, wide = profile.median_of(own)
     if not (np.isfinite(thick) and np.isfinite(wide)):
         return None
     return (

@@ -25,12 +25,7 @@ from simgrasp.handles.axis_reach import (
     reached_along_axes,
     section_stops,
 )
-from simgrasp.handles.cross_section import (
-    off_head,
-    section_profile,
-    section_run,
-    thick_enough,
-)
+from simgrasp.handles.cross_section import SectionProfile, off_head, section_run, thick_enough
 from simgrasp.handles.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
 
@@ -45,6 +40,7 @@ def part_surfaces(
     config: AutoLabelConfig,
     beyond: NDArray[np.bool_] | None,
     standing: tuple[bool, ...],
+    profile: SectionProfile | None,
 ) -> tuple[NDArray[np.bool_], ...]:
     """(N,) per part, which ``surface`` points are its region (:func:`part_surface`). On a
     body of revolution (``beyond``: which ``surface`` points stand off its wall,
@@ -55,11 +51,9 @@ def part_surfaces(
     their whole region. On a long tool, a part takes the runs of slabs whose section stays like
     its own (the rest of a flat handle), keeps the slabs about as thick as where it was
     found (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard) and
-    leaves out the slabs both wider and thicker than it (a head)."""
-    profile = None
+    leaves out the slabs both wider and thicker than it (a head); ``profile`` is the
+    surface's section profile (None: not a long tool)."""
     section = config.cross_section
-    if section.min_ratio > 0 or section.grow_ratio > 0 or section.head_width_ratio > 0:
-        profile = section_profile(surface, section)
     regions = []
     for part, stands in zip(parts, standing, strict=True):
         region = part_surface(candidates, part, surface, config)
