@@ -25,6 +25,7 @@ from tests.data_needs import require_data
 
 FAST = AutoLabelConfig(scan=ScanConfig(views=12))
 """Fewer views than the default 24 keep the tests fast; the labels still match."""
+VIEWS_12 = ("--label.scan.views", "12")
 
 
 def _iou(found: HandleLabel, exact: HandleLabel, mesh: object) -> float:
@@ -49,6 +50,31 @@ def test_cli_labels_a_generated_mug_and_the_file_round_trips(tmp_path: Path) -> 
     write_label_file(again, {"mug": label}, "copy")
     points = asset.mesh.vertices
     assert np.array_equal(load_handle_label(again, "mug").contains(points), label.contains(points))
+
+
+def test_cli_labels_objects_by_name(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
+) -> None:
+    """A generated name is scanned in its own frame (its exact label lies on the same
+    surface); a catalog name reads its mesh and units and leaves its handles key alone;
+    --scale with a name, or an unknown name, is one clear line."""
+    asset = generate_tool("hammer", 0)
+    out = tmp_path / "h.json"
+    assert main(["label-handles", "gen_hammer_s0", "--out", str(out), *VIEWS_12]) == 0
+    by_name = load_handle_label(out)
+    assert by_name.object_name == "gen_hammer_s0"
+    assert _iou(by_name, asset.handle, asset.mesh) >= 0.6
+    asset.mesh.copy().apply_scale(1000.0).export(tmp_path / "hammer.stl")
+    catalog = tmp_path / "objects.toml"
+    catalog.write_text('[my_hammer]\nmesh = "hammer.stl"\nunits = "mm"\nhandles = "none.json"\n')
+    monkeypatch.setenv("SIMGRASP_OBJECTS", str(catalog))
+    assert main(["label-handles", "my_hammer", "--out", str(out), *VIEWS_12]) == 0
+    assert _iou(load_handle_label(out, "my_hammer"), asset.handle, asset.mesh) >= 0.6
+    capsys.readouterr()
+    for bad, word in ((["gen_hammer_s0", "--scale", "2"], "--scale"), (["gen_nope"], "gen_nope")):
+        assert main(["label-handles", *bad, "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert word in err and len(err.splitlines()) == 1
 
 
 def test_mesh_in_millimetres_needs_units(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:

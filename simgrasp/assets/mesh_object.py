@@ -148,8 +148,9 @@ def with_options(name: str, **options: float | str | Path | None) -> str:
     return MeshObjectSpec(spec.path, **fields).name()  # type: ignore[arg-type]
 
 
-def _read_mesh(spec: MeshObjectSpec) -> trimesh.Trimesh:
-    """The file's triangles times the spec's factor (meters), checked (one-line errors)."""
+def read_mesh(spec: MeshObjectSpec) -> trimesh.Trimesh:
+    """The file's triangles times the spec's factor (meters), checked (one-line errors), with
+    no handle label: what :func:`load_mesh_object` simulates and ``label-handles`` scans."""
     path = spec.path
     if not path.is_file():
         raise DataNotFoundError(f"object mesh {path} does not exist")
@@ -256,7 +257,7 @@ def _mass(spec: MeshObjectSpec, mesh: trimesh.Trimesh) -> float:
 def load_mesh_object(name: str) -> ObjectAsset:
     """The object of a mesh spec ``name`` (module docstring)."""
     spec = parse_mesh_spec(name)
-    mesh = _read_mesh(spec)
+    mesh = read_mesh(spec)
     mass = _mass(spec, mesh)
     handle, handle_source = _handle(spec, name, mesh)
     return ObjectAsset(

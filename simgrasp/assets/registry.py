@@ -6,14 +6,22 @@ from __future__ import annotations
 import os
 import re
 
+import trimesh
+
 from simgrasp.assets.catalog import catalog_entry
 from simgrasp.assets.generated import GENERATED_KINDS, generate_tool
-from simgrasp.assets.mesh_object import is_mesh_spec, load_mesh_object, relabeled
+from simgrasp.assets.mesh_object import (
+    is_mesh_spec,
+    load_mesh_object,
+    parse_mesh_spec,
+    read_mesh,
+    relabeled,
+)
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.errors import SimgraspError
 
-__all__ = ["GENERATED_KINDS", "load_object"]
+__all__ = ["GENERATED_KINDS", "load_object", "load_object_mesh"]
 
 _GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+(?:_[a-z]+)*)(?:_s(?P<seed>\d+))?$")
 
@@ -56,3 +64,17 @@ def load_object(
             "(add _s<seed> to pick sizes)"
         ) from None
     return load_ycb_object(name, ycb_dir)
+
+
+def load_object_mesh(
+    name: str, ycb_dir: str | os.PathLike[str] | None = None, *, seed: int = 0
+) -> trimesh.Trimesh:
+    """The reference surface of object ``name`` (any name :func:`load_object` takes; its own
+    frame, meters) without finding its handle: a mesh file spec or catalog entry is read and
+    scaled, and its ``handles`` key and automatic label are left alone (what ``simgrasp
+    label-handles`` scans; ``seed`` as in :func:`load_object`)."""
+    base = name.partition("?")[0]
+    spec = name if is_mesh_spec(name) else catalog_entry(base)
+    if spec is not None:
+        return read_mesh(parse_mesh_spec(spec))
+    return load_object(base, ycb_dir, seed=seed).mesh

@@ -1,11 +1,13 @@
-"""``simgrasp label-handles MESH --out handles.json``: find the handle of any mesh.
+"""``simgrasp label-handles OBJECT --out handles.json``: find the handle of any mesh.
 
-The mesh (.obj .stl .ply .off .glb ...) is scaled to meters (``--scale`` times ``--units``),
-scanned from many directions, our quadric detector runs on every scan and its candidates are
-clustered into the oriented boxes of ``models/handles/ycb_handles.json``
-(:mod:`simgrasp.handles.auto_label`), in the scaled mesh's own frame. ``--plot`` draws the
-label on the scanned surface for review. Read the result with
-``simgrasp.labels.load_handle_label``.
+OBJECT is a mesh file (.obj .stl .ply .off .glb ...), scaled to meters (``--scale`` times
+``--units``), or the name of an object the other commands take (a YCB id, ``gen_<kind>_s<N>``,
+a catalog name; in its own frame, as :func:`simgrasp.assets.registry.load_object_mesh` loads
+it: to compare the automatic label with a shipped or exact one). It is scanned from many
+directions, our quadric detector runs on every scan and its candidates are clustered into the
+oriented boxes of ``models/handles/ycb_handles.json`` (:mod:`simgrasp.handles.auto_label`), in
+the scaled mesh's own frame. ``--plot`` draws the label on the scanned surface for review.
+Read the result with ``simgrasp.labels.load_handle_label``.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
+from simgrasp.assets.mesh_object import MESH_SUFFIXES
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.auto_label import AutoLabelConfig
@@ -27,14 +30,15 @@ METERS_PER_UNIT: dict[str, float] = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
 @dataclass(frozen=True, kw_only=True)
 class Options:
-    mesh: Path = setting(positional=True, metavar="MESH")
-    """Mesh file (.obj .stl .ply .off .glb .gltf), in --units times --scale."""
+    object: str = setting(positional=True, metavar="OBJECT")
+    """Mesh file (.obj .stl .ply .off .glb .gltf), in --units times --scale; or an object
+    name (a YCB id, gen_<kind>_s<N>, a catalog name), in meters."""
     scale: float = 1.0
-    """Multiply the mesh by this (e.g. an ACRONYM file's object/scale) ..."""
+    """Multiply a mesh file by this (e.g. an ACRONYM file's object/scale) ..."""
     units: MeshUnits = "m"
     """... and by the meters per unit of these units."""
     name: str | None = None
-    """Object name in the output file (default: the mesh file's stem)."""
+    """Object name in the output file (default: the mesh file's stem, or the object name)."""
     out: Path = Path("handles.json")
     """Output label file (the format of models/handles/ycb_handles.json)."""
     plot: Path | None = setting(None, metavar="OUT.png")
@@ -47,13 +51,20 @@ def run(options: Options) -> int:
     from simgrasp.labels import write_label_file
     from simgrasp.stdout_guard import stdout_to_stderr
 
-    name = options.name or options.mesh.stem
-    mesh = load_scaled_mesh(options.mesh, options.scale, options.units, name)
+    path = Path(options.object)
+    if path.is_file() or path.suffix.lower() in MESH_SUFFIXES:
+        name = options.name or path.stem
+        mesh = load_scaled_mesh(path, options.scale, options.units, name)
+        source = f"{path.name} (scale {options.scale:g}, units {options.units})"
+    else:
+        name = options.name or options.object
+        mesh = object_mesh(options)
+        source = f"object {options.object}"
     with stdout_to_stderr():
         result = auto_handle_label(mesh, name, options.label)
     description = (
-        f"Automatic handle label of {options.mesh.name} (scale {options.scale:g}, units "
-        f"{options.units}) by simgrasp label-handles, in the scaled mesh's frame, meters."
+        f"Automatic handle label of {source} by simgrasp label-handles, in the scaled mesh's "
+        "frame, meters."
     )
     options.out.parent.mkdir(parents=True, exist_ok=True)
     write_label_file(options.out, {name: result.label}, description)
@@ -65,6 +76,19 @@ def run(options: Options) -> int:
         options.plot.parent.mkdir(parents=True, exist_ok=True)
         print(f"  plot written to {draw_auto_label(result, options.plot)}")
     return 0
+
+
+def object_mesh(options: Options) -> trimesh.Trimesh:
+    """The mesh of the object named by ``options.object`` (not a mesh file), in its own frame:
+    ``--scale`` and ``--units`` belong to mesh files and are refused here."""
+    from simgrasp.assets.registry import load_object_mesh
+
+    if options.scale != 1.0 or options.units != "m":
+        raise SimgraspError(
+            f"--scale and --units apply to a mesh file; {options.object!r} is an object name "
+            "(already in meters)"
+        )
+    return load_object_mesh(options.object)
 
 
 def load_scaled_mesh(path: Path, scale: float, units: str, name: str) -> trimesh.Trimesh:
