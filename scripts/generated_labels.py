@@ -18,7 +18,6 @@ Labeler settings are flags (``--label.cross-section.min-ratio 0.6``), as in ``la
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import json
 from collections.abc import Callable
@@ -32,7 +31,7 @@ from scipy.spatial import cKDTree
 from simgrasp.assets.auto_handles import LABELER_VERSION
 from simgrasp.assets.generated import GENERATED_KINDS, generate_parts, generate_tool
 from simgrasp.assets.object import ObjectAsset
-from simgrasp.config.arguments import add_settings_arguments, settings_from_args
+from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, Positive, PositiveInt
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
@@ -195,13 +194,7 @@ def run(options: Options) -> str:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    add_settings_arguments(parser, Options)
-    try:
-        print(run(settings_from_args(Options, parser.parse_args())))
-    except SimgraspError as error:
-        parser.exit(2, f"error: {error}\n")
-    return 0
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":

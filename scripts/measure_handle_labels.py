@@ -26,7 +26,6 @@ again against the label made now (to try labeler settings, given as flags such a
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import json
 import os
@@ -34,10 +33,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
 
-import numpy as np
-
 from simgrasp.assets.auto_handles import LABELER_VERSION
-from simgrasp.config.arguments import add_settings_arguments, settings_from_args
+from simgrasp.config.arguments import script_main
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.acronym_handles import (
@@ -164,22 +161,22 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    add_settings_arguments(parser, Options)
-    try:
-        options = settings_from_args(Options, parser.parse_args())
-    except SimgraspError as error:
-        parser.exit(2, f"error: {error}\n")
+def run(options: Options) -> str:
+    """Measure (see the module doc), write ``handle_labels.md``; the table and the boxes per
+    file."""
     if options.on_handle != "geometric" and options.labels_dir is None:
-        parser.error(f"--on-handle {options.on_handle} needs --labels-dir (the trials' records)")
+        raise SimgraspError(
+            f"--on-handle {options.on_handle} needs --labels-dir (the trials' records)"
+        )
     options.out.mkdir(parents=True, exist_ok=True)
     rows = measure(options)
     text = table(rows)
     (options.out / "handle_labels.md").write_text(text)
-    print(text)
-    print("per-file boxes:", np.array([r["boxes"] for r in rows]).tolist())
-    return 0
+    return f"{text}\nper-file boxes: {[r['boxes'] for r in rows]}"
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":

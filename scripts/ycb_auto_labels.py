@@ -19,7 +19,6 @@ settings and shipped labels); ``ycb_auto_labels.md`` is the table. The YCB meshe
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +27,7 @@ import numpy as np
 from generated_labels import add_row, kept_rows, settings_key
 
 from simgrasp.assets.registry import load_object
-from simgrasp.config.arguments import add_settings_arguments, settings_from_args
+from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
 from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
@@ -127,13 +126,7 @@ def run(options: Options) -> str:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    add_settings_arguments(parser, Options)
-    try:
-        print(run(settings_from_args(Options, parser.parse_args())))
-    except SimgraspError as error:
-        parser.exit(2, f"error: {error}\n")
-    return 0
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import re
 import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
 from simgrasp.cli import COMMANDS, build_parser, command_module, main
-from simgrasp.config.arguments import flag_name
+from simgrasp.config.arguments import flag_name, script_main
 from simgrasp.config.schema import leaves
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
@@ -142,3 +143,29 @@ def test_the_chain_detector_opening_is_the_grippers() -> None:
     keys = {leaf.key for leaf in leaves(ChainConfig)}
     assert "detector.quadric.shell_gap" in keys
     assert "detector.quadric.gripper_max_opening" not in keys
+
+
+@dataclass(frozen=True, kw_only=True)
+class _ScriptOptions:
+    count: int = 1
+    """How many."""
+
+
+def test_a_script_prints_its_config_without_running_and_errors_in_one_line(capsys) -> None:
+    """``scripts/`` entry points (:func:`script_main`): --print-config does not run the job,
+    flags reach it, and its errors are one line with exit status 2."""
+    calls: list[int] = []
+
+    def run(options: _ScriptOptions) -> str:
+        calls.append(options.count)
+        if options.count < 0:
+            raise SimgraspError("count must not be negative")
+        return f"ran {options.count}"
+
+    assert script_main(_ScriptOptions, run, "test", ["--count", "3", "--print-config"]) == 0
+    assert tomllib.loads(capsys.readouterr().out) == {"count": 3} and calls == []
+    assert script_main(_ScriptOptions, run, "test", ["--count", "2"]) == 0
+    assert capsys.readouterr().out == "ran 2\n" and calls == [2]
+    assert script_main(_ScriptOptions, run, "test", ["--count", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert err == "error: count must not be negative\n"

@@ -9,8 +9,10 @@ its type, choices, default and docstring in ``--help``. Three flags come with ev
 from __future__ import annotations
 
 import argparse
+import sys
 import types
 import typing
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -185,3 +187,29 @@ def effective_config_text(cls: type, args: argparse.Namespace) -> str:
     if not missing:
         build(cls, overrides)  # validates the values together
     return notes + dumps_toml(flat)
+
+
+def script_main(
+    cls: type,
+    run: Callable[[Any], str | None],
+    description: str,
+    argv: Sequence[str] | None = None,
+) -> int:
+    """The entry point of a script whose settings tree is ``cls`` (``scripts/``): flags parsed
+    as for a ``simgrasp`` command, ``--print-config`` printed without running, else ``run``
+    called on the settings and what it returns printed; a :class:`SimgraspError` is one line
+    and exit status 2."""
+    parser = argparse.ArgumentParser(description=description)
+    add_settings_arguments(parser, cls)
+    args = parser.parse_args(argv)
+    try:
+        if args.print_config:
+            sys.stdout.write(effective_config_text(cls, args))
+            return 0
+        text = run(settings_from_args(cls, args))
+    except SimgraspError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    if text is not None:
+        print(text)
+    return 0
