@@ -117,6 +117,33 @@ def test_acronym_file_without_grasps_is_an_error(tmp_path: Path) -> None:
         read_grasp_set(path)
 
 
+def test_files_that_are_no_hdf5_or_hold_odd_content_are_one_line_each(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    """label-grasps and compare-labels on a file that is not HDF5, and on an ACRONYM file
+    whose object scale is text: one line naming the file, no traceback."""
+    from simgrasp.cli import main
+
+    not_hdf5 = tmp_path / "Mug_x.h5"
+    not_hdf5.write_text("not an HDF5 file")
+    odd = tmp_path / "grasps" / "Mug_y.h5"
+    odd.parent.mkdir()
+    with h5py.File(odd, "w") as handle:
+        handle["object/file"] = "meshes/mug.obj"
+        handle["object/scale"] = "large"
+        handle["grasps/transforms"] = GOOD[None]
+    out = ["--out", str(tmp_path / "out")]
+    runs = [
+        (["label-grasps", "--grasps", str(not_hdf5), "--gripper", "franka_panda", *out], not_hdf5),
+        (["label-grasps", "--grasps", str(odd), "--gripper", "franka_panda", *out], odd),
+        (["compare-labels", str(tmp_path), "--reference", str(not_hdf5)], not_hdf5),
+    ]
+    for args, name in runs:
+        assert main(args) == 2
+        err = capsys.readouterr().err.strip()
+        assert str(name) in err and len(err.splitlines()) == 1, err
+
+
 def test_graspnet_rows_approach_is_the_rotation_x_axis(tmp_path: Path) -> None:
     rotation = GOOD[:3, :3]
     row = np.concatenate([[0.9, 0.05, 0.02, 0.03], rotation.reshape(-1), [0.1, 0.2, 0.3], [7]])

@@ -27,6 +27,7 @@ import numpy as np
 
 from simgrasp.assets.mesh_object import MeshObjectSpec
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.grasping.labeling.hdf5_files import open_hdf5
 
 GRASP_SUFFIXES = (".h5", ".hdf5", ".json", ".npz", ".npy")
 EXPORT_DIR = "export"
@@ -66,9 +67,7 @@ def carried_object(path: Path, mesh_root: Path | None = None) -> str | None:
     path = Path(path)
     root = mesh_root or path.resolve().parent.parent
     if path.suffix.lower() in (".h5", ".hdf5"):
-        import h5py
-
-        with h5py.File(path, "r") as handle:
+        with open_hdf5(path) as handle:
             if "object/file" not in handle:
                 return None
             values = {
@@ -96,9 +95,7 @@ def reference_labels(path: Path) -> tuple[np.ndarray, np.ndarray | None] | None:
     """(FleX ``object_in_gripper`` as bool, FleX ``object_motion_during_shaking_linear`` or
     None) of an ACRONYM file, or GraspGen's ``object_in_gripper``; None without labels."""
     if path.suffix.lower() in (".h5", ".hdf5"):
-        import h5py
-
-        with h5py.File(path, "r") as handle:
+        with open_hdf5(path) as handle:
             key = "grasps/qualities/flex/object_in_gripper"
             if key not in handle:
                 return None
@@ -119,10 +116,8 @@ def export_labels(path: Path, out: Path, qualities: dict[str, np.ndarray]) -> Pa
     out.mkdir(parents=True, exist_ok=True)
     target = out / path.name
     if path.suffix.lower() in (".h5", ".hdf5"):
-        import h5py
-
         shutil.copyfile(path, target)
-        with h5py.File(target, "r+") as handle:
+        with open_hdf5(target, "r+") as handle:
             count = len(handle["grasps/transforms"])
             group = handle.require_group("grasps/qualities/simgrasp")
             for name, values in qualities.items():

@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.grasping.labeling.hdf5_files import open_hdf5
 from simgrasp.transforms import pose7_to_matrix
 
 ACRONYM_TCP_OFFSET = 0.1034
@@ -184,9 +185,7 @@ def _own_format(entries: dict, path: Path, fmt: str) -> GraspSet:
 
 def read_acronym(path: Path) -> GraspSet:
     """ACRONYM's ``grasps/transforms``, mapped to our TCP (module docstring)."""
-    import h5py
-
-    with h5py.File(path, "r") as handle:
+    with open_hdf5(path) as handle:
         if "grasps/transforms" not in handle:
             raise SimgraspError(f"{path} is no ACRONYM grasp file: it has no 'grasps/transforms'")
         franka = np.asarray(handle["grasps/transforms"][()], dtype=float)
