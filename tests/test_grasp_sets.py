@@ -120,8 +120,9 @@ def test_acronym_file_without_grasps_is_an_error(tmp_path: Path) -> None:
 def test_files_that_are_no_hdf5_or_hold_odd_content_are_one_line_each(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:
-    """label-grasps and compare-labels on a file that is not HDF5, and on an ACRONYM file
-    whose object scale is text: one line naming the file, no traceback."""
+    """label-grasps and compare-labels on a file that is not HDF5, on an ACRONYM file whose
+    object scale is text, and on GraspGen files whose scale is text or whose object has no
+    mesh: one line naming the file, no traceback."""
     from simgrasp.cli import main
 
     not_hdf5 = tmp_path / "Mug_x.h5"
@@ -132,8 +133,17 @@ def test_files_that_are_no_hdf5_or_hold_odd_content_are_one_line_each(
         handle["object/file"] = "meshes/mug.obj"
         handle["object/scale"] = "large"
         handle["grasps/transforms"] = GOOD[None]
+    scale_text = tmp_path / "gg_scale.json"
+    scale_text.write_text(json.dumps({"object": {"file": "m.obj", "scale": "x"}, "grasps": {}}))
+    no_file = tmp_path / "gg_object.json"
+    no_file.write_text(json.dumps({"object": "mug", "grasps": {"transforms": []}}))
     out = ["--out", str(tmp_path / "out")]
     runs = [
+        (
+            ["label-grasps", "--grasps", str(scale_text), "--gripper", "franka_panda", *out],
+            scale_text,
+        ),
+        (["label-grasps", "--grasps", str(no_file), "--gripper", "franka_panda", *out], no_file),
         (["label-grasps", "--grasps", str(not_hdf5), "--gripper", "franka_panda", *out], not_hdf5),
         (["label-grasps", "--grasps", str(odd), "--gripper", "franka_panda", *out], odd),
         (["compare-labels", str(tmp_path), "--reference", str(not_hdf5)], not_hdf5),

@@ -78,9 +78,7 @@ def carried_object(path: Path, mesh_root: Path | None = None) -> str | None:
             file = handle["object/file"][()]
         relative = file.decode() if isinstance(file, bytes) else str(file)
     elif is_graspgen(path):
-        entry = _json(path)["object"]
-        relative = str(entry["file"])
-        values = {"scale": float(entry["scale"])} if "scale" in entry else {}
+        relative, values = _graspgen_object(path, _json(path)["object"])
     else:
         return None
     mesh = Path(relative) if Path(relative).is_absolute() else root / relative
@@ -89,6 +87,20 @@ def carried_object(path: Path, mesh_root: Path | None = None) -> str | None:
             f"{path}: its object file {mesh} does not exist (resolve it with --mesh-root DIR)"
         )
     return MeshObjectSpec(mesh, **values).name()  # type: ignore[arg-type]
+
+
+def _graspgen_object(path: Path, entry: object) -> tuple[str, dict[str, float]]:
+    """A GraspGen file's ``object`` entry: its mesh file and, if given, its scale."""
+    if not isinstance(entry, dict) or "file" not in entry:
+        raise SimgraspError(f"{path}: 'object' must hold a mesh 'file' (and a 'scale')")
+    if "scale" not in entry:
+        return str(entry["file"]), {}
+    try:
+        return str(entry["file"]), {"scale": float(entry["scale"])}
+    except (TypeError, ValueError):
+        raise SimgraspError(
+            f"{path}: object scale must be a number, got {entry['scale']!r}"
+        ) from None
 
 
 def reference_labels(path: Path) -> tuple[np.ndarray, np.ndarray | None] | None:
