@@ -79,6 +79,9 @@ def test_yaml_config(tmp_path: Path, capsys) -> None:
         (["--set", "scene.placement=sideways"], "'sideways' is not one of stable, upright"),
         (["--detector.quadric.max-points", "many"], "detector.quadric.max_points: expected"),
         (["--noise", "2"], "noise: 2.0 is not in [0, 1)"),
+        (["--json", "out.json"], "json: expected bool, got 'out.json'"),
+        (["--set", "seed=1.5"], "seed: expected int, got 1.5"),
+        (["--set", "noise=true"], "noise: expected float, got True"),
     ],
 )
 def test_bad_settings_are_one_line_errors(argv, message, capsys) -> None:

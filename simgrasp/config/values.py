@@ -52,25 +52,25 @@ def _convert(value: Any, annotation: Any, key: str) -> Any:
                 return _convert(value, arm, key)
             except (TypeError, ValueError) as exc:
                 errors.append(exc)
-        raise SimgraspError(errors[0] if errors else "no type")
+        raise ValueError(errors[0] if errors else "no type")
     if origin is tuple:
         return _tuple(value, args, key)
     if annotation is bool:
         return _bool(value)
     if annotation is int:
         if isinstance(value, bool) or (isinstance(value, float) and not value.is_integer()):
-            raise SimgraspError(value)
+            raise ValueError(value)
         return int(value)
     if annotation is float:
         if isinstance(value, bool):
-            raise SimgraspError(value)
+            raise ValueError(value)
         number = float(value)
         if math.isnan(number):
-            raise SimgraspError(value)
+            raise ValueError(value)
         return number
     if annotation is str:
         if not isinstance(value, str):
-            raise SimgraspError(value)
+            raise ValueError(value)
         return value
     if annotation is Path:
         return Path(value)
@@ -87,14 +87,14 @@ def _bool(value: Any) -> bool:
         return True
     if text in _FALSE:
         return False
-    raise SimgraspError(value)
+    raise ValueError(value)
 
 
 def _tuple(value: Any, args: tuple[Any, ...], key: str) -> tuple[Any, ...]:
     if isinstance(value, str):
         value = [item.strip() for item in value.split(",") if item.strip()]
     if not isinstance(value, list | tuple):
-        raise SimgraspError(value)
+        raise ValueError(value)
     if len(args) == 2 and args[1] is Ellipsis:
         return tuple(_convert(item, args[0], key) for item in value)
     if len(value) != len(args):
@@ -106,7 +106,7 @@ def _dataclass(value: Any, cls: type, key: str) -> Any:
     if isinstance(value, cls):
         return value
     if not isinstance(value, dict):
-        raise SimgraspError(value)
+        raise ValueError(value)
     hints = typing.get_type_hints(cls)
     names = {f.name for f in dataclasses.fields(cls)}
     unknown = sorted(set(value) - names)
