@@ -23,6 +23,7 @@ from simgrasp.config.arguments import (
     settings_from_args,
 )
 from simgrasp.errors import SimgraspError
+from simgrasp.runs.out_dir import check_outputs
 
 # name -> one-line help; the module is simgrasp.cli.<name with - as _>
 COMMANDS: dict[str, str] = {
@@ -89,7 +90,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_config:
             sys.stdout.write(effective_config_text(module.Options, args))
             return 0
-        code = int(module.run(settings_from_args(module.Options, args)) or 0)
+        options = settings_from_args(module.Options, args)
+        check_outputs(options)  # a run never works for minutes, then fails to save
+        code = int(module.run(options) or 0)
         sys.stdout.flush()  # a closed pipe shows here, inside the handler below
         return code
     except SimgraspError as exc:

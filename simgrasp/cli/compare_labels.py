@@ -24,9 +24,9 @@ class Options(Checked):
     reference_file: Path | None = setting(None, flag="--reference")
     """Grasp file(s) with labels (ACRONYM .h5: FleX's; a glob or folder) to compare
     REFERENCE's labels with, instead of OTHER."""
-    plot: Path | None = None
+    plot: Path | None = setting(None, output="file")
     """With --reference: write the agreement plot (PNG) here."""
-    examples: Path | None = None
+    examples: Path | None = setting(None, output="dir")
     """With --reference: replay a few grasps of each kind of disagreement (the reference held
     the object and we did not, and the other way round) and write a picture of each, with
     examples.json, to this folder."""

@@ -39,9 +39,9 @@ class Options:
     """... and by the meters per unit of these units."""
     name: str | None = None
     """Object name in the output file (default: the mesh file's stem, or the object name)."""
-    out: Path = Path("handles.json")
+    out: Path = setting(Path("handles.json"), output="file")
     """Output label file (the format of models/handles/ycb_handles.json)."""
-    plot: Path | None = setting(None, metavar="OUT.png")
+    plot: Path | None = setting(None, metavar="OUT.png", output="file")
     """Also write a picture of the label on the scanned surface."""
     label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
 

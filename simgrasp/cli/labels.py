@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.cli.options import YcbSource
+from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 
 
@@ -17,7 +18,7 @@ class Options(YcbSource):
     """Object names and/or the sets generated, paper, ycb, all."""
     seed: int = 0
     """Sizes of generated tools named without _s<seed>."""
-    out: Path = Path("out/labels")
+    out: Path = setting(Path("out/labels"), output="dir")
     """Output directory (one PNG per object or scene)."""
     osd: tuple[str, ...] = ()
     """Draw the labeled pot handles of these osd-learn scenes instead (learn33,... or all)."""

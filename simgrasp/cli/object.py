@@ -36,9 +36,14 @@ class Options(YcbSource):
 def run(options: Options) -> int:
     from simgrasp.assets.model import build_object_model
     from simgrasp.assets.registry import load_object
+    from simgrasp.runs.out_dir import check_out_dir, check_output_file
 
     if options.action == "show" and options.out.suffix.lower() != ".png":
         raise SimgraspError(f"--out for show must be a .png file, got {options.out}")
+    if options.action == "show":  # --out is a file or a folder by the action: checked here
+        check_output_file(options.out, "--out")
+    else:
+        check_out_dir(options.out)
     model = build_object_model(load_object(options.name, options.ycb_dir, seed=options.seed))
     if options.action == "show":
         from simgrasp.scenes.object_view import show_object

@@ -27,7 +27,7 @@ class Options(YcbSource):
     """YCB id (048_hammer or hammer) or generated tool."""
     n: PositiveInt
     """Number of grasps."""
-    out: Path
+    out: Path = setting(output="file")
     """Output .npz file."""
     seed: int = 0
     """Seed of the sampling and of the scene whose table the grasps clear (label them with

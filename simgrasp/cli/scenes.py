@@ -32,7 +32,7 @@ class Options(YcbSource):
     """The target object (YCB id or generated tool)."""
     seeds: int = 3
     """Scenes of seeds 0..N-1."""
-    out: Path
+    out: Path = setting(output="dir")
     """Output directory."""
     chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True)
 

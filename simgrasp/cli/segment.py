@@ -23,10 +23,10 @@ class Options(Checked):
     """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters)."""
     json: bool = False
     """Print one JSON object."""
-    labels: Path | None = setting(None, metavar="OUT.npy")
+    labels: Path | None = setting(None, metavar="OUT.npy", output="file")
     """Write one int32 label per input point, in the input's order (0 invalid, 1 table, 2..
     objects nearest first)."""
-    plot: Path | None = setting(None, metavar="OUT.png")
+    plot: Path | None = setting(None, metavar="OUT.png", output="file")
     """Write a picture of the labels."""
     segment: SegmentConfig = field(default_factory=SegmentConfig)
 

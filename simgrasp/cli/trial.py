@@ -49,7 +49,7 @@ class Options(YcbSource, MeshObjectOptions):
     in an evaluate record: the same object and seed rerun that trial."""
     json: bool = False
     """Print the trial record as JSON."""
-    render: Path | None = None
+    render: Path | None = setting(None, output="file")
     """Write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4."""
     record: bool = False
     """Add the states a replay needs to the record (``replay``: object and TCP poses, jaw
@@ -67,10 +67,7 @@ def run(options: Options) -> int:
     if options.protocol is not None and options.chain.trial != ChainConfig().trial:
         raise SimgraspError("give --protocol or --trial.* settings, not both")
     if options.render is not None:
-        from simgrasp.runs.out_dir import check_output_file
-
         check_frames_target(options.render)
-        check_output_file(options.render, "--render")
     frames = FrameRecorder() if options.render is not None else None
     record = _recorded_trial(options, frames) if options.record else _trial(options, frames)
     if options.render is not None and frames is not None:

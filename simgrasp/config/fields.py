@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal
 
 META_KEY = "simgrasp"
 
@@ -29,6 +29,9 @@ class FieldSpec:
         exclude: for a nested config field, dotted keys of it not offered on this command.
         metavar: the placeholder shown in ``--help``.
         cli: False keeps the field out of the flags (still settable by ``--config``/``--set``).
+        output: a path the command writes, a ``"file"`` or a ``"dir"``: proved writable
+            before the run starts (:func:`simgrasp.runs.out_dir.check_outputs`), so a run
+            never works for minutes and then fails to save.
     """
 
     flag: str | None = None
@@ -39,6 +42,7 @@ class FieldSpec:
     exclude: tuple[str, ...] = ()
     metavar: str | None = None
     cli: bool = True
+    output: Literal["file", "dir"] | None = None
 
 
 def setting(

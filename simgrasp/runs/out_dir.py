@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import functools
 import json
 import os
 import shlex
@@ -20,6 +21,7 @@ import socket
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import Any
 
 from simgrasp.errors import SimgraspError
 
@@ -27,11 +29,15 @@ LOCK_FILE = ".simgrasp.lock"
 LOG_FILE = "trials.jsonl"
 
 
-def check_out_dir(out: Path) -> None:
-    """Create ``out`` if needed and prove it writable; a ValueError naming it otherwise."""
+def check_out_dir(out: Path, option: str = "--out") -> None:
+    """Create ``out`` if needed and prove it writable; a ValueError naming ``option`` and
+    ``out`` otherwise."""
     out = Path(out)
     if out.exists() and not out.is_dir():
-        raise SimgraspError(f"--out {out}: is a file, not a directory")
+        raise SimgraspError(f"{option} {out}: is a file, not a directory")
+    blocker = next((p for p in out.parents if p.exists() and not p.is_dir()), None)
+    if blocker is not None:
+        raise SimgraspError(f"{option} {out}: {blocker} is a file, not a directory")
     try:
         out.mkdir(parents=True, exist_ok=True)
         probe = out / f".write-probe-{os.getpid()}"
@@ -43,7 +49,7 @@ def check_out_dir(out: Path) -> None:
                 pass
     except OSError as exc:
         where = exc.filename or out
-        raise SimgraspError(f"--out {out}: {where} is not writable ({exc.strerror})") from None
+        raise SimgraspError(f"{option} {out}: {where} is not writable ({exc.strerror})") from None
 
 
 def check_output_file(path: Path, option: str) -> None:
@@ -64,6 +70,23 @@ def check_output_file(path: Path, option: str) -> None:
         raise SimgraspError(
             f"{option} {path}: its directory is not writable ({exc.strerror}: {exc.filename})"
         ) from None
+
+
+def check_outputs(options: Any) -> None:
+    """Prove writable, before any work, every path of the settings tree ``options`` whose
+    field is marked ``setting(output="file" | "dir")`` and is given (not None)."""
+    from simgrasp.config.arguments import flag_name
+    from simgrasp.config.schema import leaves
+
+    for leaf in leaves(type(options)):
+        value = functools.reduce(getattr, leaf.path, options)
+        if leaf.spec.output is None or value is None:
+            continue
+        option = flag_name(leaf.key) if not leaf.spec.positional else leaf.key.upper()
+        if leaf.spec.output == "file":
+            check_output_file(Path(value), option)
+        else:
+            check_out_dir(Path(value), option)
 
 
 def _holder_text(command: Sequence[str]) -> str:

@@ -1,0 +1,75 @@
+"""Every path a command writes is proved writable before its work starts: one clear line
+naming the flag and the path, no traceback, and no minutes of work lost at the end."""
+
+from __future__ import annotations
+
+import typing
+from pathlib import Path
+
+import pytest
+
+from simgrasp.cli import COMMANDS, command_module, main
+from simgrasp.config.schema import leaves
+
+READ_OR_CLAIMED = {
+    ("detect", "cloud"),
+    ("segment", "scene"),
+    ("detect-eval", "real"),
+    ("detect-eval", "real_dir"),
+    ("labels", "manifest"),
+    ("trial", "handles"),
+    ("evaluate", "handles"),
+    ("label-grasps", "handles"),
+    ("label-grasps", "grasps"),
+    ("label-grasps", "mesh_root"),
+    ("compare-labels", "reference"),
+    ("compare-labels", "other"),
+    ("compare-labels", "reference_file"),
+    ("view", "path"),
+    # run folders, each checked and locked by runs.out_dir.claim_out_dir
+    ("demo", "out"),
+    ("detect-eval", "out"),
+    ("evaluate", "out"),
+    ("label-grasps", "out"),
+    # a file (show) or a folder (export) by the action: checked in its run
+    ("object", "out"),
+}
+"""Path settings that are read, or written under a run's own check."""
+
+
+def test_every_path_setting_is_read_or_marked_as_an_output() -> None:
+    """A new path setting must say which it is: read, or ``setting(output=...)``."""
+    for command in COMMANDS:
+        for leaf in leaves(command_module(command).Options):
+            if leaf.annotation is Path or Path in typing.get_args(leaf.annotation):
+                known = (command, leaf.key) in READ_OR_CLAIMED
+                assert known != (leaf.spec.output is not None), (command, leaf.key)
+
+
+@pytest.mark.parametrize(
+    ("args", "flag"),
+    [
+        (["label-handles", "gen_mug", "--out", "{blocked}/h.json"], "--out"),
+        (["label-handles", "gen_mug", "--plot", "{blocked}/h.png"], "--plot"),
+        (["sample-grasps", "gen_mug", "--n", "5", "--out", "{blocked}/g.npz"], "--out"),
+        (["detect", "{cloud}", "--plot", "{blocked}/d.png"], "--plot"),
+        (["segment", "{cloud}", "--labels", "{blocked}/l.npy"], "--labels"),
+        (["trial", "gen_mug", "--render", "{blocked}/t.png"], "--render"),
+        (["scenes", "export", "--out", "{blocked}/scenes"], "--out"),
+        (["labels", "--out", "{blocked}/labels"], "--out"),
+        (["object", "show", "gen_mug", "--out", "{blocked}/m.png"], "--out"),
+        (["object", "export", "gen_mug", "--out", "{blocked}/m"], "--out"),
+        (["view", "{cloud}", "--export", "{blocked}/v.html"], "--export"),
+    ],
+)
+def test_an_output_under_a_file_is_one_line_before_any_work(
+    args: list[str], flag: str, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    blocked = tmp_path / "a_file"
+    blocked.write_text("not a folder")
+    cloud = tmp_path / "cloud.npy"
+    cloud.write_bytes(b"")
+    filled = [a.format(blocked=blocked, cloud=cloud) for a in args]
+    assert main(filled) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and flag in err and "a_file is a file" in err, err
