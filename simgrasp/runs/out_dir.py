@@ -1,4 +1,8 @@
-"""A sweep's output directory: checked before any work starts, and held by one run at a time.
+"""Where a command writes: checked before any work starts; a sweep's output directory is also
+held by one run at a time.
+
+:func:`check_outputs` proves writable every path setting marked ``setting(output=...)``
+(:func:`check_output_file`, :func:`check_out_dir`); the CLI calls it before a command runs.
 
 :func:`claim_out_dir` refuses (``ValueError`` naming the directory) a path that is a file or a
 directory this process cannot create or write into (it creates and deletes a probe file, and
@@ -79,8 +83,10 @@ def check_outputs(options: Any) -> None:
     from simgrasp.config.schema import leaves
 
     for leaf in leaves(type(options)):
-        value = functools.reduce(getattr, leaf.path, options)
-        if leaf.spec.output is None or value is None:
+        if leaf.spec.output is None:
+            continue
+        value = functools.reduce(lambda node, name: getattr(node, name, None), leaf.path, options)
+        if value is None:
             continue
         option = flag_name(leaf.key) if not leaf.spec.positional else leaf.key.upper()
         if leaf.spec.output == "file":
