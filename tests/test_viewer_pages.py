@@ -221,3 +221,20 @@ def test_a_path_the_viewer_cannot_draw_is_one_line(case, tmp_path, capsys):
     err = capsys.readouterr().err
     assert expected in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "page.html").exists()
+
+
+def test_a_data_set_folder_points_at_one_of_its_files(tmp_path: Path) -> None:
+    """``label-grasps --grasps GLOB`` writes one label folder per file and a summary: view
+    names the data set and one folder it can show, in one line."""
+    from simgrasp.errors import SimgraspError
+    from simgrasp.viewer.kinds import kind_of
+
+    one = tmp_path / "Mug_a"
+    one.mkdir()
+    (one / "run.json").write_text("{}")
+    (one / "labels.jsonl").write_text("")
+    (tmp_path / "summary.json").write_text(json.dumps({"files": [{"dir": "Mug_a"}]}))
+    with pytest.raises(SimgraspError, match="data set of 1 grasp files") as error:
+        kind_of(tmp_path)
+    assert f"simgrasp view {one}" in str(error.value) and "\n" not in str(error.value)
+    assert kind_of(one).page is not None

@@ -94,5 +94,21 @@ def kind_of(path: Path) -> Kind:
     for kind in KINDS:
         if kind.matches(path):
             return kind
+    folders = data_set_folders(path)
+    if folders:
+        raise SimgraspError(
+            f"{path} is a label-grasps data set of {len(folders)} grasp files: view one file's "
+            f"folder, e.g. simgrasp view {path / folders[0]}"
+        )
     accepted = "; ".join(kind.what for kind in KINDS)
     raise SimgraspError(f"{path}: not a path simgrasp view shows; it shows {accepted}")
+
+
+def data_set_folders(path: Path) -> list[str]:
+    """The per-file label folders of a ``label-grasps --grasps GLOB|DIR`` output (its
+    ``summary.json`` lists them); empty for any other path."""
+    try:
+        files = json.loads((path / "summary.json").read_text())["files"]
+        return [str(f["dir"]) for f in files if is_label_dir(path / str(f["dir"]))]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
