@@ -158,8 +158,26 @@ def test_a_run_of_an_older_protocol_definition_is_refused(known_set: Path, tmp_p
     assert run["trial"]["quiet_speed"] == config.trial.quiet_speed
     run["trial"]["hold_time"] = 1.0
     (tmp_path / "run.json").write_text(json.dumps(run))
-    with pytest.raises(ValueError, match="another run.*trial"):
+    with pytest.raises(ValueError, match="another run.*trial.hold_time: 1.0 -> "):
         label_grasp_set(grasps, config, tmp_path, grasp_file=known_set, progress=False)
+
+
+def test_a_run_goes_on_over_more_of_the_same_grasps(known_set: Path, tmp_path: Path) -> None:
+    """Labels are per grasp index: labeling the first two grasps, then all four, labels only
+    the last two (the first two are kept, not done again); back to two labels nothing."""
+    grasps = read_grasp_set(known_set)
+    config = LabelConfig(OBJECT, protocol="fast", seed=SEED)
+    first_two = GraspSet(grasps.object_T_tcp[:2], grasps.width[:2], {}, grasps.fmt)
+    summary, _ = label_grasp_set(first_two, config, tmp_path, grasp_file=known_set, progress=False)
+    assert summary["labeled_this_run"] == 2
+    summary, records = label_grasp_set(
+        grasps, config, tmp_path, grasp_file=known_set, progress=False
+    )
+    assert summary["labeled_this_run"] == 1  # grasp 3 is the invalid NaN row: not executed
+    assert [r["index"] for r in records] == [0, 1, 2, 3]
+    assert json.loads((tmp_path / "run.json").read_text())["count"] == 4
+    summary, _ = label_grasp_set(first_two, config, tmp_path, grasp_file=known_set, progress=False)
+    assert summary["labeled_this_run"] == 0
 
 
 def test_only_acronym_runs_name_their_soft_friction_and_integrator(known_set: Path) -> None:

@@ -21,13 +21,16 @@ def claim_identity(
     what: str,
     hint: str = "use another --out",
     shared_only: bool = False,
+    ignore: tuple[str, ...] = (),
     indent: int = 2,
 ) -> None:
     """Write ``current`` (JSON) to ``path``, or refuse (naming the directory, up to
-    :data:`SHOWN_CHANGES` changed keys with both values, and ``hint``) a directory whose file
-    differs: ``what`` says what it holds instead (e.g. ``"labels of another run"``). With
-    ``shared_only`` only keys both have are compared (a setting added since starts at its
-    default, so it changes no earlier record)."""
+    :data:`SHOWN_CHANGES` changed settings with both values, nested tables by their dotted
+    keys, and ``hint``) a directory whose file differs: ``what`` says what it holds instead
+    (e.g. ``"labels of another run"``). With ``shared_only`` only keys both have are compared
+    (a setting added since starts at its default, so it changes no earlier record). Keys in
+    ``ignore`` are recorded, not compared: when only they differ the file takes the new
+    values (a label run extended to more of the same grasps)."""
     path = Path(path)
     current = json.loads(json.dumps(current))  # as it reads back (tuples as lists)
     if not path.exists():
@@ -41,11 +44,26 @@ def claim_identity(
     if not isinstance(earlier, dict):
         raise SimgraspError(f"{path} is not a table of settings")
     keys = [k for k in current if k in earlier] if shared_only else sorted({*current, *earlier})
-    changed = [k for k in keys if earlier.get(k) != current.get(k)]
+    changed = _changes(earlier, current, [k for k in keys if k not in ignore])
     if changed:
-        shown = ", ".join(
-            f"{k}: {earlier.get(k)!r:.60} -> {current.get(k)!r:.60}"
-            for k in changed[:SHOWN_CHANGES]
-        )
+        shown = ", ".join(f"{k}: {a!r:.60} -> {b!r:.60}" for k, a, b in changed[:SHOWN_CHANGES])
         more = f" and {len(changed) - SHOWN_CHANGES} more" if len(changed) > SHOWN_CHANGES else ""
         raise SimgraspError(f"{path.parent} holds {what} ({shown}{more}); {hint}")
+    if any(earlier.get(k) != current.get(k) for k in ignore):
+        path.write_text(json.dumps({**earlier, **current}, indent=indent) + "\n", encoding="utf-8")
+
+
+def _changes(
+    earlier: dict[str, Any], current: dict[str, Any], keys: list[str], prefix: str = ""
+) -> list[tuple[str, Any, Any]]:
+    """(dotted key, earlier value, current value) of each setting that differs among
+    ``keys``, nested tables compared key by key (a missing value is None)."""
+    changed: list[tuple[str, Any, Any]] = []
+    for key in keys:
+        before, after = earlier.get(key), current.get(key)
+        if isinstance(before, dict) and isinstance(after, dict):
+            inner = sorted({*before, *after})
+            changed += _changes(before, after, inner, f"{prefix}{key}.")
+        elif before != after:
+            changed.append((f"{prefix}{key}", before, after))
+    return changed

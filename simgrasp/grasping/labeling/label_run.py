@@ -97,8 +97,11 @@ def label_grasp_set(
     (also ``summary.json``) and every record in input order."""
     run = RunConfig(workers, backend, address, progress)
     out_dir = Path(out_dir)
-    claim_identity(
-        out_dir / RUN_FILE, run_identity(grasps, config, grasp_file), what="labels of another run"
+    claim_identity(  # labels are per grasp index: a run may go on over more of the same file
+        out_dir / RUN_FILE,
+        run_identity(grasps, config, grasp_file),
+        what="labels of another run",
+        ignore=("count",),
     )
     executed: list[int] = []
     start = time.perf_counter()
