@@ -21,6 +21,7 @@ from PIL import Image
 
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import model_for
+from simgrasp.cli import main
 from simgrasp.grasping.labeling.grasp_files import carried_object
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP, read_grasp_set
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
@@ -183,6 +184,29 @@ def test_disagreements_are_replayed_with_pictures(tmp_path: Path) -> None:
     assert picture.width > 2.5 * picture.height  # three key moments side by side
     wrong = _cli("compare-labels", str(out), str(out), "--examples", str(examples), cwd=tmp_path)
     assert wrong.returncode == 2 and "--examples needs --reference" in wrong.stderr
+
+
+def test_labels_are_compared_only_with_their_own_grasp_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    """compare-labels matches a label folder to a grasp file by the file's digest (run.json):
+    labels of ``a.json`` are never scored against ``b.json``'s reference labels, nor against
+    a run of ``b.json``; a run of a file's first grasp against one of both: that grasp."""
+    a = _graspgen_file(tmp_path, "a.json", 2, held=[1, 0])
+    b = _graspgen_file(tmp_path, "b.json", 2, held=[0, 0])
+    label = ["label-grasps", "--gripper", "franka_panda", "--protocol", "acronym", "--mass", "0.1"]
+    for grasp_file, count in ((a, "2"), (b, "2"), (a, "1")):
+        out = tmp_path / f"{grasp_file.stem}{count}"
+        args = [*label, "--grasps", str(grasp_file), "--max-grasps", count, "--out", str(out)]
+        assert main([*args, "--no-picture"]) == 0
+    capsys.readouterr()
+    assert main(["compare-labels", str(tmp_path / "a2"), "--reference", str(b)]) == 2
+    assert "no labels of b.json" in capsys.readouterr().err
+    assert main(["compare-labels", str(tmp_path / "a2"), str(tmp_path / "b2")]) == 2
+    assert "different grasp files" in capsys.readouterr().err
+    assert main(["compare-labels", str(tmp_path / "a2"), "--reference", str(a)]) == 0
+    assert main(["compare-labels", str(tmp_path / "a1"), str(tmp_path / "a2")]) == 0
+    assert "over 1 scored grasps" in capsys.readouterr().out
 
 
 def test_glob_of_one_file_labels_it_as_a_data_set(tmp_path: Path) -> None:

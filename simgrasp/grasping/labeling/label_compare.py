@@ -27,13 +27,18 @@ def load_labels(out_dir: Path) -> dict[str, np.ndarray]:
 
 
 def compare_labels(reference_dir: Path, other_dir: Path) -> dict[str, Any]:
-    """Confusion counts of ``success`` (reference x other) and agreements."""
+    """Confusion counts of ``success`` (reference x other) and agreements, over the grasps
+    both label (a run of a file's first N grasps against one of more: the first N); two
+    directories made from different grasp files (``run.json``) are refused."""
+    from simgrasp.grasping.labeling.label_run import labeled_file_digest
+
+    digests = labeled_file_digest(reference_dir), labeled_file_digest(other_dir)
+    if None not in digests and digests[0] != digests[1]:
+        raise SimgraspError(f"{reference_dir} and {other_dir} label different grasp files")
     reference, other = load_labels(reference_dir), load_labels(other_dir)
-    if len(reference["success"]) != len(other["success"]):
-        raise SimgraspError(
-            f"{reference_dir} and {other_dir} label different numbers of grasps "
-            f"({len(reference['success'])} and {len(other['success'])})"
-        )
+    common = min(len(reference["success"]), len(other["success"]))
+    reference = {key: values[:common] for key, values in reference.items()}
+    other = {key: values[:common] for key, values in other.items()}
     scored = ~np.isin(reference["failure"], UNSCORED) & ~np.isin(other["failure"], UNSCORED)
     ref, oth = reference["success"][scored], other["success"][scored]
     both = reference["success"] & other["success"] & scored

@@ -53,6 +53,16 @@ def file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
+def labeled_file_digest(out_dir: Path) -> str | None:
+    """The SHA-256 of the grasp file a label directory was made from (its ``run.json``), or
+    None when it does not say (no or an unreadable ``run.json``)."""
+    try:
+        digest = json.loads((Path(out_dir) / RUN_FILE).read_text()).get("grasps_sha256")
+    except (OSError, ValueError, AttributeError):
+        return None
+    return digest if isinstance(digest, str) else None
+
+
 SETTINGS_ADDED = {
     "shake": None,
     "start_tolerance": None,

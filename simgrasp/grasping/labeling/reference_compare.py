@@ -20,10 +20,20 @@ from simgrasp.grasping.labeling.agreement import agreement
 
 
 def labels_dir_of(ours: Path, reference: Path) -> Path:
-    """Where the labels of ``reference`` are under ``ours``."""
+    """Where the labels of ``reference`` are under ``ours``: ``ours/<file stem>`` (a data
+    set's) or ``ours`` itself, made from that very file (``run.json``'s digest), never labels
+    of another grasp file that happen to sit there."""
+    from simgrasp.grasping.labeling.label_run import file_digest, labeled_file_digest
+
+    digest = file_digest(reference)
     for candidate in (ours / reference.stem, ours):
-        if (candidate / "labels.npz").is_file():
+        if not (candidate / "labels.npz").is_file():
+            continue
+        made_from = labeled_file_digest(candidate)
+        if made_from == digest or (made_from is None and candidate != ours):
             return candidate
+        if candidate != ours:
+            raise SimgraspError(f"{candidate} holds labels of another grasp file than {reference}")
     raise DataNotFoundError(f"no labels of {reference.name} in {ours} (label-grasps it first)")
 
 
