@@ -209,6 +209,19 @@ def test_labels_are_compared_only_with_their_own_grasp_file(
     assert "over 1 scored grasps" in capsys.readouterr().out
 
 
+def test_an_object_given_with_a_file_that_names_its_own_is_said(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    """OBJECT overrides the object a GraspGen file names, and the run says so on stderr."""
+    grasp_file = _graspgen_file(tmp_path, "box.json", 1)
+    args = ["label-grasps", "gen_hammer", "--grasps", str(grasp_file), "--gripper", "franka_panda"]
+    assert main([*args, "--no-picture", "--out", str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert "box.json names its own object; labeling gen_hammer instead" in err
+    run = json.loads((tmp_path / "out" / "run.json").read_text())
+    assert run["object"] == "gen_hammer"
+
+
 def test_glob_of_one_file_labels_it_as_a_data_set(tmp_path: Path) -> None:
     _graspgen_file(tmp_path, "a.json", 2)
     out = tmp_path / "out"

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from simgrasp.errors import SimgraspError
+from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.grasping.labeling.labeling import LabelConfig
 
 SUMMARY_FILE = "summary.json"
@@ -30,7 +30,19 @@ def object_for(options: Any, grasp_file: Path) -> LabelConfig:
     from simgrasp.grasping.labeling.grasp_files import carried_object
 
     config: LabelConfig = options.label
-    name = config.object or carried_object(grasp_file, options.mesh_root)
+    if config.object:
+        try:
+            carried = carried_object(grasp_file, options.mesh_root)
+        except DataNotFoundError:  # its mesh is not here: OBJECT stands in for it
+            carried = "a mesh not found here"
+        if carried:
+            print(
+                f"note: {grasp_file.name} names its own object; labeling {config.object} "
+                "instead, as given (leave OBJECT out to use the file's)",
+                file=sys.stderr,
+            )
+        return replace(config, object=options.object_name(config.object))
+    name = carried_object(grasp_file, options.mesh_root)
     if not name:
         raise SimgraspError(f"{grasp_file} names no object: give OBJECT")
     return replace(config, object=options.object_name(name))
