@@ -22,8 +22,9 @@ we hold. A variant changes one thing on the compiled model or the trial settings
   ``TrialConfig.finger_solimp_width``); ``tc<S>``: the fingers' contact time constant (s);
   ``noslip<N>``: MuJoCo's noslip iterations (friction without creep).
 
-Variants join with ``+`` (``width0.007+imp0.45``). ``--per-class 0`` labels every one of a
-file's first 500 grasps, and ``--files tune`` names the tune half of ``halves.json``:
+Variants join with ``+`` (``width0.007+imp0.45``, ``tight_hulls+width0.01``: hulls first).
+``--per-class 0`` labels every one of a file's first 500 grasps, and ``--files tune`` names
+the tune half of ``halves.json``:
 
     python scripts/acronym_variants.py --variants base,mu0.3,condim3 --per-class 20
     python scripts/acronym_variants.py --files tune --per-class 0 --variants base,imp0.25+width0.001
@@ -169,8 +170,9 @@ def label_variant(name: str, files: list[Path], per_class: int) -> list[Row]:
     for path in files:
         indices, poses, flex = subset(path, per_class)
         config = LabelConfig(carried_object(path) or "", gripper="franka_panda", protocol="acronym")
-        if name in HULLS:
-            model: ObjectModel = build_object_model(load_object(config.object), HULLS[name])
+        hulls = [HULLS[part] for part in name.split("+") if part in HULLS]
+        if hulls:
+            model: ObjectModel = build_object_model(load_object(config.object), hulls[0])
         else:
             model = model_for(config.object)
         labeler = GraspLabeler(model, config)
