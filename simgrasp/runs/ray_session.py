@@ -26,13 +26,16 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     started = not ray.is_initialized()
     if started:
         env = {k: v for k, v in os.environ.items() if k.startswith(("SIMGRASP_", "MUJOCO_"))}
-        ray.init(
-            address=address or "local",
-            num_cpus=None if address else workers,
-            include_dashboard=False,
-            log_to_driver=False,
-            runtime_env={"env_vars": env},
-        )
+        try:
+            ray.init(
+                address=address or "local",
+                num_cpus=None if address else workers,
+                include_dashboard=False,
+                log_to_driver=False,
+                runtime_env={"env_vars": env},
+            )
+        except ConnectionError as exc:  # no cluster at --address (or none started for auto)
+            raise SimgraspError(f"--address {address}: cannot join a Ray cluster ({exc})") from None
     try:
         yield ray
     finally:
