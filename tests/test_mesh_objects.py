@@ -115,6 +115,24 @@ def test_catalog_and_handle_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     assert asset.handle_source == "file"
 
 
+@pytest.mark.parametrize(
+    ("entry", "message"),
+    [
+        ("mesh = 3", "mesh must be text, got 3"),
+        ('mesh = "crate.stl"\nmass = "heavy"', "mass must be a number, got 'heavy'"),
+        ('mesh = "crate.stl"\nfriction = true', "friction must be a number, got True"),
+        ('mesh = "crate.stl"\nunits = 10', "units must be text, got 10"),
+    ],
+)
+def test_a_catalog_value_of_the_wrong_type_is_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, entry: str, message: str
+) -> None:
+    (tmp_path / "objects.toml").write_text(f"[crate]\n{entry}\n")
+    monkeypatch.setenv("SIMGRASP_OBJECTS", str(tmp_path / "objects.toml"))
+    with pytest.raises(SimgraspError, match=f"\\[crate\\] {message}"):
+        load_object("crate")
+
+
 def test_a_mesh_without_handle_file_gets_the_automatic_label_cached(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:

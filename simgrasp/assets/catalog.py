@@ -57,13 +57,22 @@ def _spec(path: Path, name: str, entry: object) -> str:
     unknown = set(entry) - {"mesh", "units", "handles", *_NUMBERS}
     if unknown:
         raise SimgraspError(f"object catalog {path}: [{name}] has unknown keys {sorted(unknown)}")
+    where = f"object catalog {path}: [{name}]"
+    for key in ("mesh", "units", "handles"):
+        if key in entry and not isinstance(entry[key], str):
+            raise SimgraspError(f"{where} {key} must be text, got {entry[key]!r}")
+    for key in _NUMBERS:
+        if key in entry and (
+            isinstance(entry[key], bool) or not isinstance(entry[key], int | float)
+        ):
+            raise SimgraspError(f"{where} {key} must be a number, got {entry[key]!r}")
     base = path.resolve().parent
     values: dict[str, object] = {k: float(entry[k]) for k in _NUMBERS if k in entry}
     if "units" in entry:
-        values["units"] = str(entry["units"])
+        values["units"] = entry["units"]
     if "handles" in entry:
-        values["handles"] = base / str(entry["handles"])
-    return MeshObjectSpec(base / str(entry["mesh"]), **values).name()  # type: ignore[arg-type]
+        values["handles"] = base / entry["handles"]
+    return MeshObjectSpec(base / entry["mesh"], **values).name()  # type: ignore[arg-type]
 
 
 def catalog_entry(name: str) -> str | None:
