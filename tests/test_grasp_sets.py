@@ -121,8 +121,8 @@ def test_files_that_are_no_hdf5_or_hold_odd_content_are_one_line_each(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:
     """label-grasps and compare-labels on a file that is not HDF5, on an ACRONYM file whose
-    object scale is text, and on GraspGen files whose scale is text or whose object has no
-    mesh: one line naming the file, no traceback."""
+    object scale is text, and on GraspGen files whose scale is text, whose object has no mesh
+    or whose grasps are no table: one line naming the file, no traceback."""
     from simgrasp.cli import main
 
     not_hdf5 = tmp_path / "Mug_x.h5"
@@ -135,17 +135,14 @@ def test_files_that_are_no_hdf5_or_hold_odd_content_are_one_line_each(
         handle["grasps/transforms"] = GOOD[None]
     scale_text = tmp_path / "gg_scale.json"
     scale_text.write_text(json.dumps({"object": {"file": "m.obj", "scale": "x"}, "grasps": {}}))
+    not_table = tmp_path / "gg_grasps.json"
+    not_table.write_text(json.dumps({"object": {"file": "m.obj"}, "grasps": "all of them"}))
     no_file = tmp_path / "gg_object.json"
     no_file.write_text(json.dumps({"object": "mug", "grasps": {"transforms": []}}))
-    out = ["--out", str(tmp_path / "out")]
+    label = ["label-grasps", "--gripper", "franka_panda", "--out", str(tmp_path / "out")]
     runs = [
-        (
-            ["label-grasps", "--grasps", str(scale_text), "--gripper", "franka_panda", *out],
-            scale_text,
-        ),
-        (["label-grasps", "--grasps", str(no_file), "--gripper", "franka_panda", *out], no_file),
-        (["label-grasps", "--grasps", str(not_hdf5), "--gripper", "franka_panda", *out], not_hdf5),
-        (["label-grasps", "--grasps", str(odd), "--gripper", "franka_panda", *out], odd),
+        *(([*label, "--grasps", str(f)], f) for f in (scale_text, no_file, not_table, not_hdf5)),
+        ([*label, "--grasps", str(odd)], odd),
         (["compare-labels", str(tmp_path), "--reference", str(not_hdf5)], not_hdf5),
     ]
     for args, name in runs:

@@ -79,6 +79,8 @@ def carried_object(path: Path, mesh_root: Path | None = None) -> str | None:
         relative = file.decode() if isinstance(file, bytes) else str(file)
     elif is_graspgen(path):
         relative, values = _graspgen_object(path, _json(path)["object"])
+    elif path.suffix.lower() == ".json" and "object" in _json(path):
+        raise SimgraspError(f"{path}: names an object but its 'grasps' is no GraspGen table")
     else:
         return None
     mesh = Path(relative) if Path(relative).is_absolute() else root / relative
