@@ -79,7 +79,7 @@ def carried_object(path: Path, mesh_root: Path | None = None) -> str | None:
         relative = file.decode() if isinstance(file, bytes) else str(file)
     elif is_graspgen(path):
         relative, values = _graspgen_object(path, _json(path)["object"])
-    elif path.suffix.lower() == ".json" and "object" in _json(path):
+    elif path.suffix.lower() == ".json" and {"object", "grasps"} <= _json(path).keys():
         raise SimgraspError(f"{path}: names an object but its 'grasps' is no GraspGen table")
     else:
         return None
