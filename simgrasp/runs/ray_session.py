@@ -5,10 +5,14 @@ from __future__ import annotations
 
 import contextlib
 import os
+import socket
 from collections.abc import Iterator
 from typing import Any
 
 from simgrasp.errors import SimgraspError
+
+CONNECT_TIMEOUT_S = 5.0
+"""How long a HOST:PORT cluster address may take to accept a connection."""
 
 
 @contextlib.contextmanager
@@ -24,6 +28,8 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
             "(or `pip install 'ray[default]'`)"
         ) from None
     started = not ray.is_initialized()
+    if started and address:
+        _check_reachable(address)
     if started:
         env = {k: v for k, v in os.environ.items() if k.startswith(("SIMGRASP_", "MUJOCO_"))}
         try:
@@ -41,3 +47,18 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     finally:
         if started:
             ray.shutdown()
+
+
+def _check_reachable(address: str) -> None:
+    """Refuse a ``HOST:PORT`` address where nothing answers within
+    :data:`CONNECT_TIMEOUT_S` (Ray itself retries such an address for minutes, or for ever on
+    a name that does not resolve); ``auto`` and ``ray://`` addresses are left to Ray."""
+    if address == "auto" or "://" in address:
+        return
+    host, _, port = address.rpartition(":")
+    if not (host and port.isdigit()):
+        raise SimgraspError(f"--address {address}: expected HOST:PORT, auto or ray://HOST:PORT")
+    try:
+        socket.create_connection((host, int(port)), timeout=CONNECT_TIMEOUT_S).close()
+    except OSError as exc:
+        raise SimgraspError(f"--address {address}: no Ray cluster answers there ({exc})") from None
