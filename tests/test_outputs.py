@@ -73,3 +73,22 @@ def test_an_output_under_a_file_is_one_line_before_any_work(
     assert main(filled) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and flag in err and "a_file is a file" in err, err
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["detect", "{cloud}", "--plot", "{folder}/d.txt"],
+        ["segment", "{cloud}", "--plot", "{folder}/s"],
+        ["label-handles", "gen_mug", "--plot", "{folder}/h.json"],
+        ["compare-labels", "{folder}", "--reference", "{cloud}", "--plot", "{folder}/c.csv"],
+    ],
+)
+def test_a_picture_matplotlib_cannot_write_is_refused_before_any_work(
+    args: list[str], tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    cloud = tmp_path / "cloud.npy"
+    cloud.write_bytes(b"")
+    assert main([a.format(folder=tmp_path, cloud=cloud) for a in args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--plot" in err and "a picture needs" in err, err

@@ -24,7 +24,7 @@ class Options(Checked):
     reference_file: Path | None = setting(None, flag="--reference")
     """Grasp file(s) with labels (ACRONYM .h5: FleX's; a glob or folder) to compare
     REFERENCE's labels with, instead of OTHER."""
-    plot: Path | None = setting(None, output="file")
+    plot: Path | None = setting(None, output="plot")
     """With --reference: write the agreement plot (PNG) here."""
     examples: Path | None = setting(None, output="dir")
     """With --reference: replay a few grasps of each kind of disagreement (the reference held

@@ -62,7 +62,7 @@ class Options(Checked):
     )
     """Where the classifier keeps nothing, the fallback is
     `QuadricDetectorConfig.real_depth()` (not a flag)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="file")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Write a picture of the detection."""
     segment: bool = False
     """CLOUD is a whole scene: segment it (as `simgrasp segment`) and detect on each object;

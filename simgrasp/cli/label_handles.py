@@ -41,7 +41,7 @@ class Options:
     """Object name in the output file (default: the mesh file's stem, or the object name)."""
     out: Path = setting(Path("handles.json"), output="file")
     """Output label file (the format of models/handles/ycb_handles.json)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="file")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Also write a picture of the label on the scanned surface."""
     label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
 

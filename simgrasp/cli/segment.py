@@ -26,7 +26,7 @@ class Options(Checked):
     labels: Path | None = setting(None, metavar="OUT.npy", output="file")
     """Write one int32 label per input point, in the input's order (0 invalid, 1 table, 2..
     objects nearest first)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="file")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Write a picture of the labels."""
     segment: SegmentConfig = field(default_factory=SegmentConfig)
 

@@ -29,9 +29,10 @@ class FieldSpec:
         exclude: for a nested config field, dotted keys of it not offered on this command.
         metavar: the placeholder shown in ``--help``.
         cli: False keeps the field out of the flags (still settable by ``--config``/``--set``).
-        output: a path the command writes, a ``"file"`` or a ``"dir"``: proved writable
-            before the run starts (:func:`simgrasp.runs.out_dir.check_outputs`), so a run
-            never works for minutes and then fails to save.
+        output: a path the command writes, a ``"file"``, a ``"plot"`` (a file matplotlib
+            can write, by its suffix) or a ``"dir"``: proved writable before the run starts
+            (:func:`simgrasp.runs.out_dir.check_outputs`), so a run never works for minutes
+            and then fails to save.
     """
 
     flag: str | None = None
@@ -42,7 +43,7 @@ class FieldSpec:
     exclude: tuple[str, ...] = ()
     metavar: str | None = None
     cli: bool = True
-    output: Literal["file", "dir"] | None = None
+    output: Literal["file", "plot", "dir"] | None = None
 
 
 def setting(

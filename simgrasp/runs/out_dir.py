@@ -78,7 +78,8 @@ def check_output_file(path: Path, option: str) -> None:
 
 def check_outputs(options: Any) -> None:
     """Prove writable, before any work, every path of the settings tree ``options`` whose
-    field is marked ``setting(output="file" | "dir")`` and is given (not None)."""
+    field is marked ``setting(output="file" | "plot" | "dir")`` and is given (not None); a
+    plot's suffix must be one matplotlib writes."""
     from simgrasp.config.arguments import flag_name
     from simgrasp.config.schema import leaves
 
@@ -89,10 +90,24 @@ def check_outputs(options: Any) -> None:
         if value is None:
             continue
         option = flag_name(leaf.key) if not leaf.spec.positional else leaf.key.upper()
-        if leaf.spec.output == "file":
-            check_output_file(Path(value), option)
-        else:
+        if leaf.spec.output == "dir":
             check_out_dir(Path(value), option)
+            continue
+        if leaf.spec.output == "plot":
+            check_plot_suffix(Path(value), option)
+        check_output_file(Path(value), option)
+
+
+def check_plot_suffix(path: Path, option: str) -> None:
+    """Refuse a picture path whose suffix matplotlib cannot write (``.txt``, none)."""
+    from matplotlib.figure import Figure
+
+    kinds = Figure().canvas.get_supported_filetypes()
+    if path.suffix.lower().lstrip(".") not in kinds:
+        raise SimgraspError(
+            f"{option} {path}: a picture needs one of the suffixes .png, .pdf, .svg, .jpg "
+            f"(or {', '.join(sorted(set(kinds) - {'png', 'pdf', 'svg', 'jpg'}))})"
+        )
 
 
 def _holder_text(command: Sequence[str]) -> str:
