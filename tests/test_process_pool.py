@@ -43,3 +43,28 @@ def test_workers_exit_when_the_parent_is_killed() -> None:
     if _alive(worker):
         os.kill(worker, signal.SIGKILL)
         raise AssertionError(f"worker {worker} outlived its killed parent")
+
+
+def _pid(item: int) -> int:
+    """The task of the runs below: which worker process ran ``item``."""
+    time.sleep(0.05)  # long enough that both workers take items
+    return os.getpid()
+
+
+def test_runs_inside_a_shared_pool_use_the_same_workers() -> None:
+    """Two runs of the engine inside ``shared_pool`` (a data set's files) are served by the
+    same worker processes, which exit at the block's end; runs outside it spawn their own."""
+    from simgrasp.runs.engine import RunConfig, Work, run_tasks
+    from simgrasp.runs.process_pool import shared_pool
+
+    config = RunConfig(workers=2, progress=False)
+    with shared_pool(2):
+        first = set(run_tasks(Work(_pid), range(8), config))
+        second = set(run_tasks(Work(_pid), range(8), config))
+    assert second <= first and os.getpid() not in first
+    deadline = time.monotonic() + 10 * PARENT_CHECK_S
+    while any(_alive(pid) for pid in first) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(_alive(pid) for pid in first)
+    alone = set(run_tasks(Work(_pid), range(8), config))
+    assert alone.isdisjoint(first)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, wait
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -75,7 +75,7 @@ def run_tasks(work: Work, items: Sequence[Any], config: RunConfig) -> Iterator[A
 
 def _run_local(work: Work, items: Sequence[Any], workers: int) -> Iterator[Any]:
     """Results from ``workers`` spawned processes (``<= 1``: this process)."""
-    from simgrasp.runs.process_pool import spawn_pool
+    from simgrasp.runs.process_pool import pool_for
 
     if workers <= 1:
         if work.warm_up:
@@ -83,7 +83,8 @@ def _run_local(work: Work, items: Sequence[Any], workers: int) -> Iterator[Any]:
                 work.warm_up(*call, *work.args)
         yield from (work.task(item, *work.args) for item in items)
         return
-    pool = spawn_pool(workers)
+    pool, owned = pool_for(workers)
+    pending: set[Future[Any]] = set()
     try:
         if work.warm_up:
             calls = [(*call, *work.args) for call in work.warm_calls]
@@ -94,7 +95,10 @@ def _run_local(work: Work, items: Sequence[Any], workers: int) -> Iterator[Any]:
             for future in done:
                 yield future.result()
     finally:  # on an error, drop the queued tasks instead of running them all first
-        pool.shutdown(cancel_futures=True)
+        for future in pending:
+            future.cancel()
+        if owned:
+            pool.shutdown(cancel_futures=True)
 
 
 def _call(function: Callable[..., Any], args: tuple[Any, ...]) -> Any:

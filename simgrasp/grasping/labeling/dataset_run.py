@@ -3,13 +3,16 @@
 
 Each file is a :func:`~simgrasp.grasping.label_run.label_grasp_set` run of its own directory,
 so a killed run resumes file by file and grasp by grasp (rerun the same command); a file whose
-labels are complete costs only reading them. Files that name their object (ACRONYM, GraspGen)
+labels are complete costs only reading them. The worker processes (or the Ray session) stay
+up from one file to the next; each file's run builds its object's labeler in them. Files that
+name their object (ACRONYM, GraspGen)
 are labeled on it; others on OBJECT. Where a file carries reference labels (FleX's), the
 summary adds their agreement (:mod:`simgrasp.grasping.labeling.agreement`).
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
 from dataclasses import replace
@@ -58,8 +61,8 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     if options.out is None:
         raise SimgraspError("--grasps with several files needs --out DIR")
     rows = []
-    with claim_out_dir(options.out, command):
-        for grasp_file in files:
+    with claim_out_dir(options.out, command), _workers_kept_up(options):
+        for grasp_file in files:  # the workers stay up from one file's object to the next
             config = object_for(options, grasp_file)
             grasps = read_grasp_set(grasp_file).first(options.max_grasps)
             out = options.out / grasp_file.stem
@@ -82,6 +85,19 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     (options.out / SUMMARY_FILE).write_text(json.dumps({"files": rows, **total}, indent=2) + "\n")
     sys.stdout.write(f"{len(rows)} files: {_line(total)}\noutput       {options.out}\n")
     return 0
+
+
+def _workers_kept_up(options: Any) -> contextlib.AbstractContextManager[Any]:
+    """Local worker processes, or the Ray session, held for the whole data set: each file's
+    run uses them instead of starting its own (each run still builds its object's labeler
+    in every worker)."""
+    if options.backend == "ray":
+        from simgrasp.runs.ray_session import ray_session
+
+        return ray_session(options.workers, options.address)
+    from simgrasp.runs.process_pool import shared_pool
+
+    return shared_pool(options.workers)
 
 
 def _row(grasp_file: Path, out: Path, summary: dict[str, Any]) -> dict[str, Any]:

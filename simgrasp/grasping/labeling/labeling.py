@@ -140,9 +140,11 @@ def invalid_record(index: int, problem: str, config: LabelConfig) -> dict[str, A
     }
 
 
-@functools.cache
+@functools.lru_cache(maxsize=1)
 def cached_labeler(config: LabelConfig, ycb_dir: str | None) -> GraspLabeler:
-    """This process's labeler for ``config`` (the scene is built on the first call)."""
+    """This process's labeler for ``config`` (the scene is built on the first call); only the
+    latest is kept, so a worker that labels a data set's files one after another holds one
+    object's scene, not all of them."""
     from simgrasp.assets.model import model_for
 
     return GraspLabeler(model_for(config.object, ycb_dir), config)
