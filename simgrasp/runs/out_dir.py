@@ -39,9 +39,7 @@ def check_out_dir(out: Path, option: str = "--out") -> None:
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise SimgraspError(f"{option} {out}: is a file, not a directory")
-    blocker = next((p for p in out.parents if p.exists() and not p.is_dir()), None)
-    if blocker is not None:
-        raise SimgraspError(f"{option} {out}: {blocker} is a file, not a directory")
+    _refuse_file_in_the_way(out, option)
     try:
         out.mkdir(parents=True, exist_ok=True)
         probe = out / f".write-probe-{os.getpid()}"
@@ -62,9 +60,7 @@ def check_output_file(path: Path, option: str) -> None:
     path = Path(path)
     if path.is_dir():
         raise SimgraspError(f"{option} {path}: is a directory, not writable as a file")
-    blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
-    if blocker is not None:
-        raise SimgraspError(f"{option} {path}: {blocker} is a file, not a directory")
+    _refuse_file_in_the_way(path, option)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         probe = path.parent / f".write-probe-{os.getpid()}"
@@ -74,6 +70,13 @@ def check_output_file(path: Path, option: str) -> None:
         raise SimgraspError(
             f"{option} {path}: its directory is not writable ({exc.strerror}: {exc.filename})"
         ) from None
+
+
+def _refuse_file_in_the_way(path: Path, option: str) -> None:
+    """Refuse ``path`` when one of its parents is a file (no folder can be made there)."""
+    blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+    if blocker is not None:
+        raise SimgraspError(f"{option} {path}: {blocker} is a file, not a directory")
 
 
 def check_outputs(options: Any) -> None:

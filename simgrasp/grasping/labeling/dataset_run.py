@@ -35,10 +35,10 @@ def object_for(options: Any, grasp_file: Path) -> LabelConfig:
     config: LabelConfig = options.label
     if config.object:
         try:
-            carried = carried_object(grasp_file, options.mesh_root)
-        except DataNotFoundError:  # its mesh is not here: OBJECT stands in for it
-            carried = "a mesh not found here"
-        if carried:
+            names_its_own = carried_object(grasp_file, options.mesh_root) is not None
+        except DataNotFoundError:  # it names a mesh that is not here: OBJECT stands in for it
+            names_its_own = True
+        if names_its_own:
             print(
                 f"note: {grasp_file.name} names its own object; labeling {config.object} "
                 "instead, as given (leave OBJECT out to use the file's)",
