@@ -37,6 +37,15 @@ def test_mesh_in_millimetres_fails_then_loads_with_units(tmp_path: Path) -> None
     assert density.mass == pytest.approx(1000.0 * np.prod(BOX_M), rel=1e-6)
 
 
+def test_a_file_name_holding_a_question_mark_is_a_path(tmp_path: Path) -> None:
+    """``?`` starts a spec's options, but a name ending in a mesh suffix is all path; options
+    after such a name still parse."""
+    path = _box_file(tmp_path / "odd?name.stl", 1000.0)
+    assert np.allclose(load_object(str(path) + "?units=mm").mesh.extents, BOX_M)
+    with pytest.raises(SimgraspError, match="odd\\?name.stl"):
+        load_object(str(path))
+
+
 def test_mesh_in_millimetres_on_the_command_line(tmp_path: Path) -> None:
     """One line, exit code 2, naming the file and the fix."""
     path = _box_file(tmp_path / "box_mm.stl", 1000.0)

@@ -94,14 +94,24 @@ class MeshObjectSpec:
         return str(self.path) + (f"?{urlencode(query)}" if query else "")
 
 
+def split_spec(name: str) -> tuple[str, str]:
+    """An object name's base and query (``BASE?key=value&...``; the query ``""`` when none).
+    A name ending in a mesh suffix is all base, ``?`` or not (a file named ``odd?name.stl``);
+    otherwise the query starts at the last ``?`` (its own are percent-encoded)."""
+    if "?" not in name or name.lower().endswith(MESH_SUFFIXES):
+        return name, ""
+    base, _, query = name.rpartition("?")
+    return base, query
+
+
 def is_mesh_spec(name: str) -> bool:
     """Whether an object name is a mesh file spec (its path ends in a mesh suffix)."""
-    return name.split("?", 1)[0].lower().endswith(MESH_SUFFIXES)
+    return split_spec(name)[0].lower().endswith(MESH_SUFFIXES)
 
 
 def parse_mesh_spec(name: str) -> MeshObjectSpec:
     """The :class:`MeshObjectSpec` of ``PATH[?key=value&...]``."""
-    path, _, query = name.partition("?")
+    path, query = split_spec(name)
     values: dict[str, object] = {}
     for key, value in parse_qsl(query, keep_blank_values=True, strict_parsing=False):
         if key not in _KEYS:
@@ -133,7 +143,7 @@ def with_options(name: str, **options: float | str | Path | None) -> str:
                 f"--{'/--'.join(sorted(set(given) - {'handles'}))} only apply to a mesh file "
                 f"object, not {name!r}"
             )
-        return f"{name.partition('?')[0]}?{urlencode({'handles': str(given['handles'])})}"
+        return f"{split_spec(name)[0]}?{urlencode({'handles': str(given['handles'])})}"
     spec = parse_mesh_spec(name)
     fields: dict[str, object] = {k: getattr(spec, k) for k in _KEYS}
     fields.update({k: Path(str(v)) if k == "handles" else v for k, v in given.items()})
@@ -199,10 +209,11 @@ def size_hint(message: str, mesh: trimesh.Trimesh, path: Path | str, factor: flo
 def relabeled(asset: ObjectAsset, name: str) -> ObjectAsset:
     """A named object (YCB, generated, catalog) ``name = BASE?handles=FILE`` with the handle
     label of FILE (its entry named BASE or the object's name, or its only entry)."""
-    query = dict(parse_qsl(name.partition("?")[2]))
+    base, spec_query = split_spec(name)
+    query = dict(parse_qsl(spec_query))
     if set(query) != {"handles"}:
         raise SimgraspError(f"object {name!r}: only a mesh file takes options other than handles")
-    label = _label_of(Path(query["handles"]), (name.partition("?")[0], asset.name), name)
+    label = _label_of(Path(query["handles"]), (base, asset.name), name)
     return replace(asset, name=name, handle=label, handle_source="file")
 
 

@@ -16,6 +16,7 @@ from simgrasp.assets.mesh_object import (
     parse_mesh_spec,
     read_mesh,
     relabeled,
+    split_spec,
 )
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.assets.object_sets import GENERATED_OBJECTS
@@ -35,8 +36,9 @@ def load_object(
     object (``"025_mug"`` or ``"mug"``) from ``ycb_dir`` / ``$SIMGRASP_YCB_DIR``."""
     if is_mesh_spec(name):
         return load_mesh_object(name)
-    if "?" in name:  # a named object with a handle label file
-        return relabeled(load_object(name.partition("?")[0], ycb_dir, seed=seed), name)
+    base, query = split_spec(name)
+    if query:  # a named object with a handle label file
+        return relabeled(load_object(base, ycb_dir, seed=seed), name)
     if (entry := catalog_entry(name)) is not None:
         return load_mesh_object(entry)
     match = _GENERATED.match(name)
@@ -73,7 +75,7 @@ def load_object_mesh(
     frame, meters) without finding its handle: a mesh file spec or catalog entry is read and
     scaled, and its ``handles`` key and automatic label are left alone (what ``simgrasp
     label-handles`` scans; ``seed`` as in :func:`load_object`)."""
-    base = name.partition("?")[0]
+    base = split_spec(name)[0]
     spec = name if is_mesh_spec(name) else catalog_entry(base)
     if spec is not None:
         return read_mesh(parse_mesh_spec(spec))
