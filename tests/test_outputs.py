@@ -92,3 +92,14 @@ def test_a_picture_matplotlib_cannot_write_is_refused_before_any_work(
     assert main([a.format(folder=tmp_path, cloud=cloud) for a in args]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--plot" in err and "a picture needs" in err, err
+
+
+def test_a_run_refused_after_the_check_leaves_no_empty_folders(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    """The check makes an output's folders; a run that then fails (an unknown object) takes
+    back those it made and left empty, and leaves the folders that were there."""
+    out = tmp_path / "new" / "deeper" / "h.json"
+    assert main(["label-handles", "no_such_object", "--out", str(out)]) == 2
+    assert "no_such_object" in capsys.readouterr().err
+    assert not (tmp_path / "new").exists() and tmp_path.is_dir()

@@ -14,6 +14,7 @@ import importlib
 import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from types import ModuleType
 from typing import NoReturn
 
@@ -23,7 +24,7 @@ from simgrasp.config.arguments import (
     settings_from_args,
 )
 from simgrasp.errors import SimgraspError
-from simgrasp.runs.out_dir import check_outputs
+from simgrasp.runs.out_dir import check_outputs, remove_empty
 
 # name -> one-line help; the module is simgrasp.cli.<name with - as _>
 COMMANDS: dict[str, str] = {
@@ -86,16 +87,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(exc, file=sys.stderr)
         return 2
     module = command_module(args.command)
+    made: list[Path] = []
     try:
         if args.print_config:
             sys.stdout.write(effective_config_text(module.Options, args))
             return 0
         options = settings_from_args(module.Options, args)
-        check_outputs(options)  # a run never works for minutes, then fails to save
+        made = check_outputs(options)  # a run never works for minutes, then fails to save
         code = int(module.run(options) or 0)
         sys.stdout.flush()  # a closed pipe shows here, inside the handler below
         return code
     except SimgraspError as exc:
+        remove_empty(made)
         print(f"simgrasp {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except BrokenPipeError:

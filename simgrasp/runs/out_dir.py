@@ -79,13 +79,15 @@ def _refuse_file_in_the_way(path: Path, option: str) -> None:
         raise SimgraspError(f"{option} {path}: {blocker} is a file, not a directory")
 
 
-def check_outputs(options: Any) -> None:
+def check_outputs(options: Any) -> list[Path]:
     """Prove writable, before any work, every path of the settings tree ``options`` whose
     field is marked ``setting(output="file" | "plot" | "dir")`` and is given (not None); a
-    plot's suffix must be one matplotlib writes."""
+    plot's suffix must be one matplotlib writes. Returns the folders it created, deepest
+    first (:func:`remove_empty` takes them back when the run then fails)."""
     from simgrasp.config.arguments import flag_name
     from simgrasp.config.schema import leaves
 
+    made: list[Path] = []
     for leaf in leaves(type(options)):
         if leaf.spec.output is None:
             continue
@@ -93,12 +95,24 @@ def check_outputs(options: Any) -> None:
         if value is None:
             continue
         option = flag_name(leaf.key) if not leaf.spec.positional else leaf.key.upper()
+        folder = Path(value) if leaf.spec.output == "dir" else Path(value).parent
+        missing = [p for p in (folder, *folder.parents) if not p.exists()]
         if leaf.spec.output == "dir":
             check_out_dir(Path(value), option)
-            continue
-        if leaf.spec.output == "plot":
-            check_plot_suffix(Path(value), option)
-        check_output_file(Path(value), option)
+        else:
+            if leaf.spec.output == "plot":
+                check_plot_suffix(Path(value), option)
+            check_output_file(Path(value), option)
+        made = missing + made
+    return made
+
+
+def remove_empty(folders: Sequence[Path]) -> None:
+    """Remove those of ``folders`` (deepest first) that are still empty: what
+    :func:`check_outputs` made for a run that failed before writing there."""
+    for folder in folders:
+        with contextlib.suppress(OSError):  # not empty, or gone: left as it is
+            folder.rmdir()
 
 
 def check_plot_suffix(path: Path, option: str) -> None:
