@@ -13,6 +13,7 @@ import trimesh
 from simgrasp.handles.cross_section import (
     CrossSectionConfig,
     alike_share,
+    long_runs,
     off_head,
     section_profile,
     section_run,
@@ -112,3 +113,20 @@ def test_a_head_wider_and_thicker_than_the_bar_leaves_the_region_a_plate_does_no
     assert keep[np.abs(z) < 0.055].all() and not keep[z < -0.065].any()
     assert keep[z > 0.065].all()
     assert off_head(points, middle, profile, CrossSectionConfig(head_width_ratio=0.0)).all()
+
+
+def test_a_part_whose_section_runs_a_few_millimetres_is_dropped_beside_a_handle() -> None:
+    """Parts found on the handle's middle (its even section runs 100 mm) and on the guard
+    (6 mm): the guard's part is dropped; alone, or with the test off, every part is kept."""
+    points, z = _knife_points()
+    profile = section_profile(points, CONFIG)
+    assert profile is not None
+    handle = points[np.abs(z) < 0.01][::50]
+    guard = points[(z > 0.051) & (z < 0.055)][::20]
+    config = CrossSectionConfig(min_run=0.03)
+    assert long_runs([handle, guard], profile, config) == [True, False]
+    assert long_runs([guard], profile, config) == [True]  # no part runs long: all kept
+    assert long_runs([handle, guard], profile, CrossSectionConfig(min_run=0.0)) == [True, True]
+    assert long_runs([handle, guard], None, config) == [True, True]  # not a long tool
+    no_alike = CrossSectionConfig(min_run=0.03, grow_ratio=0.0)
+    assert long_runs([handle, guard], profile, no_alike) == [True, True]

@@ -48,16 +48,13 @@ from simgrasp.handles.cross_section import (
     CrossSectionConfig,
     SectionProfile,
     alike_share,
+    long_runs,
     section_profile,
 )
 from simgrasp.handles.detection import Detection
 from simgrasp.handles.free_space import sideways_occupancy, voxel_thinned
 from simgrasp.handles.label_surface import part_surfaces, piece_boxes, standoff_joining, stands_off
-from simgrasp.handles.revolution import (
-    RevolutionConfig,
-    fit_revolution,
-    standoff_points,
-)
+from simgrasp.handles.revolution import RevolutionConfig, fit_revolution, standoff_points
 from simgrasp.handles.virtual_scan import ScanConfig, View, scan_mesh
 from simgrasp.labels import HandleLabel
 from simgrasp.quadric import analyze_quadrics
@@ -258,6 +255,8 @@ def label_from_candidates(
         parts = tuple(uniform_section(candidates, part, config) for part in parts)
     if config.resplit:
         parts = tuple(piece for part in parts for piece in resplit(candidates, part, config))
+    long = long_runs([candidates.centers[p] for p in parts], profile, config.cross_section)
+    parts = tuple(part for part, keep in zip(parts, long, strict=True) if keep)
     standing = tuple(
         revolution is not None and stands_off(candidates, part, revolution, config)
         for part in parts

@@ -60,6 +60,14 @@ class CrossSectionConfig(Checked):
     Chosen on the tune half of the ACRONYM knives (flat-handled 89e8: 33 -> 48 of 48 held
     handle grasps on the label; 1.33-2.0 alike) with the generated long tools unchanged
     (docs/results/handle-labels/README.md, sixth round)."""
+    min_run: NonNegative = 0.03
+    """A part whose run (the slabs of :func:`section_run`, by the ``grow_ratio`` test alone:
+    no thinness guard) is shorter than this is dropped when another part's run is at least
+    this long: a handle is a stretch of even section a pad can hold along (a 20 mm pad and
+    5 mm either side, fixed before any run), while a blade's tapering tip or a wrench's head
+    runs a few millimetres (0: off). Generated long tools: only ``gen_wrench_s6`` changes,
+    0.41 -> 0.54; ACRONYM tune half unchanged (docs/results/handle-labels/README.md, eleventh
+    round)."""
 
 
 @dataclass(frozen=True)
@@ -153,12 +161,29 @@ def section_run(
     that meet the slabs its candidates span (see :class:`CrossSectionConfig`); none when that
     median is unknown or the part is thinner than the tool's median slab."""
     own = profile.slabs_of(part_points)
-    alike = _alike_slabs(profile, own, config.grow_ratio)
-    if alike is None or profile.median_of(own)[0] < np.nanmedian(profile.thickness):
+    run = _run_slabs(profile, own, config.grow_ratio)
+    if run is None or profile.median_of(own)[0] < np.nanmedian(profile.thickness):
         return np.zeros(len(points), dtype=bool)
-    run_of_slab = ndimage.label(alike)[0]  # 0: not alike; 1, 2, ...: unbroken runs
-    meeting = np.setdiff1d(run_of_slab[own.min() : own.max() + 1], [0])
-    return np.isin(run_of_slab[profile.slabs_of(points)], meeting)
+    return run[profile.slabs_of(points)]
+
+
+def long_runs(
+    parts_points: list[NDArray[np.float64]],
+    profile: SectionProfile | None,
+    config: CrossSectionConfig,
+) -> list[bool]:
+    """Which parts (each given by its candidates' points) to keep: all of them without a
+    ``profile``, when ``min_run`` is off, when ``grow_ratio`` is under 1 (no measure of
+    alike) or when no part's run reaches ``min_run``; else those whose run reaches it (see
+    :class:`CrossSectionConfig`)."""
+    if profile is None or config.min_run <= 0 or config.grow_ratio < 1:
+        return [True] * len(parts_points)
+    lengths = []
+    for points in parts_points:
+        run = _run_slabs(profile, profile.slabs_of(points), config.grow_ratio)
+        lengths.append(0.0 if run is None else float(run.sum()) * profile.slab)
+    long = [length >= config.min_run for length in lengths]
+    return long if any(long) else [True] * len(parts_points)
 
 
 def alike_share(
@@ -177,6 +202,19 @@ def alike_share(
     if alike is None:
         return float("nan")
     return float(alike[profile.slabs_of(points)].mean())
+
+
+def _run_slabs(
+    profile: SectionProfile, own: NDArray[np.int64], ratio: float
+) -> NDArray[np.bool_] | None:
+    """(S,) which slabs lie in the unbroken runs of slabs alike the median of slabs ``own``
+    (:func:`_alike_slabs`) that meet the span of ``own``; None when that median is unknown."""
+    alike = _alike_slabs(profile, own, ratio)
+    if alike is None:
+        return None
+    run_of_slab = ndimage.label(alike)[0]  # 0: not alike; 1, 2, ...: unbroken runs
+    meeting = np.setdiff1d(run_of_slab[own.min() : own.max() + 1], [0])
+    return np.isin(run_of_slab, meeting)
 
 
 def _alike_slabs(
