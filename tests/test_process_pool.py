@@ -68,3 +68,25 @@ def test_runs_inside_a_shared_pool_use_the_same_workers() -> None:
     assert not any(_alive(pid) for pid in first)
     alone = set(run_tasks(Work(_pid), range(8), config))
     assert alone.isdisjoint(first)
+
+
+def _backend_in_worker(_: int) -> tuple[str | None, str]:
+    """The task below: the forced backend a worker was given and the one it renders with."""
+    from simgrasp.gl_platform import FORCE_ENV
+    from simgrasp.scenes.render import select_backend
+
+    return os.environ.get(FORCE_ENV), select_backend()
+
+
+def test_workers_render_with_the_backend_of_the_process_that_starts_them() -> None:
+    """A worker never probes GL on its own (a probe timing out on a loaded machine switched
+    one Ray worker to ray casting, and its trials' depth, grasps and lift heights changed)."""
+    from simgrasp.runs.process_pool import spawn_pool
+    from simgrasp.scenes.render import select_backend
+
+    pool = spawn_pool(1)
+    try:
+        given, used = pool.submit(_backend_in_worker, 0).result(timeout=120)
+    finally:
+        pool.shutdown()
+    assert given == used == select_backend()

@@ -20,6 +20,8 @@ import time
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 
+from simgrasp.scenes.render import worker_environment
+
 PARENT_CHECK_S = 1.0
 """How often (s) a worker checks that its parent process is still alive."""
 
@@ -28,18 +30,21 @@ _SHARED: list[tuple[int, ProcessPoolExecutor]] = []
 
 
 def spawn_pool(workers: int) -> ProcessPoolExecutor:
-    """A ``ProcessPoolExecutor`` of ``workers`` spawned processes that exit with this one."""
+    """A ``ProcessPoolExecutor`` of ``workers`` spawned processes that exit with this one and
+    render with this process's backend (:func:`simgrasp.scenes.render.worker_environment`)."""
     return ProcessPoolExecutor(
         workers,
         mp_context=multiprocessing.get_context("spawn"),
-        initializer=_exit_with_parent,
-        initargs=(os.getpid(),),
+        initializer=_start_worker,
+        initargs=(os.getpid(), worker_environment()),
     )
 
 
-def _exit_with_parent(parent_pid: int) -> None:
-    """Worker initializer: a daemon thread ends the worker once ``parent_pid`` is gone (the
-    worker is then re-parented, so its parent id changes)."""
+def _start_worker(parent_pid: int, environment: dict[str, str]) -> None:
+    """Worker initializer: set ``environment`` (before anything renders), and a daemon thread
+    ends the worker once ``parent_pid`` is gone (the worker is then re-parented, so its
+    parent id changes)."""
+    os.environ.update(environment)
 
     def watch() -> None:
         while os.getppid() == parent_pid:

@@ -10,6 +10,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from simgrasp.errors import SimgraspError
+from simgrasp.scenes.render import worker_environment
 
 CONNECT_TIMEOUT_S = 5.0
 """How long a HOST:PORT cluster address may take to accept a connection."""
@@ -19,7 +20,8 @@ CONNECT_TIMEOUT_S = 5.0
 def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     """Yield the ``ray`` module with a session up: without ``address`` a new local instance
     with ``workers`` CPUs (shut down afterwards), even if ``RAY_ADDRESS`` is set; the tasks
-    see this process's ``SIMGRASP_*`` and ``MUJOCO_*`` variables."""
+    see this process's ``SIMGRASP_*`` and ``MUJOCO_*`` variables and render with its backend
+    (:func:`simgrasp.scenes.render.worker_environment`)."""
     try:
         import ray
     except ImportError:
@@ -32,6 +34,7 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
         _check_reachable(address)
     if started:
         env = {k: v for k, v in os.environ.items() if k.startswith(("SIMGRASP_", "MUJOCO_"))}
+        env.update(worker_environment())  # every task renders with this process's backend
         try:
             ray.init(
                 address=address or "local",

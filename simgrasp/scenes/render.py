@@ -15,7 +15,9 @@ and the first that works is written to ``os.environ["MUJOCO_GL"]`` (so worker pr
 inherit the choice without probing again). :func:`select_backend` then confirms, once per
 process (cached), that the platform mujoco actually loaded renders, and otherwise falls back
 to ``"raycast"`` with a warning. ``SIMGRASP_RENDER_BACKEND=egl|osmesa|raycast`` forces a
-backend (a GL one must match the platform mujoco loaded, else a clear error).
+backend (a GL one must match the platform mujoco loaded, else a clear error). A run's worker
+processes and Ray tasks get the backend of the process that starts them, forced
+(:func:`worker_environment`), so every worker of a run renders alike.
 
 What the depth camera sees. All backends see exactly the geoms whose ``group`` is in
 ``geom_groups`` (default :data:`DEPTH_GEOM_GROUPS` = 0, 1, 2: MuJoCo's default visible groups;
@@ -74,6 +76,14 @@ def select_backend() -> str:
             check_gl_allowed()
         return "raycast"
     return _process_backend()
+
+
+def worker_environment() -> dict[str, str]:
+    """Variables that make worker processes render as this one does: the backend this
+    process selects, forced (``SIMGRASP_RENDER_BACKEND``). A worker then never probes GL on
+    its own, so a probe that times out on a loaded machine cannot switch one worker to ray
+    casting, whose depth images (and so the run's results) differ slightly from GL's."""
+    return {FORCE_ENV: select_backend()}
 
 
 @functools.cache
