@@ -20,7 +20,10 @@ we hold. A variant changes one thing on the compiled model or the trial settings
   CoACD's ``auto`` runs on these watertight meshes, thickening a 3 mm blade to about 6 mm);
 - ``imp<R>``: the trial's ``impratio``; ``width<M>``: the fingers' ``solimp`` ramp (m,
   ``TrialConfig.finger_solimp_width``); ``tc<S>``: the fingers' contact time constant (s);
-  ``noslip<N>``: MuJoCo's noslip iterations (friction without creep).
+  ``noslip<N>``: MuJoCo's noslip iterations (friction without creep);
+- ``massfloor<KG>``: the object at least this heavy (mass and inertia scaled together): a
+  soft contact's creep under the jaws' own sideways push goes as one over the object's mass,
+  which FleX's particles do not share.
 
 Variants join with ``+`` (``width0.007+imp0.45``, ``tight_hulls+width0.01``: hulls first).
 ``--per-class 0`` labels every one of a file's first 500 grasps, and ``--files tune`` names
@@ -111,6 +114,14 @@ def _noslip(labeler: GraspLabeler, iterations: float) -> None:
     labeler.scene.model.opt.noslip_iterations = int(iterations)
 
 
+def _mass_floor(labeler: GraspLabeler, kilograms: float) -> None:
+    model, body = labeler.scene.model, labeler.scene.object_body
+    factor = max(1.0, kilograms / float(model.body_mass[body]))
+    model.body_mass[body] *= factor
+    model.body_inertia[body] *= factor
+    mujoco.mj_setConst(model, mujoco.MjData(model))
+
+
 def _together(changes: list[Variant]) -> Variant:
     def apply(labeler: GraspLabeler) -> None:
         for change in changes:
@@ -137,6 +148,7 @@ def variant(name: str) -> Variant:
         ("width", lambda lab, v: _trial(lab, finger_solimp_width=v)),
         ("tc", _contact_time),
         ("noslip", _noslip),
+        ("massfloor", _mass_floor),
     ):
         if name.startswith(prefix):
             value = float(name[len(prefix) :])
