@@ -29,6 +29,7 @@ from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.cli import main
 from simgrasp.evaluation.sweep import plan_trials
 from simgrasp.evaluation.trial_log import DEFAULTS_FILE, trial_key
+from simgrasp.scenes.render import select_backend
 from simgrasp.scenes.views import CHAIN_VIEWS
 
 pytestmark = pytest.mark.xdist_group("evaluate")
@@ -223,6 +224,22 @@ def test_a_sweep_recorded_under_other_defaults_is_refused(
     assert "other chain defaults (detector.quadric.shell_thickness:" in err, err
     assert "removed.since" not in err
     assert (out / "trials.jsonl").read_bytes() == log
+
+
+def test_a_sweep_rendered_by_another_backend_is_refused(
+    resumed: ResumedSweep, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Ray-cast and GL depth differ slightly, and so do the trials: a resume on a machine
+    (or a worker) that renders otherwise would mix them."""
+    out = tmp_path / "sweep"
+    shutil.copytree(resumed.out, out)
+    defaults = json.loads((out / DEFAULTS_FILE).read_text())
+    assert defaults["render_backend"] == select_backend()
+    defaults["render_backend"] = "raycast" if select_backend() != "raycast" else "egl"
+    (out / DEFAULTS_FILE).write_text(json.dumps(defaults))
+    capsys.readouterr()
+    assert main(evaluate_args(out, 2)) == 2
+    assert "other chain defaults (render_backend:" in capsys.readouterr().err
 
 
 def test_torn_last_line_is_cut_off_and_the_trial_rerun(tmp_path: Path, reference: Path) -> None:

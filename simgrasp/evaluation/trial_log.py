@@ -17,6 +17,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.runs.identity import claim_identity
 from simgrasp.runs.record_log import RecordLog
+from simgrasp.scenes.render import select_backend
 from simgrasp.scenes.views import VIEWS_BEFORE_RECORDED
 
 TrialKey = tuple[str, int, str]
@@ -75,10 +76,12 @@ def check_defaults(out_dir: Path) -> None:
     """Write ``out_dir/defaults.json``, or refuse a directory whose trials were recorded under
     other chain defaults: their identities (settings that differ from the defaults) would
     name other settings now, and a resume would mix them with new trials. Settings one of the
-    two lacks (added or removed since) are not compared: a new setting starts at its default."""
+    two lacks (added or removed since) are not compared: a new setting starts at its default.
+    The depth render backend is recorded with them (``render_backend``): GL and ray-cast depth
+    differ slightly, and so do the trials seen through them."""
     claim_identity(
         Path(out_dir) / DEFAULTS_FILE,
-        flatten(ChainConfig()),
+        {**flatten(ChainConfig()), "render_backend": select_backend()},
         what="trials recorded under other chain defaults",
         hint=f"use another --out, or delete its trials.jsonl and {DEFAULTS_FILE} to rerun",
         shared_only=True,
