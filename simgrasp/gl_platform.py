@@ -48,6 +48,12 @@ def forced_backend() -> str | None:
 
 def probe_gl(platform: str, timeout_s: float = PROBE_TIMEOUT_S) -> bool:
     """True if a fresh process with ``MUJOCO_GL=platform`` renders a correct depth pixel."""
+    return gl_problem(platform, timeout_s) is None
+
+
+def gl_problem(platform: str, timeout_s: float = PROBE_TIMEOUT_S) -> str | None:
+    """Why a fresh process with ``MUJOCO_GL=platform`` does not render a correct depth pixel
+    (it timed out, or its exit code and last line of output), or None when it does."""
     env = dict(os.environ, MUJOCO_GL=platform, PYOPENGL_PLATFORM=platform)
     try:
         result = subprocess.run(
@@ -59,8 +65,11 @@ def probe_gl(platform: str, timeout_s: float = PROBE_TIMEOUT_S) -> bool:
             check=False,
         )
     except subprocess.TimeoutExpired:
-        return False
-    return result.returncode == 0 and result.stdout.strip() == "ok"
+        return f"the probe timed out after {timeout_s:g} s"
+    if result.returncode == 0 and result.stdout.strip() == "ok":
+        return None
+    last = (result.stderr.strip() or result.stdout.strip() or "no output").splitlines()[-1]
+    return f"the probe exited with code {result.returncode}: {last[:200]}"
 
 
 def configure_mujoco_gl() -> None:

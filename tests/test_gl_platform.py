@@ -39,3 +39,14 @@ def test_the_first_mujoco_import_chooses_the_platform() -> None:
     spawned, imported, *platform = _run("from simgrasp._mujoco import mujoco")
     assert int(spawned) >= 1 and imported == "True"
     assert platform in ([], ["egl"], ["osmesa"])
+
+
+def test_a_failed_probe_says_why() -> None:
+    """The ray-casting fallback's warning names the probe's failure: a timeout (a loaded
+    machine), or the probe's exit code and last line (a missing platform)."""
+    from simgrasp.gl_platform import gl_problem
+
+    assert gl_problem("egl", timeout_s=0.001) == "the probe timed out after 0.001 s"
+    problem = gl_problem("no_such_platform")
+    assert problem is not None and problem.startswith("the probe exited with code 1: ")
+    assert "no_such_platform" in problem

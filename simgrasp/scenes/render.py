@@ -46,7 +46,7 @@ import numpy as np
 
 from simgrasp._mujoco import mujoco
 from simgrasp.errors import SimgraspError
-from simgrasp.gl_platform import BACKENDS, FORCE_ENV, GL_BACKENDS, forced_backend, probe_gl
+from simgrasp.gl_platform import BACKENDS, FORCE_ENV, GL_BACKENDS, forced_backend, gl_problem
 from simgrasp.perception.camera import CameraIntrinsics
 from simgrasp.scenes.camera import (
     camera_id_of,
@@ -99,11 +99,14 @@ def _process_backend() -> str:
                 "simgrasp._mujoco before mujoco)"
             )
         return forced
-    if platform in GL_BACKENDS and probe_gl(platform):
+    if platform is None or platform not in GL_BACKENDS:
+        problem: str | None = "no headless GL platform loaded"
+    elif (problem := gl_problem(platform)) is None:
         return platform
     warnings.warn(
-        f"no working headless GL (mujoco GL platform: {platform!r}); rendering depth by ray "
-        "casting. Set MUJOCO_GL=egl or osmesa before importing mujoco to use OpenGL.",
+        f"no working headless GL (mujoco GL platform: {platform!r}; {problem}); rendering "
+        "depth by ray casting. Set MUJOCO_GL=egl or osmesa before importing mujoco to use "
+        f"OpenGL, or {FORCE_ENV}=egl to make a failure an error.",
         RuntimeWarning,
         stacklevel=2,
     )
