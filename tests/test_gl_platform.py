@@ -50,3 +50,29 @@ def test_a_failed_probe_says_why() -> None:
     problem = gl_problem("no_such_platform")
     assert problem is not None and problem.startswith("the probe exited with code 1: ")
     assert "no_such_platform" in problem
+
+
+WORKER_ENVIRONMENT = """
+import warnings
+from simgrasp.scenes.render import select_backend, worker_environment
+print(worker_environment()["SIMGRASP_RENDER_BACKEND"])
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    print(select_backend(), len(caught))
+"""
+
+
+def test_workers_are_given_ray_casting_without_a_warning_until_something_renders() -> None:
+    """Without a headless GL platform (glfw), the workers a run starts are told to ray cast;
+    the fallback's warning comes only when this process itself renders (a label run's workers
+    never do)."""
+    env = {k: v for k, v in os.environ.items() if k != "SIMGRASP_RENDER_BACKEND"}
+    env["MUJOCO_GL"] = "glfw"
+    result = subprocess.run(
+        [sys.executable, "-W", "error", "-c", WORKER_ENVIRONMENT],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert result.stdout.split() == ["raycast", "raycast", "1"]

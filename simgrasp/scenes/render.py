@@ -79,16 +79,34 @@ def select_backend() -> str:
 
 
 def worker_environment() -> dict[str, str]:
-    """Variables that make worker processes render as this one does: the backend this
-    process selects, forced (``SIMGRASP_RENDER_BACKEND``). A worker then never probes GL on
-    its own, so a probe that times out on a loaded machine cannot switch one worker to ray
-    casting, whose depth images (and so the run's results) differ slightly from GL's."""
-    return {FORCE_ENV: select_backend()}
+    """Variables that make worker processes render as this one would: its backend, forced
+    (``SIMGRASP_RENDER_BACKEND``). A worker then never probes GL on its own, so a probe that
+    times out on a loaded machine cannot switch one worker to ray casting, whose depth images
+    (and so the run's results) differ slightly from GL's. Decided without the fallback's
+    warning: the workers may never render (``label-grasps``)."""
+    backend = "raycast" if forked_from_gl() else _decided_backend()[0]
+    return {FORCE_ENV: backend}
 
 
 @functools.cache
 def _process_backend() -> str:
-    """The backend of a process that may use GL (cached)."""
+    """The backend of a process that may use GL (cached), with a warning when it falls back
+    to ray casting."""
+    backend, problem = _decided_backend()
+    if problem is not None:
+        warnings.warn(
+            f"no working headless GL (mujoco GL platform: {loaded_gl_platform()!r}; "
+            f"{problem}); rendering depth by ray casting. Set MUJOCO_GL=egl or osmesa before "
+            f"importing mujoco to use OpenGL, or {FORCE_ENV}=egl to make a failure an error.",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+    return backend
+
+
+@functools.cache
+def _decided_backend() -> tuple[str, str | None]:
+    """(the backend of a process that may use GL, why GL is not used or None), cached."""
     platform = loaded_gl_platform()
     forced = forced_backend()
     if forced is not None:
@@ -98,19 +116,11 @@ def _process_backend() -> str:
                 f"set MUJOCO_GL={forced} before starting Python (or import "
                 "simgrasp._mujoco before mujoco)"
             )
-        return forced
+        return forced, None
     if platform is None or platform not in GL_BACKENDS:
-        problem: str | None = "no headless GL platform loaded"
-    elif (problem := gl_problem(platform)) is None:
-        return platform
-    warnings.warn(
-        f"no working headless GL (mujoco GL platform: {platform!r}; {problem}); rendering "
-        "depth by ray casting. Set MUJOCO_GL=egl or osmesa before importing mujoco to use "
-        f"OpenGL, or {FORCE_ENV}=egl to make a failure an error.",
-        RuntimeWarning,
-        stacklevel=2,
-    )
-    return "raycast"
+        return "raycast", "no headless GL platform loaded"
+    problem = gl_problem(platform)
+    return (platform, None) if problem is None else ("raycast", problem)
 
 
 @dataclass(frozen=True, eq=False)
