@@ -130,3 +130,26 @@ def test_a_part_whose_section_runs_a_few_millimetres_is_dropped_beside_a_handle(
     assert long_runs([handle, guard], None, config) == [True, True]  # not a long tool
     no_alike = CrossSectionConfig(min_run=0.03, grow_ratio=0.0)
     assert long_runs([handle, guard], profile, no_alike) == [True, True]
+
+
+def test_a_bar_between_short_thick_heads_grows_though_thinner_than_the_tool_median() -> None:
+    """A wrench-like bar: 6 mm thick in its middle, 6.6 mm toward its ends (the tool's median
+    slab), heads 9 mm thick but 2.5 cm long. A part found in the middle is thinner than the
+    tool's median, yet it is on no blade (nothing thicker runs 3 cm): it grows over the bar
+    and stops at the heads (the guard before this compared with the tool's median slab)."""
+    pieces = [trimesh.creation.box([0.014, 0.006, 0.06])]
+    for sign in (-1.0, 1.0):
+        end = trimesh.creation.box([0.014, 0.0066, 0.04])
+        end.apply_translation([0.0, 0.0, sign * 0.05])
+        head = trimesh.creation.box([0.030, 0.009, 0.025])
+        head.apply_translation([0.0, 0.0, sign * 0.0825])
+        pieces += [end, head]
+    tool = cast(trimesh.Trimesh, trimesh.util.concatenate(pieces))
+    local = np.asarray(trimesh.sample.sample_surface(tool, 60000, seed=0)[0])
+    points, z = local @ TURN[:3, :3].T, local[:, 2]
+    profile = section_profile(points, CONFIG)
+    assert profile is not None
+    middle = points[np.abs(z) < 0.01][::50]
+    assert profile.median_of(profile.slabs_of(middle))[0] < np.nanmedian(profile.thickness)
+    run = section_run(points, middle, profile, CONFIG)
+    assert run[np.abs(z) < 0.066].mean() > 0.99 and not run[np.abs(z) > 0.074].any()

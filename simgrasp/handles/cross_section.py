@@ -56,7 +56,11 @@ class CrossSectionConfig(Checked):
     its candidates span, whose thickness and width (the spread along the slab's major axis)
     stay within this factor of the part's median slab, either way: the rest of a handle the
     detector found in part (a flat handle's flat end), up to a blade (thinner) or a head
-    (wider). Parts thinner than the tool's median slab (on a blade) do not grow (0: off).
+    (wider). A part on a blade or a shaft does not grow: one beside an unbroken run of slabs
+    at least ``1 / min_ratio`` times as thick and ``min_run`` long (a handle; since the
+    twelfth round, docs/results/handle-labels/README.md: before, a part thinner than the
+    tool's median slab, which decided by noise on a tool whose handle section is its most
+    common one) (0: off).
     Chosen on the tune half of the ACRONYM knives (flat-handled 89e8: 33 -> 48 of 48 held
     handle grasps on the label; 1.33-2.0 alike) with the generated long tools unchanged
     (docs/results/handle-labels/README.md, sixth round)."""
@@ -159,12 +163,25 @@ def section_run(
     """(N,) which ``points`` lie in the unbroken runs of slabs whose thickness and width stay
     within ``grow_ratio`` of a handle part's median slab (``part_points``: its candidates) and
     that meet the slabs its candidates span (see :class:`CrossSectionConfig`); none when that
-    median is unknown or the part is thinner than the tool's median slab."""
+    median is unknown or the part lies on a blade (:func:`_on_a_blade`)."""
     own = profile.slabs_of(part_points)
     run = _run_slabs(profile, own, config.grow_ratio)
-    if run is None or profile.median_of(own)[0] < np.nanmedian(profile.thickness):
+    if run is None or _on_a_blade(profile, profile.median_of(own)[0], config):
         return np.zeros(len(points), dtype=bool)
     return run[profile.slabs_of(points)]
+
+
+def _on_a_blade(profile: SectionProfile, thickness: float, config: CrossSectionConfig) -> bool:
+    """Whether a part of median slab ``thickness`` (m) lies on a blade or a shaft: the tool
+    has an unbroken run of slabs at least ``1 / min_ratio`` times as thick that is at least
+    ``min_run`` long (a handle beyond it; a wrench's heads are thicker but short); never with
+    ``min_ratio`` 0."""
+    if config.min_ratio <= 0:
+        return False
+    thicker = profile.thickness >= thickness / config.min_ratio
+    runs, count = ndimage.label(thicker)
+    longest = np.bincount(runs.ravel(), minlength=count + 1)[1:].max(initial=0)
+    return bool(longest * profile.slab >= max(config.min_run, profile.slab))
 
 
 def long_runs(
