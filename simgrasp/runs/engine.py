@@ -10,6 +10,7 @@ functions) for worker processes and Ray.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, wait
@@ -71,6 +72,20 @@ def run_tasks(work: Work, items: Sequence[Any], config: RunConfig) -> Iterator[A
     if config.backend == "ray":
         return _run_ray(work, items, config)
     return _run_local(work, items, config.workers)
+
+
+def workers_kept_up(config: RunConfig) -> contextlib.AbstractContextManager[Any]:
+    """The workers of ``config`` held up for a block of runs (a data set's files): local
+    worker processes (:func:`~simgrasp.runs.process_pool.shared_pool`) or the Ray session,
+    which each :func:`run_tasks` inside uses instead of starting its own (each run still warms
+    them up for its own work)."""
+    if config.backend == "ray":
+        from simgrasp.runs.ray_session import ray_session
+
+        return ray_session(config.workers, config.address)
+    from simgrasp.runs.process_pool import shared_pool
+
+    return shared_pool(config.workers)
 
 
 def _run_local(work: Work, items: Sequence[Any], workers: int) -> Iterator[Any]:

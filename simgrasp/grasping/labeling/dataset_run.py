@@ -12,7 +12,6 @@ summary adds their agreement (:mod:`simgrasp.grasping.labeling.agreement`).
 
 from __future__ import annotations
 
-import contextlib
 import json
 import sys
 from dataclasses import replace
@@ -56,12 +55,14 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     with the output directory); prints one line per file."""
     from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.engine import RunConfig, workers_kept_up
     from simgrasp.runs.out_dir import claim_out_dir
 
     if options.out is None:
         raise SimgraspError("--grasps with several files needs --out DIR")
     rows = []
-    with claim_out_dir(options.out, command), _workers_kept_up(options):
+    run = RunConfig(options.workers, options.backend, options.address)
+    with claim_out_dir(options.out, command), workers_kept_up(run):
         for grasp_file in files:  # the workers stay up from one file's object to the next
             config = object_for(options, grasp_file)
             grasps = read_grasp_set(grasp_file).first(options.max_grasps)
@@ -85,19 +86,6 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     (options.out / SUMMARY_FILE).write_text(json.dumps({"files": rows, **total}, indent=2) + "\n")
     sys.stdout.write(f"{len(rows)} files: {_line(total)}\noutput       {options.out}\n")
     return 0
-
-
-def _workers_kept_up(options: Any) -> contextlib.AbstractContextManager[Any]:
-    """Local worker processes, or the Ray session, held for the whole data set: each file's
-    run uses them instead of starting its own (each run still builds its object's labeler
-    in every worker)."""
-    if options.backend == "ray":
-        from simgrasp.runs.ray_session import ray_session
-
-        return ray_session(options.workers, options.address)
-    from simgrasp.runs.process_pool import shared_pool
-
-    return shared_pool(options.workers)
 
 
 def _row(grasp_file: Path, out: Path, summary: dict[str, Any]) -> dict[str, Any]:
