@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 from simgrasp.runs.process_pool import PARENT_CHECK_S
 
@@ -51,6 +53,13 @@ def _pid(item: int) -> int:
     return os.getpid()
 
 
+def _pid_in_pairs(item: int, pairs: Any) -> int:
+    """As :func:`_pid`, two items at a time: each waits at the ``pairs`` barrier for the
+    other worker's."""
+    pairs.wait(timeout=120)
+    return os.getpid()
+
+
 def test_runs_inside_a_shared_pool_use_the_same_workers() -> None:
     """Two runs of the engine inside ``shared_pool`` (a data set's files) are served by the
     same worker processes, which exit at the block's end; runs outside it spawn their own."""
@@ -58,8 +67,9 @@ def test_runs_inside_a_shared_pool_use_the_same_workers() -> None:
     from simgrasp.runs.process_pool import shared_pool
 
     config = RunConfig(workers=2, progress=False)
-    with shared_pool(2):
-        first = set(run_tasks(Work(_pid), range(8), config))
+    with shared_pool(2), multiprocessing.Manager() as manager:
+        pairs = manager.Barrier(2)  # both workers take part in the first run, however slow
+        first = set(run_tasks(Work(_pid_in_pairs, (pairs,)), range(8), config))
         second = set(run_tasks(Work(_pid), range(8), config))
     assert second <= first and os.getpid() not in first
     deadline = time.monotonic() + 10 * PARENT_CHECK_S

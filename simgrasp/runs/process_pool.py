@@ -20,8 +20,6 @@ import time
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 
-from simgrasp.scenes.render import worker_environment
-
 PARENT_CHECK_S = 1.0
 """How often (s) a worker checks that its parent process is still alive."""
 
@@ -32,6 +30,8 @@ _SHARED: list[tuple[int, ProcessPoolExecutor]] = []
 def spawn_pool(workers: int) -> ProcessPoolExecutor:
     """A ``ProcessPoolExecutor`` of ``workers`` spawned processes that exit with this one and
     render with this process's backend (:func:`simgrasp.scenes.render.worker_environment`)."""
+    from simgrasp.scenes.render import worker_environment  # here: a worker never imports it
+
     return ProcessPoolExecutor(
         workers,
         mp_context=multiprocessing.get_context("spawn"),
