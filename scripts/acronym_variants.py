@@ -23,7 +23,9 @@ we hold. A variant changes one thing on the compiled model or the trial settings
   ``noslip<N>``: MuJoCo's noslip iterations (friction without creep);
 - ``massfloor<KG>``: the object at least this heavy (mass and inertia scaled together): a
   soft contact's creep under the jaws' own sideways push goes as one over the object's mass,
-  which FleX's particles do not share.
+  which FleX's particles do not share;
+- ``fileinertia``: the object's principal moments as its file gives them (a thin knife's
+  smallest moment is otherwise raised to mass x ``MIN_RADIUS_OF_GYRATION``^2).
 
 Variants join with ``+`` (``width0.007+imp0.45``, ``tight_hulls+width0.01``: hulls first).
 ``--per-class 0`` labels every one of a file's first 500 grasps, and ``--files tune`` names
@@ -49,7 +51,12 @@ import mujoco
 import numpy as np
 
 from simgrasp.assets.decompose import DecompositionConfig
-from simgrasp.assets.model import ObjectModel, build_object_model, model_for
+from simgrasp.assets.model import (
+    MIN_RADIUS_OF_GYRATION,
+    ObjectModel,
+    build_object_model,
+    model_for,
+)
 from simgrasp.assets.registry import load_object
 from simgrasp.grasping.labeling.grasp_files import carried_object, reference_labels
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP
@@ -100,7 +107,7 @@ def _shake_big(labeler: GraspLabeler) -> None:
     labeler.trial_config = replace(trial, shake=shake)
 
 
-def _trial(labeler: GraspLabeler, **changes: float) -> None:
+def _trial(labeler: GraspLabeler, **changes: Any) -> None:
     labeler.trial_config = replace(labeler.trial_config, **changes)
 
 
@@ -122,6 +129,18 @@ def _mass_floor(labeler: GraspLabeler, kilograms: float) -> None:
     mujoco.mj_setConst(model, mujoco.MjData(model))
 
 
+def _file_inertia(labeler: GraspLabeler, path: Path) -> None:
+    """The object's principal moments as its file gives them: the smallest one of a thin
+    knife is otherwise raised to mass x ``MIN_RADIUS_OF_GYRATION``^2."""
+    model, body = labeler.scene.model, labeler.scene.object_body
+    with h5py.File(path) as handle:
+        moments = np.linalg.eigvalsh(np.asarray(handle["object/inertia"][()]))
+    floor = float(model.body_mass[body]) * MIN_RADIUS_OF_GYRATION**2
+    floored = np.isclose(model.body_inertia[body], floor, rtol=1e-6)
+    model.body_inertia[body][floored] = moments[0]
+    mujoco.mj_setConst(model, mujoco.MjData(model))
+
+
 def _together(changes: list[Variant]) -> Variant:
     def apply(labeler: GraspLabeler) -> None:
         for change in changes:
@@ -134,7 +153,7 @@ def variant(name: str) -> Variant:
     """The change ``name`` makes to a freshly built labeler (module docstring)."""
     if "+" in name:
         return _together([variant(part) for part in name.split("+")])
-    if name == "base" or name in HULLS:
+    if name == "base" or name in HULLS or name == "fileinertia":
         return lambda labeler: None
     if name == "shake_big":
         return _shake_big
@@ -189,6 +208,8 @@ def label_variant(name: str, files: list[Path], per_class: int) -> list[Row]:
             model = model_for(config.object)
         labeler = GraspLabeler(model, config)
         change(labeler)
+        if "fileinertia" in name.split("+"):
+            _file_inertia(labeler, path)
         for i in indices:
             record = labeler.label(int(i), poses[i] @ FRANKA_T_TCP, float("nan"))
             rows.append(
