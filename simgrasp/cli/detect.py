@@ -31,6 +31,7 @@ from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
 
@@ -38,7 +39,9 @@ from simgrasp.perception.units import Units
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     cloud: Path = setting(positional=True, metavar="CLOUD")
-    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units)."""
+    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units), or a depth image .png / .tif
+    (one sensor frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else
+    its valid pixels as the object)."""
     units: Units = "m"
     """Units of the file's coordinates and of --viewpoint (results are in meters)."""
     json: bool = False
@@ -71,6 +74,7 @@ class Options(Checked):
     """With --segment: only the object with label K, with its side parts (the label of a side
     part, a pot's tab, stands for its object)."""
     segmentation: SegmentConfig = field(default_factory=SegmentConfig)
+    depth: DepthImageConfig = field(default_factory=DepthImageConfig)
 
 
 def run(options: Options) -> int:
@@ -124,6 +128,7 @@ def _run_segmented(options: Options) -> int:
             single_view=_single_view(options),
             only_object=parse_object_choice(options.object),
             segment_config=options.segmentation,
+            depth=options.depth,
         )
     report = {**result.to_json(), "input": _input_record(options)}
     if options.json:
@@ -144,6 +149,8 @@ def _input_record(options: Options) -> dict[str, Any]:
     record: dict[str, Any] = {"path": str(options.cloud.resolve()), "units": options.units}
     if options.segment:
         record["segmentation"] = asdict(options.segmentation)
+    if options.cloud.suffix.lower() in DEPTH_IMAGE_FORMATS:
+        record["depth"] = asdict(options.depth)
     return record
 
 
@@ -177,12 +184,11 @@ def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection
 
 def _detect(options: Options) -> Detection:
     from simgrasp.handles import detect
-    from simgrasp.perception.cloud_io import read_cloud
-    from simgrasp.perception.units import UNIT_SCALE, cloud_in_meters
+    from simgrasp.perception.depth_image import read_points
+    from simgrasp.perception.units import UNIT_SCALE
 
     config = _detector_config(options)
-    points, normals = read_cloud(options.cloud)
-    points = cloud_in_meters(points, options.units, str(options.cloud))
+    points, normals = read_points(options.cloud, options.units, options.depth)
     scale = UNIT_SCALE[options.units]
     viewpoint = None if options.viewpoint is None else [v * scale for v in options.viewpoint]
     kind = options.detector.kind

@@ -14,13 +14,15 @@ from pathlib import Path
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
+from simgrasp.perception.depth_image import DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     scene: Path = setting(positional=True, metavar="SCENE")
-    """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters)."""
+    """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters), or a
+    depth image .png / .tif (one sensor frame: --depth.intrinsics, --depth.scale)."""
     json: bool = False
     """Print one JSON object."""
     labels: Path | None = setting(None, metavar="OUT.npy", output="file")
@@ -28,6 +30,7 @@ class Options(Checked):
     objects nearest first)."""
     plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Write a picture of the labels."""
+    depth: DepthImageConfig = field(default_factory=DepthImageConfig)
     segment: SegmentConfig = field(default_factory=SegmentConfig)
 
 
@@ -39,7 +42,7 @@ def run(options: Options) -> int:
 
     if options.labels and options.labels.suffix != ".npy":
         raise SimgraspError(f"--labels must name a .npy file, got {options.labels}")
-    scene = read_scene(options.scene)
+    scene = read_scene(options.scene, options.depth)
     result = segment_scene(scene, options.segment)
     if options.labels:
         np.save(options.labels, result.labels)

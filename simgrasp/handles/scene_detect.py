@@ -22,6 +22,7 @@ from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import TIMING_STEPS, Detection
 from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.perception.depth_image import DepthImageConfig
 from simgrasp.perception.scene_cloud import read_scene
 from simgrasp.perception.segmentation.segment import Segmentation, segment_scene
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
@@ -93,13 +94,15 @@ def detect_in_scene(
     single_view: SingleViewConfig | None = None,
     only_object: int | None = None,
     segment_config: SegmentConfig | None = None,
+    depth: DepthImageConfig | None = None,
 ) -> SceneDetection:
     """Segment the scene file at ``path`` and detect handles on each whole object with its
     side parts (a pot with its tabs: :attr:`SegmentedObject.part_of`), or only on the object
     of ``only_object``, a label of the segmentation; ``ValueError`` for an unknown label.
     ``single_view``: the single-view detector's settings for objects measured to be one view
-    from the sensor (:func:`simgrasp.handles.detect`)."""
-    scene = read_scene(path)
+    from the sensor (:func:`simgrasp.handles.detect`). ``depth``: how a depth image file
+    becomes the scene (:mod:`simgrasp.perception.depth_image`)."""
+    scene = read_scene(path, depth)
     segmentation = segment_scene(scene, segment_config)
     labels = [obj.label for obj in segmentation.objects]
     if only_object is not None:

@@ -7,10 +7,12 @@ labels) line up with the file, and an organized cloud keeps its image grid (``wi
 
 Formats: ``.pcd`` (ascii, binary, binary_compressed; organized or not; a ``label`` field and
 the ``VIEWPOINT`` are kept), ``.ply`` (unorganized), ``.npy`` ((N, 3) points, or (H, W, 3) an
-organized grid). Coordinates are meters in the sensor's frame unless ``VIEWPOINT`` says where
-the sensor is. A cut or corrupt file is refused, as by ``read_cloud``: PLY and ascii / binary
-PCD go through the strict readers of :mod:`simgrasp.perception.cloud_formats`; a
-``binary_compressed`` PCD has its sizes checked there and is decoded by Open3D.
+organized grid), and a depth image (``.png``, ``.tif``: one sensor frame, back-projected
+through its intrinsics by :mod:`simgrasp.perception.depth_image`). Coordinates are meters in
+the sensor's frame unless ``VIEWPOINT`` says where the sensor is. A cut or corrupt file is
+refused, as by ``read_cloud``: PLY and ascii / binary PCD go through the strict readers of
+:mod:`simgrasp.perception.cloud_formats`; a ``binary_compressed`` PCD has its sizes checked
+there and is decoded by Open3D.
 """
 
 from __future__ import annotations
@@ -29,8 +31,13 @@ from simgrasp.perception.cloud_formats import (
     read_pcd,
     read_ply,
 )
+from simgrasp.perception.depth_image import (
+    DEPTH_IMAGE_FORMATS,
+    DepthImageConfig,
+    read_depth_image,
+)
 
-SCENE_FORMATS = (".pcd", ".ply", ".npy")
+SCENE_FORMATS = (".pcd", ".ply", ".npy", ".png", ".tif", ".tiff")
 
 
 @dataclass(frozen=True)
@@ -89,9 +96,10 @@ def scene_from_array(
     return SceneCloud(flat, int(width), int(height), eye, None, source)
 
 
-def read_scene(path: str | Path) -> SceneCloud:
-    """Read a scene cloud file (see the module docstring); ``ValueError`` / ``FileNotFoundError``
-    with one line naming the file when it cannot be read."""
+def read_scene(path: str | Path, depth: DepthImageConfig | None = None) -> SceneCloud:
+    """Read a scene cloud file (see the module docstring), a depth image through ``depth``'s
+    intrinsics and scale; ``ValueError`` / ``FileNotFoundError`` with one line naming the file
+    when it cannot be read."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in SCENE_FORMATS:
@@ -103,6 +111,8 @@ def read_scene(path: str | Path) -> SceneCloud:
         raise DataNotFoundError(f"{path}: no such scene-cloud file")
     if suffix == ".npy":
         return scene_from_array(_load_npy(path), source=str(path))
+    if suffix in DEPTH_IMAGE_FORMATS:
+        return read_depth_image(path, depth)
     return _read_structured(path, suffix)
 
 

@@ -75,18 +75,18 @@ def input_cloud(path: Path, report: dict[str, Any]) -> Path:
 
 def _scene_points(cloud: Path, report: dict[str, Any]) -> tuple[NDArray[np.float64], Any]:
     """(N, 3) points (m) and, for a ``--segment`` detection, the segmentation labels (N,)."""
-    settings = report["input"].get("segmentation")
-    if settings is None:
-        from simgrasp.perception.cloud_io import read_cloud
-        from simgrasp.perception.units import cloud_in_meters
+    from simgrasp.perception.depth_image import DepthImageConfig, read_points
 
-        points, _ = read_cloud(cloud)
-        return cloud_in_meters(points, report["input"].get("units", "m"), str(cloud)), None
+    settings = report["input"].get("segmentation")
+    depth = DepthImageConfig(**report["input"].get("depth", {}))
+    if settings is None:
+        points, _ = read_points(cloud, report["input"].get("units", "m"), depth)
+        return points, None
     from simgrasp.perception.scene_cloud import read_scene
     from simgrasp.perception.segmentation.segment import segment_scene
     from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
-    scene = read_scene(cloud)
+    scene = read_scene(cloud, depth)
     segmentation = segment_scene(scene, SegmentConfig(**settings))
     found = [o.label for o in segmentation.objects]
     recorded = [o["label"] for o in report["segmentation"]["objects"]]

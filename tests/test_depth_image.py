@@ -1,0 +1,98 @@
+"""Depth images (one sensor frame: a 16-bit PNG of millimetres) as scene and object input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+from test_render import build_scene
+
+from simgrasp.cli import main
+from simgrasp.perception.camera import depth_to_points_cam
+from simgrasp.perception.depth_image import DepthImageConfig, read_depth_image
+from simgrasp.perception.scene_cloud import read_scene
+from simgrasp.scenes.render import DepthFrame, SceneRenderer
+
+
+@pytest.fixture(scope="module")
+def frame() -> DepthFrame:
+    """The shared test scene (a box and clutter on a table) seen by one camera, ray cast."""
+    model, data = build_scene()
+    with SceneRenderer(model, backend="raycast") as renderer:
+        return renderer.depth(data, "view0")
+
+
+def _png(path: Path, depth_m: np.ndarray) -> Path:
+    """``depth_m`` written as a sensor writes it: uint16 millimetres, 0 for no return."""
+    Image.fromarray(np.round(depth_m * 1000).astype(np.uint16)).save(path)
+    return path
+
+
+def _intrinsics(frame: DepthFrame) -> list[str]:
+    k = frame.intrinsics
+    return [str(v) for v in (k.fx, k.fy, k.cx, k.cy)]
+
+
+def test_a_png_frame_back_projects_as_the_renderer_camera_does(frame, tmp_path):
+    png = _png(tmp_path / "depth.png", frame.depth)
+    k = frame.intrinsics
+    scene = read_depth_image(png, DepthImageConfig(intrinsics=(k.fx, k.fy, k.cx, k.cy)))
+    assert (scene.width, scene.height) == (k.width, k.height)
+    assert scene.organized and np.allclose(scene.viewpoint, 0.0)
+    quantized = np.round(frame.depth * 1000) / 1000
+    expected, pixels = depth_to_points_cam(quantized, k)
+    assert np.array_equal(np.flatnonzero(scene.valid), pixels)  # no return stays NaN
+    assert np.allclose(scene.points[pixels], expected, atol=1e-6)
+
+
+def test_segment_reads_a_png_frame_as_its_organized_cloud(frame, tmp_path, capsys):
+    png = _png(tmp_path / "depth.png", frame.depth)
+    grid = read_scene(png, DepthImageConfig(intrinsics=tuple(map(float, _intrinsics(frame)))))
+    np.save(tmp_path / "cloud.npy", grid.grid())
+    args = ["--labels"]
+    assert main(["segment", str(png), "--depth.intrinsics", *_intrinsics(frame), *args,
+                 str(tmp_path / "png.npy")]) == 0  # fmt: skip
+    assert main(["segment", str(tmp_path / "cloud.npy"), *args, str(tmp_path / "npy.npy")]) == 0
+    from_png, from_npy = np.load(tmp_path / "png.npy"), np.load(tmp_path / "npy.npy")
+    assert np.array_equal(from_png, from_npy)
+    assert from_png.max() >= 3  # the table (1) and at least the box and the clutter
+    capsys.readouterr()
+
+
+def test_detect_takes_a_cut_object_frame_and_records_how_to_read_it(frame, tmp_path, capsys):
+    box = frame.geom_ids == 1  # the object box: the table is geom 0
+    depth = np.where(box, frame.depth, 0.0)
+    png = _png(tmp_path / "box.png", depth)
+    assert main(["detect", str(png), "--depth.intrinsics", *_intrinsics(frame), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["input"]["depth"]["intrinsics"] == [float(v) for v in _intrinsics(frame)]
+    assert report["neighborhoods"] > 0
+    (tmp_path / "d.json").write_text(json.dumps(report))
+    assert main(["view", str(tmp_path / "d.json"), "--export", str(tmp_path / "p.html")]) == 0
+    assert (tmp_path / "p.html").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("case", ["no_intrinsics", "colour", "not_an_image", "scale", "units"])
+def test_a_bad_depth_image_is_one_line(case, frame, tmp_path, capsys):
+    png = _png(tmp_path / "depth.png", frame.depth)
+    command, expected = ["segment", str(png), "--depth.intrinsics", *_intrinsics(frame)], ""
+    if case == "no_intrinsics":
+        command, expected = ["segment", str(png)], "needs its camera's intrinsics"
+    elif case == "colour":
+        Image.new("RGB", (8, 6)).save(png)
+        expected = "has one channel"
+    elif case == "not_an_image":
+        png.write_bytes(b"not a png")
+        expected = "not a readable depth image"
+    elif case == "scale":
+        command += ["--depth.scale", "1"]  # millimetres read as meters
+        expected = "is the scale right"
+    else:
+        command = ["detect", *command[1:], "--units", "mm"]
+        expected = "units are set by --depth.scale"
+    assert main(command) == 2
+    err = capsys.readouterr().err
+    assert expected in err and len(err.strip().splitlines()) == 1, err
