@@ -96,3 +96,62 @@ def test_a_bad_depth_image_is_one_line(case, frame, tmp_path, capsys):
     assert main(command) == 2
     err = capsys.readouterr().err
     assert expected in err and len(err.strip().splitlines()) == 1, err
+
+
+def _image_manifest(tmp_path: Path, frame: DepthFrame, extra: str) -> Path:
+    """A one-entry ``detect-eval --real`` manifest of the frame as a PNG, its label a box
+    around the object box's points."""
+    png = _png(tmp_path / "depth.png", frame.depth)
+    points_cam, pixels = depth_to_points_cam(np.round(frame.depth * 1000) / 1000, frame.intrinsics)
+    box = points_cam[frame.geom_ids.ravel()[pixels] == 1]
+    region = {"type": "box", "center": box.mean(axis=0).tolist(), "half_extents": [0.02] * 3}
+    labels = {"objects": {"box": {"whole_object": False, "regions": [region]}}}
+    (tmp_path / "labels.json").write_text(json.dumps(labels))
+    manifest = tmp_path / "manifest.toml"
+    manifest.write_text(
+        f'[[cloud]]\nname = "box"\ndataset = "rendered"\nsplit = "tune"\npath = "{png}"\n'
+        f'labels = "labels.json"\nviewpoint = [0.0, 0.0, 0.0]\n{extra}'
+    )
+    return manifest
+
+
+def test_a_manifest_entry_may_be_a_depth_image(frame, tmp_path):
+    from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
+
+    k = frame.intrinsics
+    manifest = _image_manifest(tmp_path, frame, f"intrinsics = [{', '.join(_intrinsics(frame))}]\n")
+    (cloud,) = read_manifest(manifest)
+    assert cloud.depth.intrinsics == (k.fx, k.fy, k.cx, k.cy)
+    points = load_real_cloud(cloud)
+    expected, _ = depth_to_points_cam(np.round(frame.depth * 1000) / 1000, k)
+    assert points.shape == expected.shape and np.allclose(points, expected, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("extra", "problem"),
+    [
+        ("intrinsics = [1.0, 2.0]\n", "'intrinsics' must be numbers of shape (4,)"),
+        ("intrinsics = [0.0, 500.0, 320.0, 240.0]\n", "focal lengths must be positive"),
+        ("depth_scale = -1\n", "'depth_scale' must be a positive number"),
+        ('units = "mm"\n', "a depth image's units are its 'depth_scale'"),
+    ],
+)
+def test_bad_depth_image_entries_are_one_line(frame, tmp_path, capsys, extra, problem):
+    manifest = _image_manifest(tmp_path, frame, extra)
+    assert main(["detect-eval", "--real", str(manifest), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "cloud box" in err and problem in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_depth_image_keys_on_a_cloud_file_are_one_line(tmp_path):
+    from simgrasp.errors import SimgraspError
+    from simgrasp.evaluation.real_manifest import read_manifest
+
+    (tmp_path / "labels.json").write_text(json.dumps({"objects": {"c": {"regions": []}}}))
+    manifest = tmp_path / "m.toml"
+    manifest.write_text(
+        '[[cloud]]\nname = "c"\ndataset = "d"\nsplit = "tune"\npath = "c.pcd"\n'
+        'labels = "labels.json"\nviewpoint = [0.0, 0.0, 0.0]\ndepth_scale = 0.001\n'
+    )
+    with pytest.raises(SimgraspError, match="'depth_scale' is for a depth image"):
+        read_manifest(manifest, tmp_path)

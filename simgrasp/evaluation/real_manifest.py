@@ -12,6 +12,12 @@ A TOML file of ``[[cloud]]`` tables, each::
     label_key = "gpd_table_mug"         # optional: the entry in the label file (default name)
     cut = "table"                       # optional: "none" (default) or "table"
     crop = [[x0, y0, z0], [x1, y1, z1]] # optional: keep points inside this box first
+    intrinsics = [fx, fy, cx, cy]       # a depth image (.png, .tif) only: pixels
+    depth_scale = 0.001                 # a depth image only: meters per stored unit
+
+A depth image (one sensor frame, :mod:`simgrasp.perception.depth_image`) is read through its
+``intrinsics`` (or a GraspNet ``meta.mat`` beside it) at ``depth_scale``; its points, viewpoint
+and crop are in meters.
 
 ``cut = "table"`` keeps the points above the scene's dominant plane (the table of
 :func:`simgrasp.perception.segmentation.segment.fit_table_plane`) in its largest connected
@@ -33,13 +39,14 @@ from numpy.typing import NDArray
 from simgrasp.assets.real import default_real_dir
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.labels import HandleLabel, load_label_file
+from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.units import UNIT_SCALE, Units, cloud_in_meters
 from simgrasp.resources import model_path
 
 REAL_MANIFEST = ("handles", "real_detect.toml")
 Split = Literal["tune", "holdout"]
 _KEYS = {"name", "path", "dataset", "split", "units", "viewpoint", "labels", "label_key", "cut"}
-_KEYS |= {"crop"}
+_KEYS |= {"crop", "intrinsics", "depth_scale"}
 MIN_LABELED_POINTS = 20
 """A label must hold at least this many of its cloud's points: fewer means it lies outside
 the cloud (a wrong frame or units)."""
@@ -59,6 +66,8 @@ class RealCloud:
     cut: Literal["none", "table"] = "none"
     crop: NDArray[np.float64] | None = None
     """(2, 3) lower and upper corner (m), or None."""
+    depth: DepthImageConfig = DepthImageConfig()
+    """How a depth image entry becomes points (unused for a cloud file)."""
 
 
 def _entry_error(manifest: Path, index: int, entry: dict[str, Any], problem: str) -> SimgraspError:
@@ -114,7 +123,30 @@ def _entry(manifest: Path, index: int, entry: dict[str, Any], real_dir: Path) ->
         raise _entry_error(manifest, index, entry, f"label file {label_file} has no entry {key!r}")
     viewpoint = _vector(manifest, index, entry, "viewpoint", (3,)) * scale
     dataset = _field(manifest, index, entry, "dataset", str)
-    return RealCloud(name, path, dataset, split, units, viewpoint, labels[key], cut, crop)
+    depth = _depth(manifest, index, entry, path)
+    return RealCloud(name, path, dataset, split, units, viewpoint, labels[key], cut, crop, depth)
+
+
+def _depth(manifest: Path, index: int, entry: dict[str, Any], path: Path) -> DepthImageConfig:
+    """The depth image settings of an entry; refused on a cloud file, or with units other than
+    meters (a depth image's scale says its units)."""
+    image = path.suffix.lower() in DEPTH_IMAGE_FORMATS
+    given = sorted({"intrinsics", "depth_scale"} & set(entry))
+    if given and not image:
+        problem = f"'{given[0]}' is for a depth image (.png, .tif)"
+        raise _entry_error(manifest, index, entry, problem)
+    if image and entry.get("units", "m") != "m":
+        raise _entry_error(manifest, index, entry, "a depth image's units are its 'depth_scale'")
+    intrinsics = entry.get("intrinsics")
+    scale = entry.get("depth_scale", DepthImageConfig.scale)
+    if isinstance(scale, bool) or not isinstance(scale, int | float) or not scale > 0:
+        raise _entry_error(manifest, index, entry, "'depth_scale' must be a positive number")
+    if intrinsics is None:
+        return DepthImageConfig(scale=float(scale))
+    fx, fy, cx, cy = _vector(manifest, index, entry, "intrinsics", (4,))
+    if not (fx > 0 and fy > 0):
+        raise _entry_error(manifest, index, entry, "'intrinsics' focal lengths must be positive")
+    return DepthImageConfig(intrinsics=(fx, fy, cx, cy), scale=float(scale))
 
 
 def read_manifest(path: Path | None = None, real_dir: Path | None = None) -> list[RealCloud]:
@@ -145,15 +177,19 @@ def load_real_cloud(cloud: RealCloud) -> NDArray[np.float64]:
     cropped and cut as the manifest says; one line naming the cloud when the file is missing,
     the units are wrong or its label lies outside it."""
     from simgrasp.perception.cloud_io import read_cloud
+    from simgrasp.perception.depth_image import read_depth_image
 
     if not cloud.path.is_file():
         raise DataNotFoundError(
             f"cloud {cloud.name}: no file {cloud.path}; point --real-dir or $SIMGRASP_REAL_DIR "
             "at the real data folder"
         )
-    points, _ = read_cloud(cloud.path)
-    points = points[np.isfinite(points).all(axis=1)]
-    points = cloud_in_meters(points, cloud.units, f"cloud {cloud.name} ({cloud.path})")
+    if cloud.path.suffix.lower() in DEPTH_IMAGE_FORMATS:
+        frame = read_depth_image(cloud.path, cloud.depth)
+        points = frame.points[frame.valid].astype(np.float64)
+    else:
+        points, _ = read_cloud(cloud.path)
+        points = cloud_in_meters(points, cloud.units, f"cloud {cloud.name} ({cloud.path})")
     if cloud.crop is not None:
         points = points[np.all((points >= cloud.crop[0]) & (points <= cloud.crop[1]), axis=1)]
     if cloud.cut == "table":
