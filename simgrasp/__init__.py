@@ -28,6 +28,7 @@ _EXPORTS = {
     "detect_handles": "simgrasp.api",
     "run_trial": "simgrasp.api",
     "sample_grasps": "simgrasp.api",
+    "segment_scene": "simgrasp.api",
     "label_grasps": "simgrasp.grasping.labeling.labeling",
     "LabelResult": "simgrasp.grasping.labeling.labeling",
     "GraspSet": "simgrasp.grasping.labeling.grasp_sets",
@@ -41,11 +42,14 @@ _EXPORTS = {
     "SensorSettings": "simgrasp.perception.sensors.settings",
     "LabelConfig": "simgrasp.grasping.labeling.labeling",
     "SimgraspError": "simgrasp.errors",
+    "SegmentConfig": "simgrasp.perception.segmentation.segment_config",
+    "DepthImageConfig": "simgrasp.perception.depth_image",
 }
 """Public name -> the module that defines it (imported on first use)."""
 
 __all__ = [
     "ChainConfig",
+    "DepthImageConfig",
     "DetectorConfig",
     "GraspSet",
     "LabelConfig",
@@ -53,6 +57,7 @@ __all__ = [
     "PlannerConfig",
     "QuadricDetectorConfig",
     "SceneConfig",
+    "SegmentConfig",
     "SensorSettings",
     "SimgraspError",
     "TenPasConfig",
@@ -62,10 +67,11 @@ __all__ = [
     "load_object",
     "run_trial",
     "sample_grasps",
+    "segment_scene",
 ]
 
 if TYPE_CHECKING:
-    from simgrasp.api import detect_handles, load_object, run_trial, sample_grasps
+    from simgrasp.api import detect_handles, load_object, run_trial, sample_grasps, segment_scene
     from simgrasp.errors import SimgraspError
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
     from simgrasp.grasping.labeling.labeling import LabelConfig, LabelResult, label_grasps
@@ -75,6 +81,8 @@ if TYPE_CHECKING:
     from simgrasp.handles.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig
     from simgrasp.handles.tenpas_config import TenPasConfig
+    from simgrasp.perception.depth_image import DepthImageConfig
+    from simgrasp.perception.segmentation.segment_config import SegmentConfig
     from simgrasp.perception.sensors.settings import SensorSettings
     from simgrasp.scenes.config import SceneConfig
 

@@ -27,6 +27,9 @@ if TYPE_CHECKING:
     from simgrasp.handles.detection import Detection
     from simgrasp.handles.detector_config import DetectorConfig
     from simgrasp.handles.tenpas_config import TenPasConfig
+    from simgrasp.perception.depth_image import DepthImageConfig
+    from simgrasp.perception.segmentation.segment import Segmentation
+    from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 
 def load_object(
@@ -184,3 +187,28 @@ def sample_grasps(
         model.asset.mesh, hand.planning_geometry(), count, seed, table=clear_of
     )
     return GraspSet.from_arrays(poses, widths)
+
+
+def segment_scene(
+    scene: str | os.PathLike[str] | ArrayLike,
+    config: SegmentConfig | None = None,
+    *,
+    depth: DepthImageConfig | None = None,
+    viewpoint: ArrayLike | None = None,
+) -> Segmentation:
+    """The table plane and the objects on it, as ``simgrasp segment`` finds them: ``scene`` is
+    a scene file (``.pcd``, ``.ply``, ``.npy``, or a depth image ``.png`` / ``.tif`` read
+    through ``depth``'s intrinsics and scale) or an array of points in meters, (H, W, 3) for
+    an organized cloud (NaN where the sensor returned nothing) or (N, 3), with the sensor at
+    ``viewpoint`` (default: the origin, a sensor's own frame). ``.labels`` holds one label per
+    point in the input's order: 0 invalid, 1 table, 2.. objects nearest the sensor first."""
+    from simgrasp.perception.scene_cloud import read_scene, scene_from_array
+    from simgrasp.perception.segmentation.segment import segment_scene as segment
+
+    if isinstance(scene, str | os.PathLike):
+        cloud = read_scene(os.fspath(scene), depth)
+    else:
+        points = np.asarray(scene, dtype=np.float64)
+        eye = None if viewpoint is None else np.asarray(viewpoint, dtype=np.float64)
+        cloud = scene_from_array(points, eye)
+    return segment(cloud, config)

@@ -60,6 +60,11 @@ def test_segment_reads_a_png_frame_as_its_organized_cloud(frame, tmp_path, capsy
     assert np.array_equal(from_png, from_npy)
     assert from_png.max() >= 3  # the table (1) and at least the box and the clutter
     capsys.readouterr()
+    import simgrasp
+
+    depth = simgrasp.DepthImageConfig(intrinsics=tuple(map(float, _intrinsics(frame))))
+    assert np.array_equal(simgrasp.segment_scene(png, depth=depth).labels, from_png)
+    assert np.array_equal(simgrasp.segment_scene(grid.grid()).labels, from_png)
 
 
 def test_detect_takes_a_cut_object_frame_and_records_how_to_read_it(frame, tmp_path, capsys):
