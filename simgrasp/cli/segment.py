@@ -30,6 +30,9 @@ class Options(Checked):
     objects nearest first)."""
     plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Write a picture of the labels."""
+    clouds: Path | None = setting(None, metavar="DIR", output="dir")
+    """Write each whole object (with its side parts) as DIR/object_<label>.ply: points in the
+    scene's frame (m), normals toward the sensor; earlier object_*.ply there are replaced."""
     depth: DepthImageConfig = field(default_factory=DepthImageConfig)
     segment: SegmentConfig = field(default_factory=SegmentConfig)
 
@@ -50,6 +53,11 @@ def run(options: Options) -> int:
         from simgrasp.plots.segmentation import plot_segmentation
 
         plot_segmentation(scene, result, options.plot)
+    if options.clouds:
+        from simgrasp.perception.segmentation.segment_clouds import write_object_clouds
+
+        written = write_object_clouds(scene, result, options.clouds)
+        print(f"{len(written)} object clouds written to {options.clouds}", file=sys.stderr)
     if options.json:
         json.dump(result.to_json(), sys.stdout)
         sys.stdout.write("\n")
