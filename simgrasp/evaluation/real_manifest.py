@@ -37,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.assets.real import default_real_dir
+from simgrasp.config.checks import SettingError
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.labels import HandleLabel, load_label_file
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
@@ -144,9 +145,10 @@ def _depth(manifest: Path, index: int, entry: dict[str, Any], path: Path) -> Dep
     if intrinsics is None:
         return DepthImageConfig(scale=float(scale))
     fx, fy, cx, cy = _vector(manifest, index, entry, "intrinsics", (4,))
-    if not (fx > 0 and fy > 0):
-        raise _entry_error(manifest, index, entry, "'intrinsics' focal lengths must be positive")
-    return DepthImageConfig(intrinsics=(fx, fy, cx, cy), scale=float(scale))
+    try:
+        return DepthImageConfig(intrinsics=(fx, fy, cx, cy), scale=float(scale))
+    except SettingError as exc:
+        raise _entry_error(manifest, index, entry, f"'intrinsics' {exc.detail}") from None
 
 
 def read_manifest(path: Path | None = None, real_dir: Path | None = None) -> list[RealCloud]:

@@ -47,14 +47,22 @@ class DepthImageConfig(Checked):
     """Meters per stored unit of the depth image (a 16-bit PNG of millimetres: 0.001; a
     float TIFF of meters: 1)."""
 
+    def _check(self) -> None:
+        if self.intrinsics is not None and not (self.intrinsics[0] > 0 and self.intrinsics[1] > 0):
+            self.refuse("intrinsics", "focal lengths must be positive")
+
 
 def back_project(depth_m: NDArray[np.float64], intrinsics: Intrinsics) -> NDArray[np.float32]:
-    """(H, W, 3) camera-frame points (m) of an (H, W) depth image in meters (NaN: no return)."""
-    fx, fy, cx, cy = intrinsics
-    rows, cols = np.mgrid[0 : depth_m.shape[0], 0 : depth_m.shape[1]]
-    x = (cols - cx) * depth_m / fx
-    y = (rows - cy) * depth_m / fy
-    return np.dstack([x, y, depth_m]).astype(np.float32)
+    """(H, W, 3) camera-frame points (m) of an (H, W) depth image in meters, NaN where it has
+    no return (:func:`simgrasp.perception.camera.depth_to_points_cam` on every pixel)."""
+    from simgrasp.perception.camera import CameraIntrinsics, depth_to_points_cam
+
+    height, width = depth_m.shape
+    camera = CameraIntrinsics(width, height, *intrinsics)
+    points_cam, pixels = depth_to_points_cam(depth_m, camera)
+    grid = np.full((height * width, 3), np.nan, dtype=np.float32)
+    grid[pixels] = points_cam
+    return grid.reshape(height, width, 3)
 
 
 def graspnet_meta(path: Path) -> tuple[Intrinsics, float]:
@@ -110,11 +118,6 @@ def read_points(
 def _camera(path: Path, config: DepthImageConfig) -> tuple[Intrinsics, float]:
     """(intrinsics, stored units per meter) of the image at ``path``."""
     if config.intrinsics is not None:
-        fx, fy, _, _ = config.intrinsics
-        if not (fx > 0 and fy > 0):
-            raise SimgraspError(
-                f"--depth.intrinsics: focal lengths must be positive, got {fx}, {fy}"
-            )
         return config.intrinsics, 1.0 / config.scale
     meta = path.parent / "meta.mat"
     if meta.is_file():
