@@ -20,6 +20,7 @@ other agree, beside our accuracy on the file, and how the two rank together.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 from pathlib import Path
 
@@ -32,7 +33,7 @@ from scipy.stats import spearmanr
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP
 from simgrasp.grasping.labeling.hdf5_files import open_hdf5
 from simgrasp.grasping.labeling.label_compare import UNSCORED, load_labels
-from simgrasp.grasping.labeling.reference_compare import labels_dir_of
+from simgrasp.grasping.labeling.reference_compare import compare_with_reference, labels_dir_of
 
 HALVES = Path(__file__).resolve().parents[1] / "docs" / "results" / "acronym" / "halves.json"
 TOLERANCES = ((3.0, 7.5), (5.0, 10.0), (8.0, 15.0))
@@ -45,13 +46,32 @@ HALF_TURN = np.diag([-1.0, -1.0, 1.0])
 """A parallel-jaw grasp turned half a turn about its approach (z) is the same grasp."""
 
 
+@functools.cache
 def tcp_poses(path: Path) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
-    """(N, 3) TCP positions (m), (N, 3, 3) rotations and FleX labels of an ACRONYM file."""
+    """(N, 3) TCP positions (m), (N, 3, 3) rotations and FleX labels of an ACRONYM file (read
+    once)."""
     with open_hdf5(path) as handle:
         hand = np.asarray(handle["grasps/transforms"][()], float)
         flex = np.asarray(handle["grasps/qualities/flex/object_in_gripper"][()]).astype(bool)
     tcp = hand @ FRANKA_T_TCP
     return tcp[:, :3, 3], tcp[:, :3, :3], flex
+
+
+def turn_degrees(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Angle (degrees) between the grasp rotations ``a`` and ``b`` ((3, 3) or (N, 3, 3) each),
+    a half turn about the approach counting as no turn."""
+    relative = np.swapaxes(a, -1, -2) @ b
+    return np.minimum(
+        np.degrees(Rotation.from_matrix(relative).magnitude()),
+        np.degrees(Rotation.from_matrix(relative @ HALF_TURN).magnitude()),
+    )
+
+
+@functools.cache
+def scored_labels(labels_dir: Path) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """(our success, scored) of a label directory (read once); unscored as compare-labels."""
+    ours = load_labels(labels_dir)
+    return ours["success"].astype(bool), ~np.isin(ours["failure"], UNSCORED)
 
 
 def nearest_neighbour(
@@ -66,11 +86,7 @@ def nearest_neighbour(
     others = np.array([j for j in tree.query_ball_point(positions[i], mm / 1000) if j != i])
     if others.size == 0:
         return None
-    relative = np.einsum("ji,njk->nik", rotations[i], rotations[others])
-    angle = np.minimum(
-        np.degrees(Rotation.from_matrix(relative).magnitude()),
-        np.degrees(Rotation.from_matrix(relative @ HALF_TURN).magnitude()),
-    )
+    angle = turn_degrees(rotations[i], rotations[others])
     near = angle < deg
     if not near.any():
         return None
@@ -81,8 +97,7 @@ def nearest_neighbour(
 def file_counts(path: Path, labels_dir: Path, mm: float, deg: float) -> tuple[int, int, int]:
     """(grasps with a neighbour, FleX's neighbour right, ours right) over a file's scored grasps."""
     positions, rotations, flex = tcp_poses(path)
-    ours = load_labels(labels_dir)
-    scored = ~np.isin(ours["failure"], UNSCORED)
+    success, scored = scored_labels(labels_dir)
     tree = cKDTree(positions)
     counts = [0, 0, 0]
     for i in np.flatnonzero(scored):
@@ -91,7 +106,7 @@ def file_counts(path: Path, labels_dir: Path, mm: float, deg: float) -> tuple[in
             continue
         counts[0] += 1
         counts[1] += int(flex[j] == flex[i])
-        counts[2] += int(bool(ours["success"][i]) == flex[i])
+        counts[2] += int(success[i] == flex[i])
     return counts[0], counts[1], counts[2]
 
 
@@ -102,21 +117,8 @@ def pair_agreement(path: Path, mm: float, deg: float) -> tuple[int, float]:
     pairs = cKDTree(positions).query_pairs(mm / 1000, output_type="ndarray")
     if len(pairs) == 0:
         return 0, float("nan")
-    relative = np.einsum("nji,njk->nik", rotations[pairs[:, 0]], rotations[pairs[:, 1]])
-    angle = np.minimum(
-        np.degrees(Rotation.from_matrix(relative).magnitude()),
-        np.degrees(Rotation.from_matrix(relative @ HALF_TURN).magnitude()),
-    )
-    near = pairs[angle < deg]
+    near = pairs[turn_degrees(rotations[pairs[:, 0]], rotations[pairs[:, 1]]) < deg]
     return len(near), float(np.mean(flex[near[:, 0]] == flex[near[:, 1]])) if len(near) else 0.0
-
-
-def our_accuracy(path: Path, labels_dir: Path) -> float:
-    """Our accuracy against FleX over a file's scored grasps."""
-    flex = tcp_poses(path)[2]
-    ours = load_labels(labels_dir)
-    scored = ~np.isin(ours["failure"], UNSCORED)
-    return float(np.mean(ours["success"][scored] == flex[: len(scored)][scored]))
 
 
 def per_file(labels: Path, grasps: Path) -> str:
@@ -135,7 +137,7 @@ def per_file(labels: Path, grasps: Path) -> str:
         for name in halves[f"{half}/files"]:
             path = grasps / name
             count, agree = pair_agreement(path, mm, deg)
-            accuracy = our_accuracy(path, labels_dir_of(labels, path))
+            accuracy = compare_with_reference(labels, [path])["files"][0]["accuracy"]
             rows.append((name, agree, accuracy))
             pairs, equal = pair_agreement(path, *CLOSE_PAIRS)
             close = [close[0] + pairs, close[1] + round(equal * pairs)]
