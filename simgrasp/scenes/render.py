@@ -117,7 +117,7 @@ def _decided_backend() -> tuple[str, str | None]:
                 "simgrasp._mujoco before mujoco)"
             )
         return forced, None
-    if platform is None or platform not in GL_BACKENDS:
+    if platform not in GL_BACKENDS:
         return "raycast", "no headless GL platform loaded"
     problem = gl_problem(platform)
     return (platform, None) if problem is None else ("raycast", problem)
