@@ -25,7 +25,10 @@ we hold. A variant changes one thing on the compiled model or the trial settings
   soft contact's creep under the jaws' own sideways push goes as one over the object's mass,
   which FleX's particles do not share;
 - ``fileinertia``: the object's principal moments as its file gives them (a thin knife's
-  smallest moment is otherwise raised to mass x ``MIN_RADIUS_OF_GYRATION``^2).
+  smallest moment is otherwise raised to mass x ``MIN_RADIUS_OF_GYRATION``^2);
+- ``margin<M>``: the object's collision geoms get a contact margin of M (m) with no gap, so
+  they push back from M away: the object inflated by M, as a particle or SDF simulator's
+  collision distance inflates its shapes.
 
 Variants join with ``+`` (``width0.007+imp0.45``, ``tight_hulls+width0.01``: hulls first).
 ``--per-class 0`` labels every one of a file's first 500 grasps, and ``--files tune`` names
@@ -141,6 +144,13 @@ def _file_inertia(labeler: GraspLabeler, path: Path) -> None:
     mujoco.mj_setConst(model, mujoco.MjData(model))
 
 
+def _margin(labeler: GraspLabeler, meters: float) -> None:
+    model, body = labeler.scene.model, labeler.scene.object_body
+    geoms = np.flatnonzero(model.geom_bodyid == body)
+    model.geom_margin[geoms] = meters
+    model.geom_gap[geoms] = 0.0
+
+
 def _together(changes: list[Variant]) -> Variant:
     def apply(labeler: GraspLabeler) -> None:
         for change in changes:
@@ -168,6 +178,7 @@ def variant(name: str) -> Variant:
         ("tc", _contact_time),
         ("noslip", _noslip),
         ("massfloor", _mass_floor),
+        ("margin", _margin),
     ):
         if name.startswith(prefix):
             value = float(name[len(prefix) :])
