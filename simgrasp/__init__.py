@@ -44,24 +44,34 @@ _EXPORTS = {
     "SimgraspError": "simgrasp.errors",
     "SegmentConfig": "simgrasp.perception.segmentation.segment_config",
     "DepthImageConfig": "simgrasp.perception.depth_image",
+    "Detection": "simgrasp.handles.detection",
+    "Handle": "simgrasp.handles.detection",
+    "TrialResult": "simgrasp.grasping.trials.result",
+    "ChainResult": "simgrasp.grasping.trials.chain",
+    "Segmentation": "simgrasp.perception.segmentation.segment",
 }
 """Public name -> the module that defines it (imported on first use)."""
 
 __all__ = [
     "ChainConfig",
+    "ChainResult",
     "DepthImageConfig",
+    "Detection",
     "DetectorConfig",
     "GraspSet",
+    "Handle",
     "LabelConfig",
     "LabelResult",
     "PlannerConfig",
     "QuadricDetectorConfig",
     "SceneConfig",
     "SegmentConfig",
+    "Segmentation",
     "SensorSettings",
     "SimgraspError",
     "TenPasConfig",
     "TrialConfig",
+    "TrialResult",
     "detect_handles",
     "label_grasps",
     "load_object",
@@ -76,12 +86,16 @@ if TYPE_CHECKING:
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
     from simgrasp.grasping.labeling.labeling import LabelConfig, LabelResult, label_grasps
     from simgrasp.grasping.planning.planner_config import PlannerConfig
+    from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
+    from simgrasp.grasping.trials.result import TrialResult
     from simgrasp.grasping.trials.trial_config import TrialConfig
     from simgrasp.handles.config import QuadricDetectorConfig
+    from simgrasp.handles.detection import Detection, Handle
     from simgrasp.handles.detector_config import DetectorConfig
     from simgrasp.handles.tenpas_config import TenPasConfig
     from simgrasp.perception.depth_image import DepthImageConfig
+    from simgrasp.perception.segmentation.segment import Segmentation
     from simgrasp.perception.segmentation.segment_config import SegmentConfig
     from simgrasp.perception.sensors.settings import SensorSettings
     from simgrasp.scenes.config import SceneConfig

@@ -19,10 +19,12 @@ from simgrasp.assets.mesh_object import (
     split_spec,
 )
 from simgrasp.assets.object import ObjectAsset
-from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.errors import SimgraspError
 
 __all__ = ["GENERATED_KINDS", "load_object", "load_object_mesh"]
+
+_GENERATED_NAMES = ", ".join(f"gen_{kind}" for kind in GENERATED_KINDS)
+"""Every loadable generated tool, for error messages (the ``generated`` set holds fewer)."""
 
 _GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+(?:_[a-z]+)*)(?:_s(?P<seed>\d+))?$")
 
@@ -46,8 +48,7 @@ def load_object(
         kind = match["kind"]
         if kind not in GENERATED_KINDS:
             raise SimgraspError(
-                f"unknown generated object {name!r}; generated objects are "
-                f"{', '.join(GENERATED_OBJECTS)}"
+                f"unknown generated object {name!r}; generated objects are {_GENERATED_NAMES}"
             )
         return generate_tool(kind, int(match["seed"]) if match["seed"] else seed)
     if name.startswith("gen_"):
@@ -62,8 +63,7 @@ def load_object(
         find_ycb_entry(name)
     except ValueError as exc:
         raise SimgraspError(
-            f"{exc}; generated objects are {', '.join(GENERATED_OBJECTS)} "
-            "(add _s<seed> to pick sizes)"
+            f"{exc}; generated objects are {_GENERATED_NAMES} (add _s<seed> to pick sizes)"
         ) from None
     return load_ycb_object(name, ycb_dir)
 

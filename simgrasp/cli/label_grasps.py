@@ -91,7 +91,7 @@ def run(options: Options) -> int:
             from simgrasp.grasping.labeling.dataset_run import export_run
 
             export_run(files[0], out, options.export, out)
-    print_summary(summary, out)
+    print_summary(summary, out, picture=not options.no_picture)
     return 0
 
 
@@ -121,7 +121,7 @@ def _picture(model: Any, grasps: Any, records: list, config: LabelConfig, path: 
     plot_labels(model.asset.mesh, grasps.object_T_tcp, widths, records, path, title)
 
 
-def print_summary(summary: dict[str, Any], out: Path) -> None:
+def print_summary(summary: dict[str, Any], out: Path, *, picture: bool) -> None:
     rate = summary["grasps_per_s"]
     lines = [
         f"grasps       {summary['grasps']} ({summary['invalid']} invalid, "
@@ -132,6 +132,7 @@ def print_summary(summary: dict[str, Any], out: Path) -> None:
         + (", ".join(f"{k} {v}" for k, v in sorted(summary["failures"].items())) or "none"),
         f"this run     {summary['labeled_this_run']} labeled in {summary['wall_s_this_run']:.1f} s"
         + (f" ({rate:.1f} grasps/s)" if rate else ""),
-        f"output       {out}/labels.jsonl, labels.npz, summary.json",
+        f"output       {out}/labels.jsonl, labels.npz, summary.json"
+        + (", labels.png" if picture else ""),
     ]
     sys.stdout.write("\n".join(lines) + "\n")

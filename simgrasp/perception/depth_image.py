@@ -38,7 +38,11 @@ Intrinsics = tuple[float, float, float, float]
 
 @dataclass(frozen=True)
 class DepthImageConfig(Checked):
-    """How a depth image file becomes a scene cloud (module docstring)."""
+    """How a depth image file (16-bit PNG or float TIFF) becomes a scene cloud: each pixel's
+    stored value times ``scale`` is its depth (m) along the camera's z, back-projected through
+    the pinhole ``intrinsics`` ``(fx, fy, cx, cy)`` (pixels) to camera-frame points, the sensor at
+    the origin; 0 is no return. Both come from a GraspNet ``meta.mat`` beside the image when
+    ``intrinsics`` is None."""
 
     intrinsics: Intrinsics | None = setting(None, metavar=("FX", "FY", "CX", "CY"))
     """Pinhole intrinsics of the depth image (pixels): focal lengths and principal point.

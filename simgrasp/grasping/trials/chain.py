@@ -34,7 +34,17 @@ from simgrasp.scenes.scene import Scene, build_scene
 
 @dataclass(frozen=True)
 class ChainResult:
-    """A full-chain trial: what was seen, detected, chosen and what happened."""
+    """A full-chain trial: what was seen, detected, chosen and what happened.
+
+    ``cloud_points``, ``candidates``, ``handles`` and ``grasp_candidates`` are counts (the
+    fused object cloud's points, the detector's accepted neighborhoods, its handles, the
+    planner's grasps); ``detection_accuracy`` is the share of candidates on the labeled handle
+    (None without candidates) and ``handle_recall`` whether a handle's center lies on it (both
+    None when the detector did not run);
+    ``trial`` is the executed grasp's :class:`~simgrasp.grasping.trials.result.TrialResult`,
+    None when no grasp was found (``failure`` ``no_grasp`` in the record). ``to_json()`` is the
+    flat record ``trials.jsonl`` holds.
+    """
 
     object: str
     detector: str
