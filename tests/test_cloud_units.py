@@ -55,3 +55,13 @@ def test_the_check_looks_only_at_the_extent() -> None:
     with pytest.raises(ValueError, match=r"big: the cloud spans 5\d\d m .*millimetres"):
         cloud_in_meters(big, "m", "big", config)
     np.testing.assert_allclose(cloud_in_meters(big, "mm", "big", config), big / 1000.0)
+
+
+def test_a_meter_cloud_read_as_millimetres_is_refused(mug_files, capsys) -> None:
+    """The other way round: ``--units mm`` on a cloud in meters shrinks the mug to a tenth of
+    a millimetre, where the detector finds no neighborhood and would report no handle."""
+    meters, _ = mug_files
+    assert main(["detect", str(meters), "--units", "mm"]) == 2
+    err = capsys.readouterr().err
+    assert str(meters) in err and "mm" in err and "in meters? drop --units" in err
+    assert len(err.strip().splitlines()) == 1

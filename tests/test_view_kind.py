@@ -129,6 +129,21 @@ def test_detect_sends_a_view_to_the_single_view_detector_and_a_mesh_cloud_to_the
     assert [h.center.tolist() for h in api.handles] == [h.center.tolist() for h in seen.handles]
 
 
+@pytest.mark.parametrize(
+    ("points", "viewpoint", "message"),
+    [
+        (np.zeros((5, 2)), None, r"points must be an \(N, 3\) array, got shape \(5, 2\)"),
+        (np.full((50, 3), np.nan), None, "NaN or inf"),
+        (np.random.default_rng(0).random((50, 3)), [0.0, 0.0], "viewpoint must be 3 coordinates"),
+    ],
+)
+def test_bad_clouds_are_one_line_before_the_view_test(points, viewpoint, message) -> None:  # noqa: ANN001
+    """The default detector measures the view before detecting: a bad cloud or viewpoint is
+    named there, not in a numpy broadcast error."""
+    with pytest.raises(ValueError, match=message):
+        detect_handles(points, viewpoint=viewpoint)
+
+
 def test_a_view_the_classifier_keeps_nothing_of_goes_to_the_fallback() -> None:
     """A flat 20 x 20 cm board 0.5 m in front of the camera: no candidate is a handle, so the
     detection is the fallback quadric detector's (real_depth settings) on the same view."""

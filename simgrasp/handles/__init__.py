@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from simgrasp.errors import SimgraspError
+from simgrasp.handles.cloud_input import validate_cloud
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Candidate, Detection, Handle
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
@@ -64,6 +65,9 @@ def detect(
     detector with ``config``.
     """
     config = config if config is not None else default_config(detector)
+    points, normals = validate_cloud(points, normals)  # before the view test reads them
+    if viewpoint is not None and np.shape(viewpoint) != (3,):
+        raise SimgraspError(f"viewpoint must be 3 coordinates (m), got shape {np.shape(viewpoint)}")
     if detector == "quadric":
         if not isinstance(config, QuadricDetectorConfig):
             raise SimgraspError("the quadric detector needs a QuadricDetectorConfig")

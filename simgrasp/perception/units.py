@@ -1,5 +1,6 @@
 """Cloud units: files are read as meters unless told otherwise, and a cloud whose size only
-millimetres explain is refused before any detection work.
+other units explain (millimetres read as meters, or meters read as millimetres) is refused
+before any detection work.
 
 Meshes are checked the same way when loaded (:mod:`simgrasp.assets.mesh_check`). For a point
 cloud the check is its bounding-box diagonal, an O(N) test made before voxelizing or normal
@@ -30,6 +31,10 @@ class CloudUnitsConfig:
     """Largest bounding-box diagonal (m) of a cloud to detect on: a graspable object spans well
     under a meter and a tabletop scene a few meters, while the same object in millimetres spans
     tens to hundreds of units."""
+    min_extent: float = 0.01
+    """Smallest bounding-box diagonal (m) of a cloud to detect on: nothing a gripper takes by
+    a handle spans under a centimetre, while an object in meters read as millimetres spans a
+    tenth of a millimetre (the detector would find no neighborhood in it, silently)."""
 
 
 def cloud_in_meters(
@@ -39,7 +44,8 @@ def cloud_in_meters(
     config: CloudUnitsConfig | None = None,
 ) -> NDArray[np.float64]:
     """``points`` given in ``units``, in meters; a ValueError naming ``source`` if the result
-    spans more than ``config.max_extent`` (the cloud is then almost surely in millimetres)."""
+    spans more than ``config.max_extent`` (the cloud is then almost surely in millimetres) or,
+    read as millimetres, less than ``config.min_extent`` (then almost surely in meters)."""
     config = config or CloudUnitsConfig()
     if units not in UNIT_SCALE:
         raise SimgraspError(f"unknown units {units!r}; use one of {', '.join(UNIT_SCALE)}")
@@ -51,5 +57,11 @@ def cloud_in_meters(
             f"{source}: the cloud spans {extent:.0f} m (bounding-box diagonal) read as "
             f"{units}, more than the {config.max_extent:g} m any object or tabletop scene "
             f"spans: {guess}"
+        )
+    if units != "m" and 0 < extent < config.min_extent:
+        raise SimgraspError(
+            f"{source}: the cloud spans {extent * 1000:.2g} mm (bounding-box diagonal) read as "
+            f"{units}, less than the {config.min_extent * 100:g} cm any object to grasp spans: "
+            "is it in meters? drop --units"
         )
     return scaled
