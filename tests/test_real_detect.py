@@ -96,6 +96,20 @@ def test_the_shipped_manifest_names_tune_and_holdout_clouds(tmp_path: Path) -> N
     assert {splits[f"knife{k}"] for k in range(1, 6)} == {"tune"}
 
 
+def test_the_readmes_manifest_path_finds_the_shipped_file_from_any_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``models/handles/real_detect.toml`` as the README writes it, run where no ``models/``
+    folder is (an installed wheel), is the shipped manifest; another missing path stays one
+    line naming it."""
+    monkeypatch.chdir(tmp_path)
+    shipped = read_manifest(model_path("handles", "real_detect.toml"), tmp_path)
+    relative = read_manifest(Path("models/handles/real_detect.toml"), tmp_path)
+    assert [c.name for c in relative] == [c.name for c in shipped]
+    with pytest.raises(ValueError, match="models/handles/nothing.toml: no such manifest file"):
+        read_manifest(Path("models/handles/nothing.toml"), tmp_path)
+
+
 @needs_real
 def test_detect_eval_real_on_a_tiny_manifest_resumes_without_duplicates(
     real_dir: Path, tmp_path: Path, capsys

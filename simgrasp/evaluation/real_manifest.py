@@ -42,7 +42,7 @@ from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.labels import HandleLabel, load_label_file
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.units import UNIT_SCALE, Units, cloud_in_meters
-from simgrasp.resources import model_path
+from simgrasp.resources import model_path, models_dir
 
 REAL_MANIFEST = ("handles", "real_detect.toml")
 Split = Literal["tune", "holdout"]
@@ -151,11 +151,20 @@ def _depth(manifest: Path, index: int, entry: dict[str, Any], path: Path) -> Dep
         raise _entry_error(manifest, index, entry, f"'intrinsics' {exc.detail}") from None
 
 
+def shipped_if_absent(path: Path) -> Path:
+    """``path``, or where it names a file the package ships (``models/handles/real_detect.toml``
+    as the README writes it) and is not there, as from an installed wheel, the shipped file."""
+    if path.exists() or path.is_absolute() or path.parts[:1] != ("models",):
+        return path
+    shipped = models_dir().joinpath(*path.parts[1:])
+    return shipped if shipped.is_file() else path
+
+
 def read_manifest(path: Path | None = None, real_dir: Path | None = None) -> list[RealCloud]:
     """The clouds of manifest ``path`` (default: the shipped one); cloud paths are relative to
     ``real_dir`` (default ``$SIMGRASP_REAL_DIR``, else ``../shared/real``). Files are not
     read here: :func:`load_real_cloud` checks each when it is scored."""
-    path = Path(path) if path is not None else model_path(*REAL_MANIFEST)
+    path = shipped_if_absent(Path(path)) if path is not None else model_path(*REAL_MANIFEST)
     real_dir = Path(real_dir) if real_dir is not None else default_real_dir()
     try:
         data = tomllib.loads(path.read_text())
