@@ -82,6 +82,8 @@ def test_yaml_config(tmp_path: Path, capsys) -> None:
         (["--json", "out.json"], "json: expected bool, got 'out.json'"),
         (["--set", "seed=1.5"], "seed: expected int, got 1.5"),
         (["--set", "noise=true"], "noise: expected float, got True"),
+        (["--noise", "nan"], "noise: nan is not a number"),
+        (["--grasp", "0", "0", "nan", "1", "0", "0", "0"], "grasp: value 3: nan is not a number"),
     ],
 )
 def test_bad_settings_are_one_line_errors(argv, message, capsys) -> None:

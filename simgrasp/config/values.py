@@ -50,6 +50,8 @@ def _convert(value: Any, annotation: Any, key: str) -> Any:
         for arm in arms:
             try:
                 return _convert(value, arm, key)
+            except SettingError:  # a number that is NaN: say so, not which types were tried
+                raise
             except (TypeError, ValueError) as exc:
                 errors.append(exc)
         raise ValueError(errors[0] if errors else "no type")
@@ -66,7 +68,7 @@ def _convert(value: Any, annotation: Any, key: str) -> Any:
             raise ValueError(value)
         number = float(value)
         if math.isnan(number):
-            raise ValueError(value)
+            raise SettingError((key,), "nan is not a number")
         return number
     if annotation is str:
         if not isinstance(value, str):
@@ -99,7 +101,17 @@ def _tuple(value: Any, args: tuple[Any, ...], key: str) -> tuple[Any, ...]:
         return tuple(_convert(item, args[0], key) for item in value)
     if len(value) != len(args):
         raise SimgraspError(f"{key}: expected {len(args)} values, got {len(value)}: {value!r}")
-    return tuple(_convert(item, arm, key) for item, arm in zip(value, args, strict=True))
+    return tuple(
+        _item(item, arm, key, i) for i, (item, arm) in enumerate(zip(value, args, strict=True))
+    )
+
+
+def _item(value: Any, annotation: Any, key: str, index: int) -> Any:
+    """Item ``index`` of a fixed tuple, a NaN named by its position (``value 3 of 7``)."""
+    try:
+        return _convert(value, annotation, key)
+    except SettingError as exc:
+        raise SettingError((key,), f"value {index + 1}: {exc.detail}") from None
 
 
 def _dataclass(value: Any, cls: type, key: str) -> Any:
