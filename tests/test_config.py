@@ -101,6 +101,16 @@ def test_unknown_key_in_a_file_names_the_key_and_file(tmp_path: Path, capsys) ->
     assert "did you mean detector.quadric.shell_gap" in err
 
 
+def test_a_flag_of_another_command_is_not_taken_as_an_abbreviation(capsys) -> None:
+    """``demo`` has no ``--detector``: argparse's prefix matching would read it as one of
+    many ``--detector.*`` flags (a line listing all of them); a typo picks no flag either."""
+    assert main(["demo", "--detector", "tenpas", "--print-config"]) == 2
+    err = capsys.readouterr().err
+    assert "unrecognized arguments: --detector tenpas" in err and err.count("\n") == 1
+    assert main(["trial", "gen_mug", "--detector.quadric.shell-t", "false", "--print-config"]) == 2
+    assert "unrecognized arguments: --detector.quadric.shell-t" in capsys.readouterr().err
+
+
 def test_bad_config_files(tmp_path: Path, capsys) -> None:
     broken = tmp_path / "broken.toml"
     broken.write_text("seed = = 3\n")

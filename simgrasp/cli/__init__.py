@@ -65,10 +65,12 @@ class _Parser(argparse.ArgumentParser):
 def build_parser(command: str | None) -> argparse.ArgumentParser:
     """The parser of every command, with the flags of ``command`` (only its module is
     imported)."""
-    parser = _Parser(prog="simgrasp", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="simgrasp", description=__doc__.splitlines()[0], allow_abbrev=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, help_text in COMMANDS.items():
-        cmd = sub.add_parser(name, help=help_text, description=help_text)
+        # no abbreviations: `--detector` on a command without it would match every
+        # `--detector.*` flag of another, and a typo must not pick a flag silently
+        cmd = sub.add_parser(name, help=help_text, description=help_text, allow_abbrev=False)
         if name == command:
             module = command_module(name)
             cmd.description = (module.__doc__ or help_text).strip()
