@@ -238,3 +238,20 @@ def test_a_data_set_folder_points_at_one_of_its_files(tmp_path: Path) -> None:
         kind_of(tmp_path)
     assert f"simgrasp view {one}" in str(error.value) and "\n" not in str(error.value)
     assert kind_of(one).page is not None
+
+
+def test_a_torn_last_label_line_is_left_out_with_a_note(tmp_path: Path, capsys) -> None:
+    """A killed label-grasps run may leave half a last line: the page is drawn from the whole
+    records, and stderr says one line was left out; a bad line before the last is an error."""
+    from simgrasp.errors import SimgraspError
+    from simgrasp.viewer.grasp_page import read_labels
+
+    record = {"grasp": [0, 0, 0, 1, 0, 0, 0], "failure": None, "success": True}
+    (tmp_path / "run.json").write_text("{}")
+    (tmp_path / "labels.jsonl").write_text(json.dumps(record) + '\n{"grasp": [0, 0')
+    _, records = read_labels(tmp_path)
+    assert records == [record]
+    assert "left out a torn last line" in capsys.readouterr().err
+    (tmp_path / "labels.jsonl").write_text('{"grasp"\n' + json.dumps(record) + "\n")
+    with pytest.raises(SimgraspError, match="labels.jsonl line 1 is not JSON"):
+        read_labels(tmp_path)

@@ -10,6 +10,7 @@ failure mode): held on the handle green, held elsewhere blue, failed red, as ``l
 from __future__ import annotations
 
 import json
+import sys
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -36,14 +37,16 @@ def read_labels(path: Path) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     """``run.json`` and the drawable label records of a label-grasps folder."""
     run = json.loads((path / "run.json").read_text())
     records = []
-    for number, line in enumerate((path / "labels.jsonl").read_text().splitlines(), start=1):
+    lines = (path / "labels.jsonl").read_text().splitlines()
+    for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
         try:
             record = json.loads(line)
         except json.JSONDecodeError:
-            if number == len((path / "labels.jsonl").read_text().splitlines()):
-                continue  # a killed run's last line: label-grasps rewrites it on rerun
+            if number == len(lines):  # a killed run's last line: label-grasps rewrites it
+                print(f"note: {path}/labels.jsonl: left out a torn last line", file=sys.stderr)
+                continue
             raise SimgraspError(f"{path}/labels.jsonl line {number} is not JSON") from None
         if "grasp" in record and record["failure"] not in ("invalid", "sim_unstable"):
             records.append(record)
