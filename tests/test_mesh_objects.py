@@ -217,6 +217,6 @@ def test_mesh_flags_on_a_named_object_fail_with_one_line(
     done = _simgrasp(*args, cwd=tmp_path)
     assert done.returncode == 2
     assert done.stderr.strip().splitlines() == [
-        f"simgrasp {args[0]}: error: {flag} only apply to a mesh file object, not 'gen_hammer'"
+        f"simgrasp {args[0]}: error: {flag} only applies to a mesh file object, not 'gen_hammer'"
     ]
     assert not (tmp_path / "o").exists()

@@ -74,6 +74,13 @@ class MeshReport:
         return tuple(notes)
 
 
+def unreadable_reason(exc: Exception) -> str:
+    """One line saying why a mesh file could not be read: the exception's message (its type
+    when the message is empty), whitespace collapsed and cut to a readable length."""
+    message = " ".join(str(exc).split()) or type(exc).__name__
+    return message if len(message) <= 200 else f"{message[:197]}..."
+
+
 def _where(object_name: str, source: Path | str | None) -> str:
     return f"object {object_name!r}" + (f" (file {source})" if source is not None else "")
 
@@ -168,7 +175,7 @@ def load_mesh_file(path: Path | str, object_name: str) -> trimesh.Trimesh:
     try:
         loaded = trimesh.load(path, force="mesh", process=False, skip_materials=True)
     except Exception as exc:  # trimesh raises many types for unreadable files
-        raise MeshError(f"{where}: cannot read mesh: {type(exc).__name__}: {exc}") from exc
+        raise MeshError(f"{where}: cannot read mesh: {unreadable_reason(exc)}") from exc
     if not isinstance(loaded, trimesh.Trimesh):
         raise MeshError(f"{where}: mesh is empty (no faces)")
     vertices = np.asarray(loaded.vertices, dtype=float)

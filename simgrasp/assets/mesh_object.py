@@ -39,6 +39,7 @@ from simgrasp.assets.mesh_check import (
     MeshError,
     mass_properties_solid,
     outward,
+    unreadable_reason,
     validate_mesh,
 )
 from simgrasp.assets.object import ObjectAsset
@@ -132,16 +133,18 @@ def parse_mesh_spec(name: str) -> MeshObjectSpec:
 
 def with_options(name: str, **options: float | str | Path | None) -> str:
     """``name`` with the options given (not None) added to its spec: the command line's
-    ``--scale``/``--units``/``--mass``/``--density``/``--friction``/``--handles``. A name that
-    is no mesh file takes only ``handles`` (other options: an error naming them)."""
+    ``--scale``/``--units``/``--mass``/``--density``/``--friction``/``--handles``; they replace
+    the spec's own (``--scale`` its ``units``, ``--mass`` its ``density`` and the reverse). A
+    name that is no mesh file takes only ``handles`` (other options: an error naming them)."""
     given = {k: v for k, v in options.items() if v is not None}
     if not given:
         return name
+    check_options(given)
     if not is_mesh_spec(name):
-        if set(given) - {"handles"}:
+        if mesh_only := sorted(set(given) - {"handles"}):
+            verb = "applies" if len(mesh_only) == 1 else "apply"
             raise SimgraspError(
-                f"--{'/--'.join(sorted(set(given) - {'handles'}))} only apply to a mesh file "
-                f"object, not {name!r}"
+                f"--{'/--'.join(mesh_only)} only {verb} to a mesh file object, not {name!r}"
             )
         return f"{split_spec(name)[0]}?{urlencode({'handles': str(given['handles'])})}"
     spec = parse_mesh_spec(name)
@@ -158,6 +161,20 @@ def with_options(name: str, **options: float | str | Path | None) -> str:
     return MeshObjectSpec(spec.path, **fields).name()  # type: ignore[arg-type]
 
 
+def check_options(given: dict[str, float | str | Path]) -> None:
+    """Refuse command-line object options that contradict each other (``--scale`` and
+    ``--units``, ``--mass`` and ``--density``) or a ``--handles`` file that is a mesh."""
+    for one, other in (("scale", "units"), ("mass", "density")):
+        if one in given and other in given:
+            raise SimgraspError(f"give --{one} or --{other}, not both")
+    handles = given.get("handles")
+    if handles is not None and str(handles).lower().endswith(MESH_SUFFIXES):
+        raise SimgraspError(
+            f"--handles {handles}: a mesh file, not a JSON handle label file (the format of "
+            "models/handles/ycb_handles.json)"
+        )
+
+
 def read_mesh(spec: MeshObjectSpec) -> trimesh.Trimesh:
     """The file's triangles times the spec's factor (meters), checked (one-line errors), with
     no handle label: what :func:`load_mesh_object` simulates and ``label-handles`` scans."""
@@ -167,7 +184,9 @@ def read_mesh(spec: MeshObjectSpec) -> trimesh.Trimesh:
     try:
         loaded = trimesh.load(path, force="mesh", process=False, skip_materials=True)
     except Exception as exc:  # trimesh raises many types for unreadable files
-        raise SimgraspError(f"object mesh {path}: cannot read it ({type(exc).__name__})") from None
+        raise SimgraspError(
+            f"object mesh {path}: cannot read it ({unreadable_reason(exc)})"
+        ) from None
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise SimgraspError(f"object mesh {path}: no triangles in the file (empty mesh)")
     vertices = np.asarray(loaded.vertices, dtype=float) * spec.factor

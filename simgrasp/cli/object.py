@@ -9,22 +9,27 @@ probable stable pose, and its mesh/texture files beside it, so that
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.config.checks import Range
 from simgrasp.errors import SimgraspError
 
+if TYPE_CHECKING:
+    from simgrasp.assets.model import ObjectModel
+
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     action: Literal["show", "export"] = setting(positional=True)
     """What to do with the object."""
     name: str = setting(positional=True, metavar="NAME")
-    """YCB id or name (025_mug, mug) or gen_<kind>[_s<seed>]."""
+    """YCB id or name (025_mug, mug), gen_<kind>[_s<seed>] or mesh file (read with
+    --scale/--units/--mass/...)."""
     out: Path
     """show: PNG file to write; export: directory to write."""
     seed: int = 0
@@ -44,7 +49,8 @@ def run(options: Options) -> int:
         check_output_file(options.out, "--out")
     else:
         check_out_dir(options.out)
-    model = build_object_model(load_object(options.name, options.ycb_dir, seed=options.seed))
+    name = options.object_name(options.name)
+    model = build_object_model(load_object(name, options.ycb_dir, seed=options.seed))
     if options.action == "show":
         from simgrasp.scenes.object_view import show_object
 
@@ -56,6 +62,17 @@ def run(options: Options) -> int:
         return 0
     from simgrasp.assets.export import export_mjcf
 
-    xml_path = export_mjcf(model, options.out)
+    xml_path = export_mjcf(_file_named(model, name), options.out)
     print(f"{model.asset.name}: wrote {xml_path} (python -m mujoco.viewer --mjcf {xml_path})")
     return 0
+
+
+def _file_named(model: ObjectModel, name: str) -> ObjectModel:
+    """``model`` named, for the files of its export, by its mesh file's stem when ``name`` is
+    a mesh spec (``DIR/mug.obj?units=mm`` would write ``DIR/mug.obj?units=mm.xml`` outside
+    --out)."""
+    from simgrasp.assets.mesh_object import is_mesh_spec, split_spec
+
+    if not is_mesh_spec(name):
+        return model
+    return replace(model, asset=replace(model.asset, name=Path(split_spec(name)[0]).stem))

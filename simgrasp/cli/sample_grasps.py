@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.assets.placement import DEFAULT_PLACEMENT, Placement
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.config.checks import PositiveInt
@@ -22,9 +23,10 @@ from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     object: str = setting(positional=True, metavar="OBJECT")
-    """YCB id (048_hammer or hammer) or generated tool."""
+    """YCB id (048_hammer or hammer), generated tool or mesh file (read with
+    --scale/--units/--mass/...)."""
     n: PositiveInt
     """Number of grasps."""
     out: Path = setting(output="file")
@@ -48,7 +50,7 @@ def run(options: Options) -> int:
         raise SimgraspError(f"--out must end in .npz, got {options.out}")
     start = time.perf_counter()
     grasps = sample_grasps(
-        options.object,
+        options.object_name(options.object),
         options.n,
         seed=options.seed,
         gripper=options.gripper,

@@ -14,6 +14,7 @@ lying mug's strap) is seen from two sides and the one-pass fits come out too wid
 from __future__ import annotations
 
 import json
+import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -60,12 +61,7 @@ class Options(YcbSource, MeshObjectOptions):
 def run(options: Options) -> int:
     from simgrasp.scenes.key_frames import FrameRecorder, check_frames_target, write_frames
 
-    if options.width is not None and options.grasp is None:
-        raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
-    if options.protocol is not None and options.grasp is None:
-        raise SimgraspError("--protocol needs --grasp (the full chain runs the --trial.* settings)")
-    if options.protocol is not None and options.chain.trial != ChainConfig().trial:
-        raise SimgraspError("give --protocol or --trial.* settings, not both")
+    _check_grasp_flags(options)
     if options.render is not None:
         check_frames_target(options.render)
     frames = FrameRecorder() if options.render is not None else None
@@ -77,6 +73,29 @@ def run(options: Options) -> int:
     else:
         _print_summary(record)
     return 0
+
+
+def _check_grasp_flags(options: Options) -> None:
+    """Refuse the flags of a given grasp without ``--grasp``, ``--protocol`` with ``--trial.*``
+    settings, and a ``--grasp`` whose quaternion is not a unit one (within the tolerance of
+    label-grasps, which marks such rows invalid)."""
+    from simgrasp.grasping.labeling.grasp_sets import QUATERNION_TOLERANCE
+
+    if options.width is not None and options.grasp is None:
+        raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
+    if options.protocol is not None and options.grasp is None:
+        raise SimgraspError("--protocol needs --grasp (the full chain runs the --trial.* settings)")
+    if options.grasp_frame != "world" and options.grasp is None:
+        raise SimgraspError("--grasp-frame needs --grasp (the full chain plans its own grasp)")
+    if options.protocol is not None and options.chain.trial != ChainConfig().trial:
+        raise SimgraspError("give --protocol or --trial.* settings, not both")
+    if options.grasp is not None:
+        norm = math.hypot(*options.grasp[3:])
+        if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+            raise SimgraspError(
+                f"--grasp: quaternion QW QX QY QZ has norm {norm:.6g}, not 1 (within "
+                f"{QUATERNION_TOLERANCE:g}): give a unit quaternion"
+            )
 
 
 def _trial(options: Options, on_phase: Any) -> dict[str, Any]:
