@@ -105,3 +105,18 @@ def test_object_and_sample_grasps_take_the_object_flags(
     assert main(["object", "export", "box_mm.stl", "--units", "mm", "--out", "ex"]) == 0
     assert (workdir / "ex" / "box_mm.xml").is_file()
     assert "box_mm.stl?units=mm: wrote ex/box_mm.xml" in capsys.readouterr().out
+
+
+def test_files_of_a_mesh_object_are_named_by_its_stem(
+    workdir: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A mesh spec (``/abs/box_mm.stl?units=mm``) names no file: label-grasps' default output
+    folder and scenes' views take the mesh's stem, inside their output folders, and scenes
+    takes the object flags."""
+    mesh = str(workdir / "box_mm.stl")
+    assert main(["label-grasps", mesh, "--units", "mm", "--grasps", "g.npz", "--no-picture"]) == 0
+    assert (workdir / "out" / "labels" / "box_mm" / "labels.jsonl").is_file()
+    assert not list(workdir.glob("box_mm.stl?*"))
+    scenes = ["scenes", "export", "--object", mesh, "--units", "mm", "--seeds", "1"]
+    assert main([*scenes, "--scene.num-views", "1", "--out", "s"]) == 0
+    assert [p.name for p in (workdir / "s").iterdir()] == ["box_mm_s0_view0.pcd"]

@@ -110,6 +110,13 @@ def is_mesh_spec(name: str) -> bool:
     return split_spec(name)[0].lower().endswith(MESH_SUFFIXES)
 
 
+def file_stem(name: str) -> str:
+    """The name to give the files written for object ``name``: a mesh spec's file stem
+    (``mug`` of ``/data/mug.obj?units=mm``, which as a file name would hold a ``?`` and, joined
+    to an output folder, point beside the mesh), else ``name`` itself."""
+    return Path(split_spec(name)[0]).stem if is_mesh_spec(name) else name
+
+
 def parse_mesh_spec(name: str) -> MeshObjectSpec:
     """The :class:`MeshObjectSpec` of ``PATH[?key=value&...]``."""
     path, query = split_spec(name)

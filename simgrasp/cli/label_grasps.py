@@ -31,7 +31,7 @@ SHOWN_PROBLEMS = 10
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
-    label: LabelConfig = setting(flatten=True)
+    label: LabelConfig = setting(default_factory=LabelConfig, flatten=True)
     grasps: Path
     """Grasp file in the object frame: .npz/.json (object_T_grasp N x 4 x 4 or poses N x 7
     [x y z qw qx qy qz], optional width), .h5 (ACRONYM), .json (GraspGen) or .npy (graspnetAPI
@@ -57,10 +57,15 @@ class Options(YcbSource, MeshObjectOptions):
 
 
 def run(options: Options) -> int:
+    from simgrasp.assets.mesh_object import file_stem
     from simgrasp.assets.model import model_for
-    from simgrasp.grasping.labeling.dataset_run import label_files, object_for
+    from simgrasp.grasping.labeling.dataset_run import (
+        check_export,
+        grasps_for,
+        label_files,
+        object_for,
+    )
     from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
-    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.label_run import label_grasp_set
     from simgrasp.runs.out_dir import claim_out_dir
 
@@ -70,10 +75,12 @@ def run(options: Options) -> int:
     if not options.grasps.is_file():  # a folder or a glob, of any number of files: OUT/<stem>/
         return label_files(files, options, invocation())
     config = object_for(options, files[0])
-    grasps = read_grasp_set(options.grasps).first(options.max_grasps)
-    report_problems(grasps.problems, len(grasps))
+    grasps = grasps_for(options.grasps, options.max_grasps)
+    if options.export:
+        check_export(options.grasps, options.export)
+    report_problems(grasps.problems)
     model = model_for(config.object, options.ycb_dir)
-    out = options.out or Path("out") / "labels" / model.asset.name
+    out = options.out or Path("out") / "labels" / file_stem(model.asset.name)
     with claim_out_dir(out, invocation()):  # one run at a time per --out, as evaluate
         summary, records = label_grasp_set(
             grasps,
@@ -95,14 +102,12 @@ def run(options: Options) -> int:
     return 0
 
 
-def report_problems(problems: dict[int, str], count: int) -> None:
+def report_problems(problems: dict[int, str]) -> None:
     """List the rows that are not grasps on stderr (they are labeled ``invalid``)."""
     for index, problem in list(problems.items())[:SHOWN_PROBLEMS]:
         print(f"row {index}: {problem}: skipped (invalid)", file=sys.stderr)
     if len(problems) > SHOWN_PROBLEMS:
         print(f"... and {len(problems) - SHOWN_PROBLEMS} more invalid rows", file=sys.stderr)
-    if len(problems) == count:
-        raise SimgraspError("no row of the grasp file is a valid grasp")
 
 
 def _picture(model: Any, grasps: Any, records: list, config: LabelConfig, path: Path) -> None:

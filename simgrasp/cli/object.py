@@ -68,11 +68,8 @@ def run(options: Options) -> int:
 
 
 def _file_named(model: ObjectModel, name: str) -> ObjectModel:
-    """``model`` named, for the files of its export, by its mesh file's stem when ``name`` is
-    a mesh spec (``DIR/mug.obj?units=mm`` would write ``DIR/mug.obj?units=mm.xml`` outside
-    --out)."""
-    from simgrasp.assets.mesh_object import is_mesh_spec, split_spec
+    """``model`` named, for the files of its export, by :func:`file_stem` (``DIR/mug.obj?units=mm``
+    would write ``DIR/mug.obj?units=mm.xml`` outside --out)."""
+    from simgrasp.assets.mesh_object import file_stem
 
-    if not is_mesh_spec(name):
-        return model
-    return replace(model, asset=replace(model.asset, name=Path(split_spec(name)[0]).stem))
+    return replace(model, asset=replace(model.asset, name=file_stem(name)))

@@ -2,10 +2,11 @@
 
 Each seed's scene (the target with ``--clutter`` distractors, :mod:`simgrasp.scenes.clutter`)
 is seen by every camera through ``--sensor``; each view is written as
-``OUT/<object>_s<seed>_<camera>.pcd`` in osd-learn's layout: organized 640 x 480, binary, fields
-``label x y z rgba``, meters in the camera's OpenCV frame (``VIEWPOINT`` at the origin), NaN
-where the sensor returned nothing. Labels are exact: 0 invalid, 1 the table, 20 the target,
-30, 40, ... the distractors in body order (``simgrasp segment`` reads the files).
+``OUT/<object>_s<seed>_<camera>.pcd`` (a mesh file object: its file's stem) in osd-learn's
+layout: organized 640 x 480, binary, fields ``label x y z rgba``, meters in the camera's
+OpenCV frame (``VIEWPOINT`` at the origin), NaN where the sensor returned nothing. Labels are
+exact: 0 invalid, 1 the table, 20 the target, 30, 40, ... the distractors in body order
+(``simgrasp segment`` reads the files).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from typing import Literal
 
 import numpy as np
 
+from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
@@ -25,11 +27,12 @@ TARGET_LABEL, FIRST_DISTRACTOR_LABEL, TABLE_LABEL = 20, 30, 1
 
 
 @dataclass(frozen=True, kw_only=True)
-class Options(YcbSource):
+class Options(YcbSource, MeshObjectOptions):
     action: Literal["export"] = setting(positional=True, metavar="ACTION")
     """export: write the scenes' views as labeled PCD files."""
     object: str = "gen_hammer"
-    """The target object (YCB id or generated tool)."""
+    """The target object (YCB id, generated tool or mesh file, read with
+    --scale/--units/--mass/...)."""
     seeds: int = 3
     """Scenes of seeds 0..N-1."""
     out: Path = setting(output="dir")
@@ -38,6 +41,7 @@ class Options(YcbSource):
 
 
 def run(options: Options) -> int:
+    from simgrasp.assets.mesh_object import file_stem
     from simgrasp.assets.model import model_for
     from simgrasp.grippers import make_gripper
     from simgrasp.scenes.kept_renderer import kept_renderer
@@ -47,14 +51,15 @@ def run(options: Options) -> int:
     if options.seeds < 1:
         raise SimgraspError(f"--seeds must be >= 1, got {options.seeds}")
     options.out.mkdir(parents=True, exist_ok=True)
-    model, gripper = model_for(options.object, options.ycb_dir), make_gripper("builtin")
+    name = options.object_name(options.object)
+    model, gripper = model_for(name, options.ycb_dir), make_gripper("builtin")
     for seed in range(options.seeds):
         scene = build_scene(model, gripper, options.chain.scene, seed)
         renderer = kept_renderer(scene)
         frames = observe(scene, renderer, 0.0, seed, options.chain.sensor).frames
         for frame in frames:
             rgb = renderer.rgb(scene.data, frame.camera_name, *frame.depth.shape[::-1])
-            path = options.out / f"{model.asset.name}_s{seed}_{frame.camera_name}.pcd"
+            path = options.out / f"{file_stem(name)}_s{seed}_{frame.camera_name}.pcd"
             _write_pcd(path, frame, _labels(scene, frame), rgb)
             print(path)
     return 0

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.grasping.labeling.grasp_sets import GraspSet, read_grasp_set
 from simgrasp.grasping.labeling.labeling import LabelConfig
 
 SUMMARY_FILE = "summary.json"
@@ -50,22 +51,45 @@ def object_for(options: Any, grasp_file: Path) -> LabelConfig:
     return replace(config, object=options.object_name(name))
 
 
+def grasps_for(grasp_file: Path, max_grasps: int | None) -> GraspSet:
+    """The first ``max_grasps`` grasps of a file (all for None); a file without a valid grasp
+    among them is an error naming it (and the first row's problem)."""
+    grasps = read_grasp_set(grasp_file).first(max_grasps)
+    if grasps.valid.any():
+        return grasps
+    reason = next((f"row {i}: {p}" for i, p in grasps.problems.items()), "it has no rows")
+    raise SimgraspError(f"{grasp_file}: no row of the grasp file is a valid grasp ({reason})")
+
+
+def checked_files(files: list[Path], options: Any) -> list[LabelConfig]:
+    """Each file's label settings (:func:`object_for`), every file read and checked first
+    (:func:`grasps_for`, :func:`check_export`): a bad file stops a data set's run before it
+    starts, not midway."""
+    configs = []
+    for grasp_file in files:
+        configs.append(object_for(options, grasp_file))
+        grasps_for(grasp_file, options.max_grasps)
+        if options.export:
+            check_export(grasp_file, options.export)
+    return configs
+
+
 def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     """Label every file of a data set (module docstring; ``command``: the invocation recorded
     with the output directory); prints one line per file."""
-    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
     from simgrasp.grasping.labeling.label_run import label_grasp_set
     from simgrasp.runs.engine import RunConfig, workers_kept_up
     from simgrasp.runs.out_dir import claim_out_dir
 
     if options.out is None:
         raise SimgraspError("--grasps with several files needs --out DIR")
+    configs = checked_files(files, options)
     rows = []
     run = RunConfig(options.workers, options.backend, options.address)
     with claim_out_dir(options.out, command), workers_kept_up(run):
-        for grasp_file in files:  # the workers stay up from one file's object to the next
-            config = object_for(options, grasp_file)
-            grasps = read_grasp_set(grasp_file).first(options.max_grasps)
+        # the workers stay up from one file's object to the next
+        for grasp_file, config in zip(files, configs, strict=True):
+            grasps = grasps_for(grasp_file, options.max_grasps)
             out = options.out / grasp_file.stem
             summary, _ = label_grasp_set(
                 grasps,
@@ -130,14 +154,21 @@ def _line(row: dict[str, Any]) -> str:
     return text
 
 
-def export_run(grasp_file: Path, out: Path, fmt: str, top: Path) -> Path:
-    """Write ``grasp_file`` with the labels of directory ``out`` added (``top/export/``)."""
-    from simgrasp.grasping.labeling.grasp_files import EXPORT_DIR, export_labels, is_graspgen
+def check_export(grasp_file: Path, fmt: str) -> None:
+    """Raise unless ``grasp_file`` is of the format ``--export fmt`` writes back."""
+    from simgrasp.grasping.labeling.grasp_files import is_graspgen
 
     wanted = "acronym" if grasp_file.suffix.lower() in (".h5", ".hdf5") else None
     wanted = "graspgen" if is_graspgen(grasp_file) else wanted
     if wanted != fmt:
         raise SimgraspError(f"--export {fmt} needs {fmt} grasp files, not {grasp_file}")
+
+
+def export_run(grasp_file: Path, out: Path, fmt: str, top: Path) -> Path:
+    """Write ``grasp_file`` with the labels of directory ``out`` added (``top/export/``)."""
+    from simgrasp.grasping.labeling.grasp_files import EXPORT_DIR, export_labels
+
+    check_export(grasp_file, fmt)
     success, score, _ = _our_labels(out)
     with np.load(out / "labels.npz") as labels:
         on_handle = labels["on_handle"]

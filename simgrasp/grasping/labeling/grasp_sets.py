@@ -33,8 +33,11 @@ Formats (chosen by the file's suffix):
 from __future__ import annotations
 
 import json
+import zipfile
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -63,6 +66,18 @@ ROTATION_TOLERANCE = 1e-4
 """Largest deviation of ``R^T R`` from the identity (and of ``det R`` from 1) accepted."""
 QUATERNION_TOLERANCE = 1e-3
 """Largest deviation of a pose's quaternion norm from 1 accepted."""
+NUMPY_STARTS = {".npz": (b"PK\x03\x04", "no zip archive"), ".npy": (b"\x93NUMPY", "no .npy header")}
+"""How an ``.npz`` (a zip archive of ``.npy`` arrays) and an ``.npy`` file begin, and what a
+file that begins otherwise is not."""
+NUMPY_READ_ERRORS = (
+    OSError,
+    ValueError,
+    EOFError,
+    NotImplementedError,
+    zipfile.BadZipFile,
+    zlib.error,
+)
+"""What numpy raises reading a damaged, truncated or pickled ``.npz`` / ``.npy`` file."""
 
 
 @dataclass(frozen=True)
@@ -99,7 +114,7 @@ class GraspSet:
         jaw openings (m; None: fully open). A row that is not a grasp is kept, marked in
         :attr:`problems` by its index with the reason; a wrong shape raises."""
         matrices, problems = _from_matrices(object_T_grasp, "object_T_grasp")
-        widths = _widths(width, len(matrices), problems)
+        widths = _widths(width, len(matrices), problems, "width")
         return cls(matrices, widths, dict(sorted(problems.items())), "arrays")
 
     @property
@@ -124,9 +139,24 @@ def rigid_problem(transform: NDArray[np.float64]) -> str | None:
     return None
 
 
+def _floats(values: ArrayLike, what: str) -> NDArray[np.float64]:
+    """``values`` as a float array; values that are not numbers (text, ragged lists) are a
+    :class:`SimgraspError` naming ``what``."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise SimgraspError(f"{what} must hold numbers ({_first_sentence(exc)})") from None
+
+
+def _first_sentence(exc: BaseException) -> str:
+    """The first sentence of an exception's message (its type without one)."""
+    text = str(exc).strip()
+    return text.splitlines()[0].split(". ")[0] if text else type(exc).__name__
+
+
 def _from_matrices(matrices: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     """(N, 4, 4) checked transforms: invalid rows replaced by the identity, with reasons."""
-    array = np.asarray(matrices, dtype=float)
+    array = _floats(matrices, what)
     if array.ndim != 3 or array.shape[1:] != (4, 4):
         raise SimgraspError(f"{what} must be N x 4 x 4, got shape {array.shape}")
     problems = {}
@@ -142,7 +172,7 @@ def _from_matrices(matrices: ArrayLike, what: str) -> tuple[NDArray, dict[int, s
 def _from_poses(poses: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     """(N, 4, 4) transforms of (N, 7) ``[x y z qw qx qy qz]`` rows; a non-finite row or a
     quaternion whose norm is not 1 (within :data:`QUATERNION_TOLERANCE`) is invalid."""
-    array = np.asarray(poses, dtype=float)
+    array = _floats(poses, what)
     if array.ndim != 2 or array.shape[1] != 7:
         raise SimgraspError(f"{what} must be N x 7 [x y z qw qx qy qz], got shape {array.shape}")
     matrices = np.tile(np.eye(4), (len(array), 1, 1))
@@ -158,16 +188,16 @@ def _from_poses(poses: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     return matrices, problems
 
 
-def _widths(width: ArrayLike | None, count: int, problems: dict[int, str]) -> NDArray:
+def _widths(width: ArrayLike | None, count: int, problems: dict[int, str], what: str) -> NDArray:
     """(N,) widths (NaN without a ``width`` entry); a non-finite or non-positive width makes
-    its row invalid."""
+    its row invalid; a wrong count is an error naming ``what``."""
     if width is None:
         return np.full(count, np.nan)
-    widths = np.asarray(width, dtype=float).reshape(-1)
+    widths = _floats(width, what).reshape(-1)
     if len(widths) != count:
-        raise SimgraspError(f"width has {len(widths)} entries for {count} grasps")
+        raise SimgraspError(f"{what} has {len(widths)} entries for {count} grasps")
     for index in np.flatnonzero(~(np.isfinite(widths) & (widths > 0))):
-        problems.setdefault(int(index), f"width {widths[index]!r} is not a positive length")
+        problems.setdefault(int(index), f"width {widths[index]:g} is not a positive length")
     return widths
 
 
@@ -179,7 +209,7 @@ def _own_format(entries: dict, path: Path, fmt: str) -> GraspSet:
         matrices, problems = _from_poses(entries["poses"], f"{path}: poses")
     else:
         raise SimgraspError(f"{path} has neither 'object_T_grasp' (N x 4 x 4) nor 'poses' (N x 7)")
-    widths = _widths(entries.get("width"), len(matrices), problems)
+    widths = _widths(entries.get("width"), len(matrices), problems, f"{path}: width")
     return GraspSet(matrices, widths, dict(sorted(problems.items())), fmt)
 
 
@@ -200,11 +230,12 @@ def _franka_poses(franka: ArrayLike, path: Path, fmt: str) -> GraspSet:
     return GraspSet(tcp, np.full(len(tcp), np.nan), problems, fmt)
 
 
-def graspnet_to_tcp(rows: ArrayLike) -> tuple[NDArray, NDArray, dict[int, str]]:
-    """(N, 4, 4) TCP poses, (N,) widths and problems of graspnetAPI's (N, 17) rows."""
-    array = np.asarray(rows, dtype=float)
+def graspnet_to_tcp(rows: ArrayLike, what: str) -> tuple[NDArray, NDArray, dict[int, str]]:
+    """(N, 4, 4) TCP poses, (N,) widths and problems of graspnetAPI's (N, 17) rows; a wrong
+    shape is an error naming ``what``."""
+    array = _floats(rows, what)
     if array.ndim != 2 or array.shape[1] != GRASPNET_COLUMNS:
-        raise SimgraspError(f"graspnet rows must be N x 17, got shape {array.shape}")
+        raise SimgraspError(f"{what} must be N x 17, got shape {array.shape}")
     matrices = np.tile(np.eye(4), (len(array), 1, 1))
     rotation = array[:, 4:13].reshape(-1, 3, 3)
     matrices[:, :3, 0] = -rotation[:, :, 2]
@@ -217,7 +248,9 @@ def graspnet_to_tcp(rows: ArrayLike) -> tuple[NDArray, NDArray, dict[int, str]]:
             problems[index] = "non-finite values"
         elif (problem := rigid_problem(transform)) is not None:
             problems[index] = problem
-    widths = _widths(np.where(np.isfinite(array[:, 1]), array[:, 1], np.nan), len(array), problems)
+    widths = _widths(
+        np.where(np.isfinite(array[:, 1]), array[:, 1], np.nan), len(array), problems, what
+    )
     matrices[list(problems)] = np.eye(4)
     return matrices, widths, problems
 
@@ -227,14 +260,15 @@ def read_grasp_set(path: Path | str) -> GraspSet:
     path = Path(path)
     if not path.is_file():
         raise DataNotFoundError(f"grasp file {path} does not exist")
+    if path.stat().st_size == 0:
+        raise SimgraspError(f"{path}: empty file")
     suffix = path.suffix.lower()
     if suffix == ".npz":
-        with np.load(path, allow_pickle=False) as entries:
-            return _own_format(dict(entries), path, "npz")
+        return _own_format(_load_numpy(path), path, "npz")
     if suffix == ".json":
         try:
             entries = json.loads(path.read_text())
-        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        except (OSError, json.JSONDecodeError, UnicodeDecodeError) as exc:
             raise SimgraspError(f"{path} is not JSON: {exc}") from None
         if not isinstance(entries, dict):
             raise SimgraspError(f"{path} must hold a JSON object with 'object_T_grasp' or 'poses'")
@@ -244,12 +278,31 @@ def read_grasp_set(path: Path | str) -> GraspSet:
     if suffix in (".h5", ".hdf5"):
         return read_acronym(path)
     if suffix == ".npy":
-        matrices, widths, problems = graspnet_to_tcp(np.load(path, allow_pickle=False))
+        matrices, widths, problems = graspnet_to_tcp(_load_numpy(path), f"{path}: graspnet rows")
         return GraspSet(matrices, widths, dict(sorted(problems.items())), "graspnet")
     raise SimgraspError(
         f"{path}: unknown grasp file type {suffix!r}; use .npz/.json (object_T_grasp or "
         "poses), .h5 (ACRONYM) or .npy (graspnetAPI rows)"
     )
+
+
+def _load_numpy(path: Path) -> Any:
+    """The arrays of an ``.npz`` file (name -> array) or the array of an ``.npy`` file, never
+    unpickled; a file that is not one (other bytes, truncated, pickled objects) is a
+    :class:`SimgraspError` naming it."""
+    start, not_one = NUMPY_STARTS[path.suffix.lower()]
+    unreadable = f"{path}: not a readable {path.suffix} grasp file"
+    with path.open("rb") as handle:
+        if handle.read(len(start)) != start:
+            raise SimgraspError(f"{unreadable} ({not_one})")
+    try:
+        loaded = np.load(path, allow_pickle=False)
+        if not isinstance(loaded, np.lib.npyio.NpzFile):
+            return loaded
+        with loaded:
+            return {name: loaded[name] for name in loaded.files}
+    except NUMPY_READ_ERRORS as exc:
+        raise SimgraspError(f"{unreadable} ({_first_sentence(exc)})") from None
 
 
 def write_grasp_set(path: Path | str, object_T_tcp: NDArray, width: NDArray) -> Path:

@@ -24,9 +24,10 @@ class TrialResult:
 
     ``success`` is None when the simulation diverged (``failure == "sim_unstable"``).
     ``object_pose`` (``world_T_object``, the scene's initial object pose) and ``grasp``
-    (``world_T_tcp``, the commanded grasp) are ``[x, y, z, qw, qx, qy, qz]``. ``contact_points_object`` are the finger-object contacts at
-    the end of the hold, in the object frame. ``slip_*`` is the object's motion relative to the
-    TCP from the end of closing to the end of the hold / of the perturbation.
+    (``world_T_tcp``, the commanded grasp) are ``[x, y, z, qw, qx, qy, qz]``.
+    ``contact_points_object`` are the finger-object contacts at the end of the hold, in the
+    object frame. ``slip_*`` is the object's motion relative to the TCP from the end of closing
+    to the end of the hold / of the perturbation.
     """
 
     object: str
