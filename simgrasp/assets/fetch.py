@@ -59,6 +59,18 @@ class FetchResult:
     path: Path
 
 
+URL_SCHEMES = ("http", "https", "file")
+"""What ``base_url`` may start with (``file://`` for a local mirror)."""
+
+
+def check_base_url(base_url: str) -> None:
+    """Refuse a ``base_url`` that is no URL the download can open (no scheme, another scheme,
+    or a web address without its host)."""
+    parts = urllib.parse.urlsplit(base_url)
+    if parts.scheme not in URL_SCHEMES or (parts.scheme != "file" and not parts.netloc):
+        raise SimgraspError(f"--base-url {base_url}: not a URL (http://, https://, file://)")
+
+
 def archive_url(object_id: str, kind: ArchiveKind, base_url: str = YCB_BASE_URL) -> str:
     """The official archive URL of one object (``base_url`` replaces the site's ``/data``)."""
     base = base_url.rstrip("/")

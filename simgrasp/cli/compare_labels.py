@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 from simgrasp.config import setting
@@ -37,6 +37,18 @@ class Options(Checked):
     json: bool = False
     """Print the counts as JSON."""
 
+    def _check(self) -> None:
+        """Refuse flags that would be ignored: those of --reference without it (a plot and
+        examples show disagreements with a file's own labels), those of --examples without it
+        (given at a value other than their default)."""
+        for flag, value in (("--plot", self.plot), ("--examples", self.examples)):
+            if value is not None and self.reference_file is None:
+                raise SimgraspError(f"{flag} needs --reference (a grasp file with its own labels)")
+        defaults = {f.name: f.default for f in fields(self)}
+        for name in ("examples_per_kind", "seed"):
+            if self.examples is None and getattr(self, name) != defaults[name]:
+                raise SimgraspError(f"--{name.replace('_', '-')} needs --examples")
+
 
 def run(options: Options) -> int:
     from simgrasp.grasping.labeling.label_compare import compare_labels, confusion_text
@@ -45,8 +57,6 @@ def run(options: Options) -> int:
         return _against_file(options)
     if options.other is None:
         raise SimgraspError("compare-labels needs OTHER (a second label directory) or --reference")
-    if options.examples is not None:
-        raise SimgraspError("--examples needs --reference (a grasp file with its own labels)")
     comparison = compare_labels(options.reference, options.other)
     if options.json:
         print(json.dumps(comparison))
@@ -58,6 +68,7 @@ def run(options: Options) -> int:
 
 def _against_file(options: Options) -> int:
     from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
+    from simgrasp.grasping.labeling.label_compare import check_reference_object
     from simgrasp.grasping.labeling.reference_compare import (
         compare_with_reference,
         comparison_text,
@@ -68,6 +79,8 @@ def _against_file(options: Options) -> int:
     if options.other is not None:
         raise SimgraspError("give OTHER or --reference, not both")
     files = expand_grasp_files(options.reference_file)
+    for file in files:
+        check_reference_object(options.reference, file)
     comparison = compare_with_reference(options.reference, files)
     if options.plot is not None:
         plot_comparison(comparison, options.reference, options.plot)

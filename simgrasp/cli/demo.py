@@ -6,7 +6,8 @@ at the noise-free and a noisy cloud: render -> detect -> plan -> execute in MuJo
 report (detection accuracy, lift and on-handle success, failure modes, timings) and
 ``view.html``, the report page of ``simgrasp view`` that report.md links. Sized to finish
 in about three minutes on two cores once the object decompositions are cached. It always starts
-afresh. Other chain settings (``--views``, ``--trial.*``, ...) apply to every trial.
+afresh: a folder an earlier demo wrote is run again from scratch, one holding another command's
+run is refused. Other chain settings (``--views``, ``--trial.*``, ...) apply to every trial.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import os
 import time
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 from simgrasp.cli import invocation
@@ -30,6 +32,16 @@ VIEW_LINK = (
 )
 """The last paragraph of the demo's report.md: the link to its views."""
 NOISE = (0.0, 0.02)
+RUN_FILES = (
+    "trials.jsonl",
+    "defaults.json",
+    "labels.jsonl",
+    "run.json",
+    "summary.json",
+    "detections.jsonl",
+    "real_detect.csv",
+)
+"""Records a run of demo, evaluate, label-grasps or detect-eval leaves in its output folder."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -62,8 +74,8 @@ def run(options: Options) -> int:
     axes = {"detector.kind": DETECTORS, "gripper": ("builtin",), "noise": NOISE}
     specs = plan_trials(objects, axes, range(seeds), options.chain)
     start = time.perf_counter()
-    with claim_out_dir(options.out, invocation()):
-        for name in (TRIALS_FILE, DEFAULTS_FILE):  # the demo always runs afresh
+    with claim_out_dir(options.out, invocation(), partial(_refuse_other_runs, options.out)):
+        for name in (TRIALS_FILE, DEFAULTS_FILE):  # an earlier demo's: the demo runs afresh
             (options.out / name).unlink(missing_ok=True)
         records = run_sweep(specs, options.out, ycb_dir=ycb_dir, workers=options.workers)
     report = write_report(records, options.out, title="simgrasp demo") + "\n\n" + VIEW_LINK
@@ -75,6 +87,20 @@ def run(options: Options) -> int:
         f"{time.perf_counter() - start:.0f} s; report in {options.out / 'report.md'}"
     )
     return 0
+
+
+def _refuse_other_runs(out: Path, last_command: str | None) -> None:
+    """Refuse ``out`` when it holds the records of a run (:data:`RUN_FILES`) that no demo
+    wrote: ``last_command``, the command that held it last (its lock file), is not demo. The
+    demo starts afresh and would delete them."""
+    found = next((name for name in RUN_FILES if (out / name).exists()), None)
+    if found is None or last_command == "demo":
+        return
+    if not last_command:
+        what = "another command's run"
+    else:
+        what = f"{'an' if last_command[0] in 'aeiou' else 'a'} {last_command} run"
+    raise SimgraspError(f"{out} holds {what} ({found}); use another --out")
 
 
 def _write_view(out: Path, ycb_dir: str | None) -> None:

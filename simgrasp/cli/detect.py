@@ -80,6 +80,8 @@ class Options(Checked):
 def run(options: Options) -> int:
     from simgrasp.stdout_guard import stdout_to_stderr
 
+    if options.cloud.is_dir():
+        raise SimgraspError(f"{options.cloud}: is a folder, not a point-cloud file")
     if options.segment:
         return _run_segmented(options)
     if options.object != "all":

@@ -11,7 +11,7 @@ The detectors run with their plain defaults, as ``simgrasp detect`` does; ``tria
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
@@ -19,12 +19,19 @@ from simgrasp.cli import invocation
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.config.checks import Positive, PositiveInt
+from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import NoiseSigma
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
 
 if TYPE_CHECKING:
     from simgrasp.evaluation.detection_run import DetectionItem
     from simgrasp.runs.engine import RunConfig
+
+
+MESH_ONLY = ("objects", "noise", "detector", "gripper_width")
+"""Settings of the evaluation on object meshes that ``--real`` has no use for."""
+REAL_ONLY = ("real_configs", "real_dir")
+"""Settings of ``--real`` only."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -61,6 +68,27 @@ class Options(YcbSource):
     real_dir: Path | None = None
     """With --real: folder the manifest's cloud paths are relative to (default:
     $SIMGRASP_REAL_DIR, else ../shared/real)."""
+
+    def _check(self) -> None:
+        """Refuse flags the chosen evaluation would ignore (given at a value other than their
+        default: one at its default cannot be told from one not given)."""
+        changed = [
+            "--" + f.name.replace("_", "-")
+            for f in fields(self)
+            if f.name in (REAL_ONLY if self.real is None else MESH_ONLY)
+            and getattr(self, f.name) != f.default
+        ]
+        if self.real is None and changed:
+            raise SimgraspError(f"{changed[0]} needs --real (it applies to the manifest's clouds)")
+        if changed:
+            raise SimgraspError(
+                f"{changed[0]} and --real conflict: --real scores the manifest's clouds with "
+                "--real-configs"
+            )
+        if not self.objects:
+            raise SimgraspError(
+                "--objects is empty: give object names or a set (paper, ycb, generated, all)"
+            )
 
 
 def run(options: Options) -> int:

@@ -20,6 +20,7 @@ from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource, float_range
 from simgrasp.config import setting
 from simgrasp.config.checks import PositiveInt
+from simgrasp.errors import SimgraspError
 from simgrasp.grasping.proposers import BUILTIN_PROPOSERS, proposer_names
 from simgrasp.grasping.trials.chain_config import (
     PERCEPTIONS,
@@ -67,6 +68,11 @@ class Options(YcbSource, MeshObjectOptions):
     chain: ChainConfig = setting(default_factory=ChainConfig, flatten=True, exclude=SWEPT)
 
     def _check(self) -> None:
+        if not self.objects:
+            raise SimgraspError(
+                "--objects is empty: give object names, mesh files or a set (generated, paper, "
+                "ycb, all)"
+            )
         if self.address and self.backend != "ray":
             self.refuse("address", "needs backend ray")
 

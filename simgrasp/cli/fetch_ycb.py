@@ -18,6 +18,7 @@ from simgrasp.assets.fetch import (
     ArchiveKind,
     FetchError,
     ServerUnreachable,
+    check_base_url,
     fetch_object,
     resolve_object_ids,
 )
@@ -42,6 +43,9 @@ class Options(Checked):
     no_progress: bool = False
     """No progress bars."""
 
+    def _check(self) -> None:
+        check_base_url(self.base_url)
+
 
 def run(options: Options) -> int:
     dest_text = options.dest or os.environ.get(YCB_DIR_ENV)
@@ -50,6 +54,7 @@ def run(options: Options) -> int:
     dest = Path(dest_text).expanduser()
     kind = cast(ArchiveKind, options.kind)
     object_ids = resolve_object_ids(options.objects, kind)
+    _check_dest(dest, "--dest" if options.dest else f"${YCB_DIR_ENV}")
     failed: list[str] = []
     for index, object_id in enumerate(object_ids):
         try:
@@ -84,3 +89,13 @@ def run(options: Options) -> int:
         )
         return 1
     return 0
+
+
+def _check_dest(dest: Path, option: str) -> None:
+    """Refuse a destination that is a file (or lies inside one) or that cannot be written,
+    before any download: a one-line error naming ``option`` and ``dest``."""
+    from simgrasp.runs.out_dir import check_out_dir
+
+    if dest.exists() and not dest.is_dir():
+        raise SimgraspError(f"{option} {dest}: is a file, not a folder")
+    check_out_dir(dest, option)

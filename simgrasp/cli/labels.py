@@ -27,7 +27,27 @@ class Options(YcbSource):
     manifest: Path | None = None
     """With --real: the real-data manifest (default: models/handles/real_detect.toml)."""
     real_dir: str | None = None
-    """Real data root holding osd-learn/ (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    """With --osd or --real: real data root holding osd-learn/ (default: $SIMGRASP_REAL_DIR,
+    else ../shared/real)."""
+
+    def _check(self) -> None:
+        """Refuse flags the chosen drawing would ignore (given at a value other than their
+        default: one at its default cannot be told from one not given)."""
+        if not self.objects:
+            raise SimgraspError(
+                "--objects is empty: give object names or a set (generated, paper, ycb, all)"
+            )
+        if self.osd and self.real:
+            raise SimgraspError("--osd and --real conflict: draw one kind of scene at a time")
+        scenes = "--osd" if self.osd else "--real" if self.real else None
+        if scenes is not None and self.objects != ("all",):
+            raise SimgraspError(f"--objects and {scenes} conflict: {scenes} draws scenes")
+        if scenes is not None and self.seed != 0:
+            raise SimgraspError(f"--seed and {scenes} conflict: --seed sizes generated tools")
+        if self.manifest is not None and not self.real:
+            raise SimgraspError("--manifest needs --real (the names of its clouds to draw)")
+        if self.real_dir is not None and scenes is None:
+            raise SimgraspError("--real-dir needs --osd or --real (it holds their clouds)")
 
 
 def run(options: Options) -> int:
@@ -37,6 +57,7 @@ def run(options: Options) -> int:
         return _run_real(options)
     import numpy as np
 
+    from simgrasp.assets.mesh_object import file_stem
     from simgrasp.assets.object_sets import expand_objects
     from simgrasp.assets.registry import load_object
     from simgrasp.plots.object_labels import draw_label
@@ -44,7 +65,7 @@ def run(options: Options) -> int:
     options.out.mkdir(parents=True, exist_ok=True)
     for name in expand_objects(options.objects):
         asset = load_object(name, ycb_dir=options.ycb_dir, seed=options.seed)
-        path = draw_label(asset, options.out / f"{asset.name}.png")
+        path = draw_label(asset, options.out / f"{file_stem(asset.name)}.png")
         share = np.round(asset.handle.contains(asset.mesh.vertices).mean(), 2)
         print(f"{asset.name}: {path} (handle share of mesh vertices {share})")
     return 0

@@ -10,7 +10,9 @@ opens an existing ``trials.jsonl`` for appending), then takes an exclusive ``flo
 ``DIR/.simgrasp.lock`` for as long as the run lasts. The lock is held by the open file
 descriptor, so the kernel releases it when its holder exits in any way, ``kill -9`` included:
 a dead run never leaves the directory locked. The holder writes its pid, host, start time and
-command line into the file, so a second run on the directory names the one that holds it.
+command line into the file, so a second run on the directory names the one that holds it; the
+file outlives the run, so it also says which command wrote the directory last
+(:func:`claim_out_dir`'s ``check`` reads it before the new run's replaces it).
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import os
 import shlex
 import socket
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -130,7 +132,21 @@ def check_plot_suffix(path: Path, option: str) -> None:
 def _holder_text(command: Sequence[str]) -> str:
     when = time.strftime("%Y-%m-%d %H:%M:%S %Z", time.localtime())
     holder = {"pid": os.getpid(), "host": socket.gethostname(), "since": when}
-    return json.dumps({**holder, "command": shlex.join(["simgrasp", *command])}) + "\n"
+    words = [*command]
+    if words[:1] != ["simgrasp"]:  # invocation() names the program, tests may not
+        words.insert(0, "simgrasp")
+    return json.dumps({**holder, "command": shlex.join(words)}) + "\n"
+
+
+def _recorded_command(lock_path: Path) -> str | None:
+    """The sub-command (``evaluate``, ``demo``, ...) of the run a lock file names, or None
+    when it names none (no file, an empty or unreadable one). Lock files of earlier versions
+    name their command ``simgrasp simgrasp evaluate ...``."""
+    try:
+        words = shlex.split(json.loads(lock_path.read_text(encoding="utf-8"))["command"])
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+    return next((word for word in words if word != "simgrasp"), None)
 
 
 def _describe_holder(lock_path: Path) -> str:
@@ -144,10 +160,15 @@ def _describe_holder(lock_path: Path) -> str:
 
 
 @contextlib.contextmanager
-def claim_out_dir(out: Path, command: Sequence[str]) -> Iterator[Path]:
+def claim_out_dir(
+    out: Path, command: Sequence[str], check: Callable[[str | None], None] | None = None
+) -> Iterator[Path]:
     """Check ``out`` (:func:`check_out_dir`) and hold its lock while the block runs; a
     ValueError naming the running holder if another process holds it. ``command`` is this
-    run's argument list (written into the lock file for a second run to name)."""
+    run's argument list (written into the lock file for a second run to name). ``check``, if
+    given, is called under the lock with the sub-command of the run that held ``out`` last
+    (None when none is recorded) before this run's replaces it: it may refuse the directory,
+    which then keeps its record."""
     out = Path(out)
     check_out_dir(out)
     lock_path = out / LOCK_FILE
@@ -160,6 +181,8 @@ def claim_out_dir(out: Path, command: Sequence[str]) -> Iterator[Path]:
                 f"--out {out} is in use by another run ({_describe_holder(lock_path)}); wait "
                 "for it to finish or choose another --out"
             ) from None
+        if check is not None:
+            check(_recorded_command(lock_path))
         os.ftruncate(fd, 0)
         os.write(fd, _holder_text(command).encode())
         os.fsync(fd)
