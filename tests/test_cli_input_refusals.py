@@ -15,7 +15,7 @@ import pytest
 
 from simgrasp.cli import main
 from simgrasp.errors import SimgraspError
-from simgrasp.grasping.labeling.label_run import file_digest
+from simgrasp.runs.identity import file_digest
 from simgrasp.runs.out_dir import claim_out_dir
 
 
@@ -186,3 +186,15 @@ def test_detect_refuses_a_folder_as_cloud(
     for extra in ([], ["--segment"]):
         line = refused(["detect", str(folder), *extra], capsys)
         assert line == f"{folder}: is a folder, not a point-cloud file"
+
+
+@pytest.mark.parametrize("name", ["adir", "d.pcd"])
+def test_segment_refuses_a_folder_as_scene(
+    name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    folder = tmp_path / name
+    folder.mkdir()
+    assert (
+        refused(["segment", str(folder)], capsys)
+        == f"{folder}: is a folder, not a scene-cloud file"
+    )

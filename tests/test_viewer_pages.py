@@ -255,3 +255,23 @@ def test_a_torn_last_label_line_is_left_out_with_a_note(tmp_path: Path, capsys) 
     (tmp_path / "labels.jsonl").write_text('{"grasp"\n' + json.dumps(record) + "\n")
     with pytest.raises(SimgraspError, match="labels.jsonl line 1 is not JSON"):
         read_labels(tmp_path)
+
+
+def test_a_detection_is_not_drawn_over_a_cloud_replaced_since(tmp_path: Path, capsys) -> None:
+    """``detect --json`` records its cloud's SHA-256: the same file is drawn, a file of that
+    name with other points is one line saying it changed."""
+    from simgrasp.cli import main
+
+    from shapes import mug_like
+
+    mug = mug_like(seed=0)
+    cloud, report = tmp_path / "mug.npy", tmp_path / "d.json"
+    np.save(cloud, np.hstack([mug.points, mug.normals]))
+    assert main(["detect", str(cloud), "--json"]) == 0
+    report.write_text(capsys.readouterr().out)
+    assert main(["view", str(report), "--export", str(tmp_path / "same.html")]) == 0
+    np.save(cloud, np.hstack([mug.points + 0.01, mug.normals]))
+    assert main(["view", str(report), "--export", str(tmp_path / "page.html")]) == 2
+    err = capsys.readouterr().err
+    assert f"{cloud} changed since the detection" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "page.html").exists()

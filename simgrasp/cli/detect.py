@@ -147,8 +147,15 @@ def _run_segmented(options: Options) -> int:
 
 def _input_record(options: Options) -> dict[str, Any]:
     """What ``simgrasp view`` needs to draw the detection over its input: the cloud's resolved
-    path, its units, and with ``--segment`` the segmentation settings."""
-    record: dict[str, Any] = {"path": str(options.cloud.resolve()), "units": options.units}
+    path and SHA-256 (a file replaced since is not drawn under it), its units, and with
+    ``--segment`` the segmentation settings."""
+    from simgrasp.runs.identity import file_digest
+
+    record: dict[str, Any] = {
+        "path": str(options.cloud.resolve()),
+        "sha256": file_digest(options.cloud),
+        "units": options.units,
+    }
     if options.segment:
         record["segmentation"] = asdict(options.segmentation)
     if options.cloud.suffix.lower() in DEPTH_IMAGE_FORMATS:

@@ -102,6 +102,8 @@ def read_scene(path: str | Path, depth: DepthImageConfig | None = None) -> Scene
     when it cannot be read."""
     path = Path(path)
     suffix = path.suffix.lower()
+    if path.is_dir():
+        raise SimgraspError(f"{path}: is a folder, not a scene-cloud file")
     if suffix not in SCENE_FORMATS:
         raise SimgraspError(
             f"{path}: unknown scene-cloud extension {suffix!r}; use one of "

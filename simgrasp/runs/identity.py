@@ -4,11 +4,18 @@ configurations."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 from pathlib import Path
 from typing import Any
 
 from simgrasp.errors import SimgraspError
+
+
+def file_digest(path: Path) -> str:
+    """SHA-256 of a file's bytes (hex): how a run records which input file it was made from."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
 
 SHOWN_CHANGES = 3
 """Changed settings named one by one in a refusal before the rest are counted."""

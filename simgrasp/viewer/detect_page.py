@@ -58,16 +58,29 @@ def _report_or_none(path: Path) -> dict[str, Any] | None:
 
 def input_cloud(path: Path, report: dict[str, Any]) -> Path:
     """The recorded input cloud of the detection JSON ``path``, or the file of that name
-    beside it; one line naming what is missing otherwise."""
+    beside it, with the bytes it was detected on where the report records their SHA-256; one
+    line naming what is missing or changed otherwise."""
+    from simgrasp.runs.identity import file_digest
+
     recorded = report.get("input", {}).get("path")
     if recorded is None:
         raise SimgraspError(
             f"{path}: records no input cloud (written before `detect --json` kept it); "
             "run `simgrasp detect CLOUD --json` again"
         )
+    digest = report["input"].get("sha256")
+    changed = []
     for candidate in (Path(recorded), path.parent / Path(recorded).name):
-        if candidate.is_file():
+        if not candidate.is_file():
+            continue
+        if digest is None or file_digest(candidate) == digest:
             return candidate
+        changed.append(candidate)
+    if changed:
+        raise SimgraspError(
+            f"{path}: its input cloud {changed[0]} changed since the detection; run "
+            "`simgrasp detect CLOUD --json` again"
+        )
     raise SimgraspError(
         f"{path}: its input cloud {recorded} is gone (and no {Path(recorded).name} beside it)"
     )

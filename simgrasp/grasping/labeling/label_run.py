@@ -16,7 +16,6 @@ empty for a success, float ``handle_fraction`` and ``lift_height``), ``summary.j
 
 from __future__ import annotations
 
-import hashlib
 import json
 import time
 from collections import Counter
@@ -32,7 +31,7 @@ from simgrasp.grasping.labeling.labeling import INVALID, LabelConfig, LabelResul
 from simgrasp.grippers import make_gripper
 from simgrasp.grippers.mount import MOUNT_IMPRATIO
 from simgrasp.runs.engine import Backend, RunConfig, run_resumable
-from simgrasp.runs.identity import claim_identity
+from simgrasp.runs.identity import claim_identity, file_digest
 from simgrasp.runs.record_log import RecordLog
 
 LABELS_FILE = "labels.jsonl"
@@ -46,11 +45,6 @@ def label_key(record: Any) -> int:
             f"a label record is a JSON object with an integer index: {record!r:.200}"
         )
     return record["index"]
-
-
-def file_digest(path: Path) -> str:
-    """SHA-256 of a file's bytes (hex)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def labeled_file_digest(out_dir: Path) -> str | None:

@@ -23,7 +23,8 @@ def labels_dir_of(ours: Path, reference: Path) -> Path:
     """Where the labels of ``reference`` are under ``ours``: ``ours/<file stem>`` (a data
     set's) or ``ours`` itself, made from that very file (``run.json``'s digest), never labels
     of another grasp file that happen to sit there."""
-    from simgrasp.grasping.labeling.label_run import file_digest, labeled_file_digest
+    from simgrasp.grasping.labeling.label_run import labeled_file_digest
+    from simgrasp.runs.identity import file_digest
 
     digest = file_digest(reference)
     for candidate in (ours / reference.stem, ours):
