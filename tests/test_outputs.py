@@ -97,6 +97,29 @@ def test_a_picture_matplotlib_cannot_write_is_refused_before_any_work(
     assert len(err.splitlines()) == 1 and "--plot" in err and "a picture needs" in err, err
 
 
+@pytest.mark.parametrize(
+    ("args", "flag", "wanted"),
+    [
+        (["label-handles", "gen_mug", "--out", "{folder}/h.txt"], "--out", ".json"),
+        (["view", "{folder}", "--export", "{folder}/v.txt"], "--export", ".html or .htm"),
+        (["sample-grasps", "gen_mug", "--n", "2", "--out", "{folder}/g.json"], "--out", ".npz"),
+        (["segment", "{cloud}", "--labels", "{folder}/l.csv"], "--labels", ".npy"),
+    ],
+)
+def test_an_output_file_of_another_kind_is_refused_before_any_work(
+    args: list[str], flag: str, wanted: str, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    """An output named with a suffix its format never has (a label written to ``h.txt``, a
+    page to ``v.txt``) is one line before the run, and nothing is written."""
+    cloud = tmp_path / "cloud.npy"
+    cloud.write_bytes(b"")
+    filled = [a.format(folder=tmp_path, cloud=cloud) for a in args]
+    assert main(filled) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"{flag} {filled[-1]}: expected a {wanted} file" in err
+    assert not Path(filled[-1]).exists()
+
+
 def test_a_run_refused_after_the_check_leaves_no_empty_folders(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:

@@ -39,7 +39,7 @@ class Options:
     """... and by the meters per unit of these units."""
     name: str | None = None
     """Object name in the output file (default: the mesh file's stem, or the object name)."""
-    out: Path = setting(Path("handles.json"), output="file")
+    out: Path = setting(Path("handles.json"), output="file", suffixes=(".json",))
     """Output label file (the format of models/handles/ycb_handles.json)."""
     plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Also write a picture of the label on the scanned surface."""

@@ -18,7 +18,6 @@ from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.config.checks import PositiveInt
-from simgrasp.errors import SimgraspError
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 
 
@@ -29,7 +28,7 @@ class Options(YcbSource, MeshObjectOptions):
     --scale/--units/--mass/...)."""
     n: PositiveInt
     """Number of grasps."""
-    out: Path = setting(output="file")
+    out: Path = setting(output="file", suffixes=(".npz",))
     """Output .npz file."""
     seed: int = 0
     """Seed of the sampling and of the scene whose table the grasps clear (label them with
@@ -46,8 +45,6 @@ def run(options: Options) -> int:
     from simgrasp.api import sample_grasps
     from simgrasp.grasping.labeling.grasp_sets import write_grasp_set
 
-    if options.out.suffix.lower() != ".npz":
-        raise SimgraspError(f"--out must end in .npz, got {options.out}")
     start = time.perf_counter()
     grasps = sample_grasps(
         options.object_name(options.object),

@@ -13,7 +13,6 @@ from pathlib import Path
 
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
-from simgrasp.errors import SimgraspError
 from simgrasp.perception.depth_image import DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
@@ -25,7 +24,7 @@ class Options(Checked):
     depth image .png / .tif (one sensor frame: --depth.intrinsics, --depth.scale)."""
     json: bool = False
     """Print one JSON object."""
-    labels: Path | None = setting(None, metavar="OUT.npy", output="file")
+    labels: Path | None = setting(None, metavar="OUT.npy", output="file", suffixes=(".npy",))
     """Write one int32 label per input point, in the input's order (0 invalid, 1 table, 2..
     objects nearest first)."""
     plot: Path | None = setting(None, metavar="OUT.png", output="plot")
@@ -43,8 +42,6 @@ def run(options: Options) -> int:
     from simgrasp.perception.scene_cloud import read_scene
     from simgrasp.perception.segmentation.segment import segment_scene
 
-    if options.labels and options.labels.suffix != ".npy":
-        raise SimgraspError(f"--labels must name a .npy file, got {options.labels}")
     scene = read_scene(options.scene, options.depth)
     result = segment_scene(scene, options.segment)
     if options.labels:

@@ -21,7 +21,7 @@ class Options(YcbSource):
     it records) or an evaluate or demo output folder (trials.jsonl, report.md)."""
     port: int = 8000
     """Port of the local server (bound to 127.0.0.1 only)."""
-    export: Path | None = setting(None, output="file")
+    export: Path | None = setting(None, output="file", suffixes=(".html", ".htm"))
     """Write the page to this .html file instead of serving it."""
 
 

@@ -33,6 +33,8 @@ class FieldSpec:
             can write, by its suffix) or a ``"dir"``: proved writable before the run starts
             (:func:`simgrasp.runs.out_dir.check_outputs`), so a run never works for minutes
             and then fails to save.
+        suffixes: for an output ``"file"``, the suffixes it may end in (lower case, with the
+            dot; empty: any), checked with the rest before the run.
     """
 
     flag: str | None = None
@@ -44,6 +46,7 @@ class FieldSpec:
     metavar: str | None = None
     cli: bool = True
     output: Literal["file", "plot", "dir"] | None = None
+    suffixes: tuple[str, ...] = ()
 
 
 def setting(

@@ -104,6 +104,10 @@ def check_outputs(options: Any) -> list[Path]:
         else:
             if leaf.spec.output == "plot":
                 check_plot_suffix(Path(value), option)
+            if leaf.spec.suffixes and Path(value).suffix.lower() not in leaf.spec.suffixes:
+                raise SimgraspError(
+                    f"{option} {value}: expected a {' or '.join(leaf.spec.suffixes)} file"
+                )
             check_output_file(Path(value), option)
         made = missing + made
     return made
