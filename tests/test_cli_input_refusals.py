@@ -74,6 +74,7 @@ IGNORED_FLAGS = [
      "--real-dir needs --real"),
     (["detect-eval", "--real", "m.toml", "--objects", "gen_hammer", "--seeds", "1"],
      "--objects and --real conflict"),
+    (["detect-eval", "--real", "m.toml", "--workers", "2"], "--workers and --real conflict"),
     (["labels", "--osd", "learn33", "--real", "knife1"], "--osd and --real conflict"),
     (["labels", "--osd", "learn33", "--objects", "gen_hammer"], "--objects and --osd conflict"),
     (["labels", "--manifest", "nosuch.toml", "--objects", "gen_hammer"],
@@ -198,3 +199,14 @@ def test_segment_refuses_a_folder_as_scene(
         refused(["segment", str(folder)], capsys)
         == f"{folder}: is a folder, not a scene-cloud file"
     )
+
+
+def test_detect_eval_real_holds_its_output_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Two ``detect-eval --real`` runs on one --out would score the same clouds twice: the
+    second is refused while the first holds the folder."""
+    out = tmp_path / "out"
+    with claim_out_dir(out, ["detect-eval", "--real", "a.toml"]):
+        line = refused(["detect-eval", "--real", "m.toml", "--out", str(out)], capsys)
+    assert line.startswith(f"--out {out} is in use by another run"), line

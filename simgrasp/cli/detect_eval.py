@@ -28,8 +28,9 @@ if TYPE_CHECKING:
     from simgrasp.runs.engine import RunConfig
 
 
-MESH_ONLY = ("objects", "noise", "detector", "gripper_width")
-"""Settings of the evaluation on object meshes that ``--real`` has no use for."""
+MESH_ONLY = ("objects", "noise", "detector", "gripper_width", "workers", "backend", "address")
+"""Settings of the evaluation on object meshes that ``--real`` has no use for (it runs in
+this process: a manifest's clouds take seconds each)."""
 REAL_ONLY = ("real_configs", "real_dir")
 """Settings of ``--real`` only."""
 
@@ -98,7 +99,8 @@ def run(options: Options) -> int:
     from simgrasp.runs.out_dir import claim_out_dir
 
     if options.real is not None:
-        return _run_real(options)
+        with claim_out_dir(options.out, invocation()):  # one run at a time per --out
+            return _run_real(options)
     run = RunConfig(options.workers, options.backend, options.address, not options.no_progress)
     objects = tuple(expand_objects(options.objects))
     items = plan_detections(
