@@ -54,6 +54,11 @@ def test_demo_refuses_another_commands_run_and_restarts_only_its_own(
         assert line == f"{runs['evaluate']} holds an evaluate run (trials.jsonl); use another --out"
     assert (runs["evaluate"] / "trials.jsonl").read_text() == '{"object": "gen_hammer_s0"}\n'
     assert (runs["evaluate"] / "defaults.json").exists()
+    unknown = tmp_path / "unknown"  # no lock names its writer: a readable record is kept
+    unknown.mkdir()
+    (unknown / "trials.jsonl").write_text('{"object": "gen_hammer_s0"}\n')
+    line = refused([*demo, str(unknown)], capsys)
+    assert line == f"{unknown} holds another command's run (trials.jsonl); use another --out"
     monkeypatch.setattr("simgrasp.evaluation.sweep.run_sweep", sweep_stopped_after_claim)
     assert refused([*demo, str(runs["demo"])], capsys) == "stopped at the first trial"
     assert not (runs["demo"] / "trials.jsonl").exists()  # its own run: started afresh

@@ -12,6 +12,7 @@ run is refused. Other chain settings (``--views``, ``--trial.*``, ...) apply to 
 
 from __future__ import annotations
 
+import json
 import os
 import time
 from dataclasses import dataclass
@@ -92,15 +93,34 @@ def run(options: Options) -> int:
 def _refuse_other_runs(out: Path, last_command: str | None) -> None:
     """Refuse ``out`` when it holds the records of a run (:data:`RUN_FILES`) that no demo
     wrote: ``last_command``, the command that held it last (its lock file), is not demo. The
-    demo starts afresh and would delete them."""
-    found = next((name for name in RUN_FILES if (out / name).exists()), None)
-    if found is None or last_command == "demo":
+    demo starts afresh and would delete them. A folder whose lock names no command (an older
+    version's, or none) is refused only where a record would be lost: a readable trial record
+    or another command's files."""
+    present = [name for name in RUN_FILES if (out / name).exists()]
+    if not present or last_command == "demo":
         return
+    trials_only = set(present) <= {"trials.jsonl", "defaults.json"}
+    if last_command is None and trials_only and not _holds_a_record(out / "trials.jsonl"):
+        return
+    found = present[0]
     if not last_command:
         what = "another command's run"
     else:
         what = f"{'an' if last_command[0] in 'aeiou' else 'a'} {last_command} run"
     raise SimgraspError(f"{out} holds {what} ({found}); use another --out")
+
+
+def _holds_a_record(trials: Path) -> bool:
+    """Whether ``trials.jsonl`` exists and holds a JSON object on some line (a trial record)."""
+    if not trials.is_file():
+        return False
+    for line in trials.read_text(encoding="utf-8", errors="replace").splitlines():
+        try:
+            if isinstance(json.loads(line), dict):
+                return True
+        except ValueError:
+            continue
+    return False
 
 
 def _write_view(out: Path, ycb_dir: str | None) -> None:

@@ -56,9 +56,8 @@ class Segmentation:
     """What :func:`segment_scene` returns.
 
     Attributes:
-        labels: (N,) int32, one per input point in the input's order (an organized H x W
-            cloud or depth image row by row: ``labels.reshape(H, W)``): 0 invalid, 1 table,
-            2.. objects nearest the sensor first.
+        labels: (N,) int32 per input point, in order (an H x W image: ``reshape(H, W)``):
+            0 invalid, 1 table, 2.. objects nearest the sensor first.
         plane: (4,) table plane ``[a, b, c, d]``, unit normal toward the sensor:
             ``a x + b y + c z + d`` is the height above the table (m).
         table_points: number of points labeled table.
