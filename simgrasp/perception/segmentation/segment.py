@@ -7,8 +7,7 @@ is cut into objects on its image grid
 separate stacked and touching objects; pieces too small to be objects join the segment they
 touch, :mod:`simgrasp.perception.segmentation.segment_fragments`), its pixel settings at the
 sensor's pixel scale (:mod:`simgrasp.perception.segmentation.segment_scale`); an unorganized
-one, or
-``method="dbscan"``, is clustered with Open3D's DBSCAN on a voxel grid (the plain baseline).
+one, or ``method="dbscan"``, is clustered with Open3D's DBSCAN on a voxel grid (the baseline).
 
 Labels, one int32 per input point in the input's order: 0 invalid or unassigned (NaN,
 beyond range, below the table, too small a segment), 1 table, 2.. objects by increasing
