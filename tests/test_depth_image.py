@@ -78,6 +78,18 @@ def test_detect_takes_a_cut_object_frame_and_records_how_to_read_it(frame, tmp_p
     (tmp_path / "d.json").write_text(json.dumps(report))
     assert main(["view", str(tmp_path / "d.json"), "--export", str(tmp_path / "p.html")]) == 0
     assert (tmp_path / "p.html").stat().st_size > 10_000
+    assert "holds a table" not in capsys.readouterr().err  # a cut object: no note
+
+
+def test_detect_notes_a_whole_scene_given_without_segment(frame, tmp_path, capsys):
+    """The whole frame, table and all, is detected as one object as asked, with one note on
+    stderr that --segment cuts its objects; the JSON on stdout stays one object."""
+    png = _png(tmp_path / "scene.png", frame.depth)
+    assert main(["detect", str(png), "--depth.intrinsics", *_intrinsics(frame), "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["input"]["path"] == str(png.resolve())
+    notes = [line for line in err.splitlines() if "holds a table" in line]
+    assert len(notes) == 1 and "pass --segment" in notes[0] and str(png) in notes[0], err
 
 
 @pytest.mark.parametrize("case", ["no_intrinsics", "colour", "not_an_image", "scale", "units"])

@@ -41,7 +41,7 @@ class Options(Checked):
     cloud: Path = setting(positional=True, metavar="CLOUD")
     """Point cloud file: .ply, .pcd, .xyz or .npy (in --units), or a depth image .png / .tif
     (one sensor frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else
-    its valid pixels as the object)."""
+    its valid pixels as the object, with a note when they hold a table)."""
     units: Units = "m"
     """Units of the file's coordinates and of --viewpoint (results are in meters)."""
     json: bool = False
@@ -191,6 +191,21 @@ def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection
     return one_view_from_somewhere(points, options.single_view_detector.view_test)
 
 
+def _note_a_scene(cloud: Path, points: Any) -> None:
+    """Say on stderr when the cloud holds a table (``scene_detect.table_in``): detection ran
+    on the whole scene, table and all, where ``--segment`` would cut its objects."""
+    from simgrasp.handles.scene_detect import table_in
+
+    table = table_in(points)
+    if table is not None:
+        print(
+            f"note: {cloud} holds a table ({table[0]:.0%} of its points on a plane "
+            f"{table[1]:.2f} m across): it was detected as one object; pass --segment to "
+            "detect on each object of the scene",
+            file=sys.stderr,
+        )
+
+
 def _detect(options: Options) -> Detection:
     from simgrasp.handles import detect
     from simgrasp.perception.depth_image import read_points
@@ -210,6 +225,7 @@ def _detect(options: Options) -> Detection:
         viewpoint=viewpoint,
         single_view=_single_view(options),
     )
+    _note_a_scene(options.cloud, points)
     if _may_be_a_view_elsewhere(options, points, detection):
         print(
             f"note: {options.cloud} is not one view from the origin, but it holds one surface "

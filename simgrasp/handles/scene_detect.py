@@ -136,3 +136,28 @@ def detect_in_scene(
     )
     x, y, z = (float(v) for v in eye)
     return SceneDetection(segmentation, detections, (x, y, z))
+
+
+TABLE_EXTENT = 0.3
+"""Least extent (m, the inliers' bounding-box diagonal) of a plane that makes a cloud a whole
+scene: wider than the objects a hand takes by a handle, narrower than any table seen whole."""
+
+
+def table_in(points: ArrayLike) -> tuple[float, float] | None:
+    """``(share of the points on it, its extent in m)`` of the table plane ``segment`` would
+    find in an object cloud (m), when that plane spans :data:`TABLE_EXTENT` or more: the cloud
+    is then a whole scene given where one object was expected; None otherwise. For a note, not
+    a refusal: a flat tool as wide is rare, and its handles are still found."""
+    from simgrasp.perception.scene_cloud import scene_from_array
+    from simgrasp.perception.segmentation.segment import fit_table_plane
+
+    scene = scene_from_array(np.asarray(points, dtype=np.float32))
+    config = SegmentConfig()
+    try:
+        plane = fit_table_plane(scene.points, scene.valid, scene, config)
+    except SimgraspError:  # no plane flat and large enough: no table
+        return None
+    on_table = np.abs(scene.points @ plane[:3] + plane[3]) <= config.table_distance
+    table = scene.points[on_table]
+    extent = float(np.linalg.norm(table.max(axis=0) - table.min(axis=0))) if len(table) else 0.0
+    return (float(on_table.mean()), extent) if extent >= TABLE_EXTENT else None
