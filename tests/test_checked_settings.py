@@ -23,9 +23,11 @@ from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grasping.planning.proposal import Proposal, plan_grasps
 from simgrasp.grasping.proposers import PROPOSERS, ProposerEntry
 from simgrasp.grasping.trials.chain_config import ChainConfig, ChainDetectorConfig
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.sensors.settings import SensorSettings
+from simgrasp.scenes.config import SceneConfig
 
 BAD = [
     # (dotted key, value as typed, what the message says about it)
@@ -89,6 +91,30 @@ def test_a_config_made_directly_names_its_class_and_field() -> None:
         SegmentConfig(plane_distance=-1)
     with pytest.raises(SettingError, match=r"^SegmentConfig.plane_samples: 2.5 is not an integer"):
         SegmentConfig(plane_samples=2.5)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda: TrialConfig(free_floating="no"), "TrialConfig.free_floating: 'no' is not true"),
+        (
+            lambda: SceneConfig(table_half_size=(1.0,)),
+            "table_half_size: (1.0,) has 1 values, not 3",
+        ),
+        (lambda: SceneConfig(table_half_size="big"), "table_half_size: 'big' is not a sequence"),
+        (lambda: SceneConfig(table_top_z=float("nan")), "SceneConfig.table_top_z: nan is not a"),
+        (lambda: TrialConfig(hold_time="2"), "TrialConfig.hold_time: '2' is not a number"),
+        (lambda: ChainConfig(sensor="kinect"), "ChainConfig.sensor: 'kinect' is not a SensorSet"),
+        (lambda: SensorSettings(kind=None), "SensorSettings.kind: None is not"),
+    ],
+    ids=["bool", "length", "text-tuple", "nan", "text-number", "nested", "none"],
+)
+def test_a_field_of_the_wrong_type_is_refused_when_made_directly(make, message) -> None:  # noqa: ANN001
+    """Plain Python skips the flags' parsing: a truthy string for a bool, a short tuple, text
+    for a number or a nested config would otherwise be kept and fail deep in a trial."""
+    with pytest.raises(SettingError) as caught:
+        make()
+    assert message in str(caught.value) and "\n" not in str(caught.value)
 
 
 @pytest.mark.parametrize(

@@ -156,6 +156,11 @@ def _type_problem(value: Any, annotation: Any) -> str | None:
     origin, args = typing.get_origin(annotation), typing.get_args(annotation)
     if annotation is int and (isinstance(value, bool) or not isinstance(value, int)):
         return f"{value!r} is not an integer"
+    if annotation in _PLAIN:
+        return _PLAIN[annotation](value)
+    if isinstance(annotation, type) and dataclasses.is_dataclass(annotation):
+        kind = annotation.__name__
+        return None if isinstance(value, annotation) else f"{value!r} is not a {kind}"
     if origin is Annotated:
         detail = _type_problem(value, args[0])
         for mark in args[1:]:
@@ -171,12 +176,34 @@ def _type_problem(value: Any, annotation: Any) -> str | None:
             return None
         details = [_type_problem(value, arm) for arm in args if arm is not type(None)]
         return None if None in details else details[0]
-    if origin is tuple and isinstance(value, tuple):
-        arms = [args[0]] * len(value) if len(args) == 2 and args[1] is Ellipsis else list(args)
-        return next(
-            (d for d in map(_type_problem, value, arms) if d is not None), None
-        )  # fmt: skip
+    if origin is tuple:
+        return _tuple_problem(value, args)
     return None
+
+
+def _tuple_problem(value: Any, args: tuple[Any, ...]) -> str | None:
+    """A tuple setting's problem: not a sequence (a list is taken as one), the wrong number of
+    items for a fixed tuple, or an item's own."""
+    if not isinstance(value, tuple | list):
+        return f"{value!r} is not a sequence of values"
+    if not (len(args) == 2 and args[1] is Ellipsis) and len(value) != len(args):
+        return f"{value!r} has {len(value)} values, not {len(args)}"
+    arms = [args[0]] * len(value) if len(args) == 2 and args[1] is Ellipsis else list(args)
+    return next((d for d in map(_type_problem, value, arms) if d is not None), None)
+
+
+def _number_problem(value: Any) -> str | None:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return f"{value!r} is not a number"
+    return "nan is not a number" if math.isnan(value) else None
+
+
+_PLAIN: dict[Any, Callable[[Any], str | None]] = {
+    float: _number_problem,
+    bool: lambda v: None if isinstance(v, bool) else f"{v!r} is not true or false",
+    str: lambda v: None if isinstance(v, str) else f"{v!r} is not text",
+}
+"""Checks of plain field types (``int``'s is above: a bool is no integer)."""
 
 
 def describe(annotation: Any, choices: Choices = None) -> str:
