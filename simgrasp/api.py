@@ -8,10 +8,10 @@ it. Units are meters; frames are named as in the README (``world_T_tcp``, ``poin
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import SimgraspError
 
@@ -66,8 +66,10 @@ def detect_handles(
     from simgrasp.handles.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig
     from simgrasp.handles.single_view import SingleViewConfig
+    from simgrasp.handles.tenpas_config import TenPasConfig
 
     chosen = config if config is not None else DetectorConfig()
+    _check_type(chosen, "config", DetectorConfig, QuadricDetectorConfig, TenPasConfig)
     if isinstance(chosen, DetectorConfig):
         kind, settings = chosen.kind, chosen.chosen()
     else:
@@ -85,6 +87,25 @@ def detect_handles(
     )
 
 
+def _check_type(value: object, name: str, *kinds: type) -> None:
+    """A :class:`SimgraspError` naming argument ``name`` unless ``value`` is one of ``kinds``."""
+    if not isinstance(value, kinds):
+        names = [kind.__name__ for kind in kinds]
+        wanted = f"{', '.join(names[:-1])} or {names[-1]}" if len(names) > 1 else names[0]
+        raise SimgraspError(f"{name} must be a {wanted}, got {type(value).__name__}")
+
+
+def _numbers(value: object, name: str, expected: str) -> NDArray[np.float64]:
+    """``value`` as a float array; text, ragged lists and other non-numbers are a
+    :class:`SimgraspError` naming argument ``name`` and what it must be (``expected``)."""
+    if not isinstance(value, str | bytes):
+        try:
+            return np.asarray(value, dtype=np.float64)
+        except (TypeError, ValueError):
+            pass
+    raise SimgraspError(f"{name} must be {expected}, got {type(value).__name__}")
+
+
 def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> ObjectModel:
     from simgrasp.assets.model import ObjectModel, build_object_model, model_for
     from simgrasp.assets.object import ObjectAsset
@@ -96,20 +117,38 @@ def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> Object
     if isinstance(obj, str | os.PathLike):
         return model_for(os.fspath(obj), None if ycb_dir is None else os.fspath(ycb_dir))
     raise SimgraspError(
-        f"object must be a name, a path, an ObjectAsset or an ObjectModel, got {type(obj)}"
+        f"obj must be a name, a path, an ObjectAsset or an ObjectModel, got {type(obj).__name__}"
     )
 
 
-def _grasp_pose7(grasp: ArrayLike) -> np.ndarray:
-    """A ``[x, y, z, qw, qx, qy, qz]`` pose from a 7-vector or a (4, 4) transform."""
+def _grasp_pose7(grasp: ArrayLike) -> NDArray[np.float64]:
+    """A ``[x, y, z, qw, qx, qy, qz]`` pose from a rigid (4, 4) transform or a 7-vector with a
+    unit quaternion, refused (naming ``grasp``) as label-grasps refuses its rows otherwise."""
+    from simgrasp.grasping.labeling.grasp_sets import pose_problem, rigid_problem
     from simgrasp.transforms import matrix_to_pose7
 
-    array = np.asarray(grasp, dtype=float)
+    array = _numbers(grasp, "grasp", "a (4, 4) transform or a 7-vector [x y z qw qx qy qz]")
     if array.shape == (4, 4):
+        if (problem := rigid_problem(array)) is not None:
+            raise SimgraspError(f"grasp: {problem}")
         return matrix_to_pose7(array)
-    if array.shape == (7,):
-        return array
-    raise SimgraspError(f"grasp must be a (4, 4) transform or a 7-vector, got shape {array.shape}")
+    if array.shape != (7,):
+        raise SimgraspError(
+            f"grasp must be a (4, 4) transform or a 7-vector, got shape {array.shape}"
+        )
+    if (problem := pose_problem(array)) is not None:
+        raise SimgraspError(f"grasp: {problem}")
+    return array
+
+
+def _jaw_width(width: object, max_opening: float) -> float:
+    """``width`` (m) checked to be a number in (0, ``max_opening``]."""
+    if isinstance(width, bool) or not isinstance(width, int | float | np.integer | np.floating):
+        raise SimgraspError(f"width must be a number (m), got {type(width).__name__}")
+    opening = float(width)
+    if not 0 < opening <= max_opening:
+        raise SimgraspError(f"width must be in (0, {max_opening:g}] m, got {opening:g}")
+    return opening
 
 
 def run_trial(
@@ -132,24 +171,33 @@ def run_trial(
     ``success``, ``on_handle`` and ``to_json()`` (the record ``simgrasp trial --json`` prints).
     """
     from simgrasp.grasping.trials.chain_config import ChainConfig
+    from simgrasp.grasping.trials.given_grasp import GraspFrame
 
     config = config if config is not None else ChainConfig()
-    model = _object_model(obj, ycb_dir)
+    _check_type(config, "config", ChainConfig)
+    if grasp_frame not in get_args(GraspFrame):
+        frames = ", ".join(get_args(GraspFrame))
+        raise SimgraspError(f"grasp_frame: {grasp_frame!r} is not one of {frames}")
     if grasp is None:
         if width is not None:
             raise SimgraspError("width needs a grasp (the full chain plans its own jaw opening)")
+        if grasp_frame != "world":
+            raise SimgraspError("grasp_frame needs a grasp (the full chain plans its own grasp)")
         from simgrasp.grasping.trials.chain import run_chain
 
-        return run_chain(model, config, seed)
+        return run_chain(_object_model(obj, ycb_dir), config, seed)
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grippers import make_gripper
 
+    pose7 = _grasp_pose7(grasp)
+    hand = make_gripper(config.gripper)
+    opening = None if width is None else _jaw_width(width, hand.max_opening)
     return trial_of_grasp(
-        model,
-        make_gripper(config.gripper),
-        _grasp_pose7(grasp),
+        _object_model(obj, ycb_dir),
+        hand,
+        pose7,
         frame=grasp_frame,
-        width=width,
+        width=opening,
         scene_config=config.scene,
         trial_config=config.trial,
         seed=seed,
@@ -172,11 +220,12 @@ def sample_grasps(
     the scene :func:`simgrasp.label_grasps` labels them in with the same seed. Fewer than
     ``count`` when the sampler runs out of rounds."""
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
-    from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
+    from simgrasp.grasping.planning.antipodal import Table, grasp_count, sample_antipodal
     from simgrasp.grippers import make_gripper
     from simgrasp.scenes.config import SceneConfig
     from simgrasp.scenes.scene import build_scene
 
+    grasp_count(count)
     hand = make_gripper(gripper)
     model = _object_model(obj, ycb_dir)
     clear_of = None
@@ -201,14 +250,36 @@ def segment_scene(
     through ``depth``'s intrinsics and scale) or an array of points in meters, (H, W, 3) for
     an organized cloud (NaN where the sensor returned nothing) or (N, 3), with the sensor at
     ``viewpoint`` (default: the origin, a sensor's own frame). ``.labels`` holds one label per
-    point in the input's order: 0 invalid, 1 table, 2.. objects nearest the sensor first."""
+    point in the input's order: 0 invalid, 1 table, 2.. objects nearest the sensor first.
+    ``depth`` is for a depth image file and ``viewpoint`` for an array: a file's sensor
+    position is its own (a PCD's ``VIEWPOINT``, else the origin)."""
+    from simgrasp.perception.depth_image import DepthImageConfig
     from simgrasp.perception.scene_cloud import read_scene, scene_from_array
     from simgrasp.perception.segmentation.segment import segment_scene as segment
+    from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
+    if config is not None:
+        _check_type(config, "config", SegmentConfig)
     if isinstance(scene, str | os.PathLike):
-        cloud = read_scene(os.fspath(scene), depth)
-    else:
-        points = np.asarray(scene, dtype=np.float64)
-        eye = None if viewpoint is None else np.asarray(viewpoint, dtype=np.float64)
-        cloud = scene_from_array(points, eye)
-    return segment(cloud, config)
+        if viewpoint is not None:
+            raise SimgraspError(
+                "viewpoint is for an array scene; a file's viewpoint is its own (load the "
+                "file into an array to give another)"
+            )
+        if depth is not None:
+            _check_type(depth, "depth", DepthImageConfig)
+        return segment(read_scene(os.fspath(scene), depth), config)
+    if depth is not None:
+        raise SimgraspError("depth is for a depth image file, not an array scene")
+    points = _numbers(scene, "scene", "a scene file path or an (N, 3) or (H, W, 3) array")
+    return segment(scene_from_array(points, _viewpoint(viewpoint)), config)
+
+
+def _viewpoint(viewpoint: ArrayLike | None) -> NDArray[np.float64] | None:
+    """The sensor position ``viewpoint`` checked to be 3 finite coordinates (m), or None."""
+    if viewpoint is None:
+        return None
+    eye = _numbers(viewpoint, "viewpoint", "3 coordinates (m)")
+    if eye.shape != (3,) or not np.all(np.isfinite(eye)):
+        raise SimgraspError(f"viewpoint must be 3 finite coordinates (m), got {eye.tolist()}")
+    return eye

@@ -66,7 +66,7 @@ def _error_line(args: list[str], capsys: pytest.CaptureFixture[str]) -> str:
         (["trial", "gen_hammer", "--grasp-frame", "object"], "--grasp-frame needs --grasp"),
         (
             ["trial", "gen_hammer", "--grasp", "0", "0", "0.3", "2", "0", "0", "0"],
-            "--grasp: quaternion QW QX QY QZ has norm 2, not 1",
+            "--grasp: quaternion norm 2 is not 1",
         ),
         (
             ["trial", "gen_hammer", "--scale", "2"],

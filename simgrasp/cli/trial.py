@@ -14,11 +14,12 @@ lying mug's strap) is seen from two sides and the one-pass fits come out too wid
 from __future__ import annotations
 
 import json
-import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
+
+import numpy as np
 
 from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
@@ -79,7 +80,7 @@ def _check_grasp_flags(options: Options) -> None:
     """Refuse the flags of a given grasp without ``--grasp``, ``--protocol`` with ``--trial.*``
     settings, and a ``--grasp`` whose quaternion is not a unit one (within the tolerance of
     label-grasps, which marks such rows invalid)."""
-    from simgrasp.grasping.labeling.grasp_sets import QUATERNION_TOLERANCE
+    from simgrasp.grasping.labeling.grasp_sets import pose_problem
 
     if options.width is not None and options.grasp is None:
         raise SimgraspError("--width needs --grasp (the full chain plans its own jaw opening)")
@@ -89,13 +90,8 @@ def _check_grasp_flags(options: Options) -> None:
         raise SimgraspError("--grasp-frame needs --grasp (the full chain plans its own grasp)")
     if options.protocol is not None and options.chain.trial != ChainConfig().trial:
         raise SimgraspError("give --protocol or --trial.* settings, not both")
-    if options.grasp is not None:
-        norm = math.hypot(*options.grasp[3:])
-        if abs(norm - 1.0) > QUATERNION_TOLERANCE:
-            raise SimgraspError(
-                f"--grasp: quaternion QW QX QY QZ has norm {norm:.6g}, not 1 (within "
-                f"{QUATERNION_TOLERANCE:g}): give a unit quaternion"
-            )
+    if options.grasp is not None and (problem := pose_problem(np.array(options.grasp))):
+        raise SimgraspError(f"--grasp: {problem}: give a unit quaternion")
 
 
 def _trial(options: Options, on_phase: Any) -> dict[str, Any]:

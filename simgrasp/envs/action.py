@@ -8,6 +8,8 @@ which the jaws open and close), and ``width`` the jaw opening before closing (me
 
 from __future__ import annotations
 
+import reprlib
+
 import numpy as np
 from gymnasium import spaces
 from numpy.typing import ArrayLike, NDArray
@@ -44,12 +46,14 @@ def grasp_from_action(action: ArrayLike, max_opening: float) -> Grasp:
         ValueError: naming the action, if it is not 8 finite numbers or its quaternion is
             (nearly) zero.
     """
-    values = np.asarray(action, dtype=np.float64)
+    expected = f"expected {ACTION_SIZE} finite numbers [x, y, z, qw, qx, qy, qz, width]"
+    try:
+        values = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError):
+        shown = " ".join(reprlib.repr(action).split())
+        raise SimgraspError(f"invalid action {shown}: {expected}") from None
     if values.shape != (ACTION_SIZE,) or not np.all(np.isfinite(values)):
-        raise SimgraspError(
-            f"invalid action {np.asarray(action).tolist()!r}: expected {ACTION_SIZE} finite "
-            "numbers [x, y, z, qw, qx, qy, qz, width]"
-        )
+        raise SimgraspError(f"invalid action {np.asarray(action).tolist()!r}: {expected}")
     norm = float(np.linalg.norm(values[3:7]))
     if norm < MIN_QUATERNION_NORM:
         raise SimgraspError(

@@ -30,6 +30,7 @@ from simgrasp.assets.object_sets import GENERATED_OBJECTS
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked, MinLength, PositiveInt
 from simgrasp.envs.action import action_space, grasp_from_action
+from simgrasp.envs.object_names import check_object_names
 from simgrasp.envs.observation import (
     Observation,
     camera_layout,
@@ -65,7 +66,8 @@ class HandleGraspConfig(Checked):
     Attributes:
         objects: object names an episode draws from (YCB ids or names read from ``ycb_dir``,
             generated tools ``gen_<kind>[_s<N>]``, ``gen_<kind>`` being ``gen_<kind>_s0``);
-            default: the generated tools. Models are built on first use.
+            default: the generated tools. The env refuses an unknown name when it is made;
+            models are built on first use.
         gripper: a registered gripper name (:func:`simgrasp.grippers.gripper_names`).
         noise: multiplicative noise sigma on the cloud, as ``ChainConfig.noise``.
         sensor: the depth sensor each view passes through (``ChainConfig.sensor``); the
@@ -160,6 +162,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise SimgraspError(f"unsupported render_mode {render_mode!r}; use None or 'rgb_array'")
         self.config = replace(config or HandleGraspConfig(), **overrides)
+        check_object_names(self.config.objects)
         self.render_mode = render_mode
         self._gripper = make_gripper(self.config.gripper)
         self.observation_space = observation_space(  # type: ignore[assignment]

@@ -14,10 +14,10 @@ def validate_cloud(
     """Return ``points`` (N, 3) and ``normals`` (N, 3) or None as float64 arrays.
 
     Raises:
-        ValueError: wrong shape, empty cloud, non-finite values, or normals that do not match
-            the points or are not unit length.
+        ValueError: values that are not numbers, wrong shape, empty cloud, non-finite values,
+            or normals that do not match the points or are not unit length.
     """
-    pts = np.asarray(points, dtype=float)
+    pts = _numbers(points, "points")
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise SimgraspError(f"points must be an (N, 3) array, got shape {pts.shape}")
     if len(pts) == 0:
@@ -30,10 +30,21 @@ def validate_cloud(
         )
     if normals is None:
         return pts, None
-    nrm = np.asarray(normals, dtype=float)
+    nrm = _numbers(normals, "normals")
     if nrm.shape != pts.shape:
         raise SimgraspError(f"normals must match points {pts.shape}, got shape {nrm.shape}")
     lengths = np.linalg.norm(nrm, axis=1)
     if not np.all(np.isfinite(lengths)) or np.any(np.abs(lengths - 1) > 1e-3):
         raise SimgraspError("normals must be finite unit vectors")
     return pts, nrm
+
+
+def _numbers(values: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``values`` as a float array; text (a file name, say) or ragged lists are a
+    :class:`SimgraspError` naming argument ``name``."""
+    if not isinstance(values, str | bytes):
+        try:
+            return np.asarray(values, dtype=np.float64)
+        except (TypeError, ValueError):
+            pass
+    raise SimgraspError(f"{name} must be an (N, 3) array of numbers, got {type(values).__name__}")

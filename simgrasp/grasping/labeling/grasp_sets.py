@@ -169,6 +169,18 @@ def _from_matrices(matrices: ArrayLike, what: str) -> tuple[NDArray, dict[int, s
     return array, problems
 
 
+def pose_problem(pose: NDArray[np.float64]) -> str | None:
+    """Why a ``[x y z qw qx qy qz]`` pose is no grasp (non-finite values, a quaternion whose
+    norm is not 1 within :data:`QUATERNION_TOLERANCE`), or None: the one rule of a file's
+    rows, ``simgrasp trial --grasp`` and :func:`simgrasp.run_trial`."""
+    if not np.all(np.isfinite(pose)):
+        return "non-finite values"
+    norm = float(np.linalg.norm(pose[3:]))
+    if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+        return f"quaternion norm {norm:.6g} is not 1 (within {QUATERNION_TOLERANCE:g})"
+    return None
+
+
 def _from_poses(poses: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     """(N, 4, 4) transforms of (N, 7) ``[x y z qw qx qy qz]`` rows; a non-finite row or a
     quaternion whose norm is not 1 (within :data:`QUATERNION_TOLERANCE`) is invalid."""
@@ -178,11 +190,8 @@ def _from_poses(poses: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     matrices = np.tile(np.eye(4), (len(array), 1, 1))
     problems = {}
     for index, pose in enumerate(array):
-        norm = np.linalg.norm(pose[3:])
-        if not np.all(np.isfinite(pose)):
-            problems[index] = "non-finite values"
-        elif abs(norm - 1.0) > QUATERNION_TOLERANCE:
-            problems[index] = f"quaternion norm {norm:.6g} is not 1"
+        if (problem := pose_problem(pose)) is not None:
+            problems[index] = problem
         else:  # as `simgrasp trial --grasp` reads a pose
             matrices[index] = pose7_to_matrix(pose)
     return matrices, problems

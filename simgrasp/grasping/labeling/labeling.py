@@ -236,7 +236,11 @@ def label_grasps(
     invalid rows labeled ``invalid``); ``config`` defaults to ``LabelConfig(obj)`` and must
     name ``obj``; ``workers > 1`` labels in spawned worker processes. The on-disk, resumable
     ``label-grasps`` run gives the same records."""
-    config = config or LabelConfig(obj)
+    if not isinstance(obj, str):
+        raise SimgraspError(f"obj must be an object name (str), got {type(obj).__name__}")
+    config = config if config is not None else LabelConfig(obj)
+    if not isinstance(config, LabelConfig):
+        raise SimgraspError(f"config must be a LabelConfig, got {type(config).__name__}")
     if config.object != obj:
         raise SimgraspError(f"label_grasps: config labels {config.object!r}, not {obj!r}")
     grasp_set = grasps if isinstance(grasps, GraspSet) else GraspSet.from_arrays(grasps)

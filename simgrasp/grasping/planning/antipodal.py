@@ -187,6 +187,13 @@ def _candidates(
     return _poses(first, second, rng, config.max_depth), opening
 
 
+def grasp_count(count: object) -> int:
+    """``count``, a number of grasps to sample, checked to be a positive integer."""
+    if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 1:
+        raise SimgraspError(f"count must be a positive integer, got {count!r}")
+    return int(count)
+
+
 def sample_antipodal(
     mesh: trimesh.Trimesh,
     geometry: GripperGeometry,
@@ -199,8 +206,7 @@ def sample_antipodal(
     (N,) jaw openings (m), clear of ``table`` if given. Fewer (with a ValueError when none) if
     ``max_rounds`` run out."""
     config = config or AntipodalConfig()
-    if count < 1:
-        raise SimgraspError(f"--n must be a positive number of grasps, got {count}")
+    count = grasp_count(count)
     rng = rng_for(seed, "antipodal")
     obstacles, _ = trimesh.sample.sample_surface(mesh, config.collision_points, seed=rng)
     caster = _RayCaster(mesh)
