@@ -47,7 +47,7 @@ class RunConfig:
         if self.backend not in BACKENDS:
             raise SimgraspError(f"unknown backend {self.backend!r}; use 'local' or 'ray'")
         if isinstance(self.workers, bool) or not isinstance(self.workers, int) or self.workers < 1:
-            raise SimgraspError(f"--workers must be >= 1, got {self.workers}")
+            raise SimgraspError(f"workers must be an integer >= 1, got {self.workers!r}")
         if self.address and self.backend != "ray":
             raise SimgraspError(f"--address {self.address} needs --backend ray")
 
