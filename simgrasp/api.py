@@ -95,17 +95,6 @@ def _check_type(value: object, name: str, *kinds: type) -> None:
         raise SimgraspError(f"{name} must be a {wanted}, got {type(value).__name__}")
 
 
-def _numbers(value: object, name: str, expected: str) -> NDArray[np.float64]:
-    """``value`` as a float array; text, ragged lists and other non-numbers are a
-    :class:`SimgraspError` naming argument ``name`` and what it must be (``expected``)."""
-    if not isinstance(value, str | bytes):
-        try:
-            return np.asarray(value, dtype=np.float64)
-        except (TypeError, ValueError):
-            pass
-    raise SimgraspError(f"{name} must be {expected}, got {type(value).__name__}")
-
-
 def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> ObjectModel:
     from simgrasp.assets.model import ObjectModel, build_object_model, model_for
     from simgrasp.assets.object import ObjectAsset
@@ -125,9 +114,10 @@ def _grasp_pose7(grasp: ArrayLike) -> NDArray[np.float64]:
     """A ``[x, y, z, qw, qx, qy, qz]`` pose from a rigid (4, 4) transform or a 7-vector with a
     unit quaternion, refused (naming ``grasp``) as label-grasps refuses its rows otherwise."""
     from simgrasp.grasping.labeling.grasp_sets import pose_problem, rigid_problem
+    from simgrasp.perception._arrays import float_array
     from simgrasp.transforms import matrix_to_pose7
 
-    array = _numbers(grasp, "grasp", "a (4, 4) transform or a 7-vector [x y z qw qx qy qz]")
+    array = float_array(grasp, "grasp", "a (4, 4) transform or a 7-vector [x y z qw qx qy qz]")
     if array.shape == (4, 4):
         if (problem := rigid_problem(array)) is not None:
             raise SimgraspError(f"grasp: {problem}")
@@ -253,6 +243,7 @@ def segment_scene(
     point in the input's order: 0 invalid, 1 table, 2.. objects nearest the sensor first.
     ``depth`` is for a depth image file and ``viewpoint`` for an array: a file's sensor
     position is its own (a PCD's ``VIEWPOINT``, else the origin)."""
+    from simgrasp.perception._arrays import float_array
     from simgrasp.perception.depth_image import DepthImageConfig
     from simgrasp.perception.scene_cloud import read_scene, scene_from_array
     from simgrasp.perception.segmentation.segment import segment_scene as segment
@@ -271,15 +262,17 @@ def segment_scene(
         return segment(read_scene(os.fspath(scene), depth), config)
     if depth is not None:
         raise SimgraspError("depth is for a depth image file, not an array scene")
-    points = _numbers(scene, "scene", "a scene file path or an (N, 3) or (H, W, 3) array")
+    points = float_array(scene, "scene", "a scene file path or an (N, 3) or (H, W, 3) array")
     return segment(scene_from_array(points, _viewpoint(viewpoint)), config)
 
 
 def _viewpoint(viewpoint: ArrayLike | None) -> NDArray[np.float64] | None:
     """The sensor position ``viewpoint`` checked to be 3 finite coordinates (m), or None."""
+    from simgrasp.perception._arrays import float_array
+
     if viewpoint is None:
         return None
-    eye = _numbers(viewpoint, "viewpoint", "3 coordinates (m)")
+    eye = float_array(viewpoint, "viewpoint", "3 coordinates (m)")
     if eye.shape != (3,) or not np.all(np.isfinite(eye)):
         raise SimgraspError(f"viewpoint must be 3 finite coordinates (m), got {eye.tolist()}")
     return eye

@@ -6,6 +6,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import SimgraspError
+from simgrasp.perception._arrays import float_array
 
 
 def validate_cloud(
@@ -17,7 +18,7 @@ def validate_cloud(
         ValueError: values that are not numbers, wrong shape, empty cloud, non-finite values,
             or normals that do not match the points or are not unit length.
     """
-    pts = _numbers(points, "points")
+    pts = float_array(points, "points", "an (N, 3) array of numbers")
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise SimgraspError(f"points must be an (N, 3) array, got shape {pts.shape}")
     if len(pts) == 0:
@@ -30,21 +31,10 @@ def validate_cloud(
         )
     if normals is None:
         return pts, None
-    nrm = _numbers(normals, "normals")
+    nrm = float_array(normals, "normals", "an (N, 3) array of numbers")
     if nrm.shape != pts.shape:
         raise SimgraspError(f"normals must match points {pts.shape}, got shape {nrm.shape}")
     lengths = np.linalg.norm(nrm, axis=1)
     if not np.all(np.isfinite(lengths)) or np.any(np.abs(lengths - 1) > 1e-3):
         raise SimgraspError("normals must be finite unit vectors")
     return pts, nrm
-
-
-def _numbers(values: ArrayLike, name: str) -> NDArray[np.float64]:
-    """``values`` as a float array; text (a file name, say) or ragged lists are a
-    :class:`SimgraspError` naming argument ``name``."""
-    if not isinstance(values, str | bytes):
-        try:
-            return np.asarray(values, dtype=np.float64)
-        except (TypeError, ValueError):
-            pass
-    raise SimgraspError(f"{name} must be an (N, 3) array of numbers, got {type(values).__name__}")

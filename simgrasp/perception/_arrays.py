@@ -9,9 +9,21 @@ from scipy.spatial import cKDTree
 from simgrasp.errors import SimgraspError
 
 
+def float_array(values: object, name: str, expected: str) -> NDArray[np.float64]:
+    """``values`` as a float64 array; text (a file name, say), ragged lists and other values
+    that are not numbers are a :class:`SimgraspError` naming argument ``name`` and what it
+    must be (``expected``: ``"an (N, 3) array of numbers"``)."""
+    if not isinstance(values, str | bytes):
+        try:
+            return np.asarray(values, dtype=np.float64)
+        except (TypeError, ValueError):
+            pass
+    raise SimgraspError(f"{name} must be {expected}, got {type(values).__name__}")
+
+
 def as_points(points: ArrayLike, name: str = "points") -> NDArray[np.float64]:
     """Return ``points`` as a finite, non-empty (N, 3) float64 array or raise ``ValueError``."""
-    array = np.asarray(points, dtype=np.float64)
+    array = float_array(points, name, "an (N, 3) array of numbers")
     if array.ndim != 2 or array.shape[1] != 3:
         raise SimgraspError(f"{name} must be an (N, 3) array, got shape {array.shape}")
     if len(array) == 0:
@@ -26,7 +38,7 @@ def as_normals(
     normals: ArrayLike, points: NDArray[np.float64], name: str = "normals"
 ) -> NDArray[np.float64]:
     """Return ``normals`` as a finite (N, 3) float64 array matching ``points``."""
-    array = np.asarray(normals, dtype=np.float64)
+    array = float_array(normals, name, "an (N, 3) array of numbers")
     if array.shape != points.shape:
         raise SimgraspError(
             f"{name} must match the points' shape {points.shape}, got {array.shape}"
