@@ -58,7 +58,7 @@ def _text_poses(path: Path) -> None:
         ("count.npz", _width_count, "width has 2 entries for 3 grasps"),
         ("rows.npy", _graspnet_shape, "graspnet rows must be N x 17, got shape (4, 3)"),
         ("none.npz", _no_rows, "no row of the grasp file is a valid grasp (it has no rows)"),
-        ("ragged.json", _text_poses, "poses must hold numbers ("),
+        ("ragged.json", _text_poses, "poses must be numbers, got list"),
     ],
 )
 def test_a_bad_grasp_file_is_one_line_naming_it(

@@ -44,6 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.grasping.labeling.hdf5_files import open_hdf5
+from simgrasp.perception._arrays import float_array
 from simgrasp.transforms import pose7_to_matrix
 
 ACRONYM_TCP_OFFSET = 0.1034
@@ -139,15 +140,6 @@ def rigid_problem(transform: NDArray[np.float64]) -> str | None:
     return None
 
 
-def _floats(values: ArrayLike, what: str) -> NDArray[np.float64]:
-    """``values`` as a float array; values that are not numbers (text, ragged lists) are a
-    :class:`SimgraspError` naming ``what``."""
-    try:
-        return np.asarray(values, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise SimgraspError(f"{what} must hold numbers ({_first_sentence(exc)})") from None
-
-
 def _first_sentence(exc: BaseException) -> str:
     """The first sentence of an exception's message (its type without one)."""
     text = str(exc).strip()
@@ -156,7 +148,7 @@ def _first_sentence(exc: BaseException) -> str:
 
 def _from_matrices(matrices: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     """(N, 4, 4) checked transforms: invalid rows replaced by the identity, with reasons."""
-    array = _floats(matrices, what)
+    array = float_array(matrices, what, "numbers")
     if array.ndim != 3 or array.shape[1:] != (4, 4):
         raise SimgraspError(f"{what} must be N x 4 x 4, got shape {array.shape}")
     problems = {}
@@ -184,7 +176,7 @@ def pose_problem(pose: NDArray[np.float64]) -> str | None:
 def _from_poses(poses: ArrayLike, what: str) -> tuple[NDArray, dict[int, str]]:
     """(N, 4, 4) transforms of (N, 7) ``[x y z qw qx qy qz]`` rows; a non-finite row or a
     quaternion whose norm is not 1 (within :data:`QUATERNION_TOLERANCE`) is invalid."""
-    array = _floats(poses, what)
+    array = float_array(poses, what, "numbers")
     if array.ndim != 2 or array.shape[1] != 7:
         raise SimgraspError(f"{what} must be N x 7 [x y z qw qx qy qz], got shape {array.shape}")
     matrices = np.tile(np.eye(4), (len(array), 1, 1))
@@ -202,7 +194,7 @@ def _widths(width: ArrayLike | None, count: int, problems: dict[int, str], what:
     its row invalid; a wrong count is an error naming ``what``."""
     if width is None:
         return np.full(count, np.nan)
-    widths = _floats(width, what).reshape(-1)
+    widths = float_array(width, what, "numbers").reshape(-1)
     if len(widths) != count:
         raise SimgraspError(f"{what} has {len(widths)} entries for {count} grasps")
     for index in np.flatnonzero(~(np.isfinite(widths) & (widths > 0))):
@@ -242,7 +234,7 @@ def _franka_poses(franka: ArrayLike, path: Path, fmt: str) -> GraspSet:
 def graspnet_to_tcp(rows: ArrayLike, what: str) -> tuple[NDArray, NDArray, dict[int, str]]:
     """(N, 4, 4) TCP poses, (N,) widths and problems of graspnetAPI's (N, 17) rows; a wrong
     shape is an error naming ``what``."""
-    array = _floats(rows, what)
+    array = float_array(rows, what, "numbers")
     if array.ndim != 2 or array.shape[1] != GRASPNET_COLUMNS:
         raise SimgraspError(f"{what} must be N x 17, got shape {array.shape}")
     matrices = np.tile(np.eye(4), (len(array), 1, 1))
