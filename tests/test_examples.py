@@ -18,6 +18,7 @@ CASES = {
     "label_sampled_grasps.py": (["12"], "grasps lift the hammer"),
     "sweep_two_detectors.py": (["sweep", "1"], "centroid"),
     "env_policy.py": (["1"], "episode 0:"),
+    "label_your_mesh.py": (["12"], "grasps hold the object"),
 }
 
 
