@@ -61,7 +61,8 @@ def test_demo_refuses_another_commands_run_and_restarts_only_its_own(
     assert line == f"{unknown} holds another command's run (trials.jsonl); use another --out"
     monkeypatch.setattr("simgrasp.evaluation.sweep.run_sweep", sweep_stopped_after_claim)
     assert refused([*demo, str(runs["demo"])], capsys) == "stopped at the first trial"
-    assert not (runs["demo"] / "trials.jsonl").exists()  # its own run: started afresh
+    # its own run, under today's defaults as far as they were recorded: resumed, kept
+    assert (runs["demo"] / "trials.jsonl").read_text() == '{"object": "gen_hammer_s0"}\n'
 
 
 @pytest.mark.parametrize("command", ["evaluate", "labels", "detect-eval"])

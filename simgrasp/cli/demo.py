@@ -5,9 +5,11 @@ objects), the quadric detector against the centroid baseline, the built-in gripp
 at the noise-free and a noisy cloud: render -> detect -> plan -> execute in MuJoCo, then the
 report (detection accuracy, lift and on-handle success, failure modes, timings) and
 ``view.html``, the report page of ``simgrasp view`` that report.md links. Sized to finish
-in about three minutes on two cores once the object decompositions are cached. It always starts
-afresh: a folder an earlier demo wrote is run again from scratch, one holding another command's
-run is refused. Other chain settings (``--views``, ``--trial.*``, ...) apply to every trial.
+in about three minutes on two cores once the object decompositions are cached. Run again on its
+folder after an interruption, it keeps the finished trials and runs the rest (as ``evaluate``);
+a folder whose trials were recorded under other chain defaults (an older version's demo) starts
+afresh, and one holding another command's run is refused. Other chain settings (``--views``,
+``--trial.*``, ...) apply to every trial.
 """
 
 from __future__ import annotations
@@ -61,8 +63,7 @@ class Options(Checked):
 def run(options: Options) -> int:
     from simgrasp.assets.object_sets import GENERATED_OBJECTS, PAPER_OBJECTS
     from simgrasp.evaluation.report import write_report
-    from simgrasp.evaluation.sweep import TRIALS_FILE, plan_trials, run_sweep
-    from simgrasp.evaluation.trial_log import DEFAULTS_FILE
+    from simgrasp.evaluation.sweep import plan_trials, run_sweep
     from simgrasp.runs.out_dir import claim_out_dir
 
     ycb_dir = os.environ.get("SIMGRASP_YCB_DIR")
@@ -76,8 +77,7 @@ def run(options: Options) -> int:
     specs = plan_trials(objects, axes, range(seeds), options.chain)
     start = time.perf_counter()
     with claim_out_dir(options.out, invocation(), partial(_refuse_other_runs, options.out)):
-        for name in (TRIALS_FILE, DEFAULTS_FILE):  # an earlier demo's: the demo runs afresh
-            (options.out / name).unlink(missing_ok=True)
+        _afresh_if_stale(options.out)
         records = run_sweep(specs, options.out, ycb_dir=ycb_dir, workers=options.workers)
     report = write_report(records, options.out, title="simgrasp demo") + "\n\n" + VIEW_LINK
     (options.out / "report.md").write_text(report + "\n", encoding="utf-8")
@@ -108,6 +108,25 @@ def _refuse_other_runs(out: Path, last_command: str | None) -> None:
     else:
         what = f"{'an' if last_command[0] in 'aeiou' else 'a'} {last_command} run"
     raise SimgraspError(f"{out} holds {what} ({found}); use another --out")
+
+
+def _afresh_if_stale(out: Path) -> None:
+    """Delete an earlier demo's log when it holds no trial record or its trials were recorded
+    under other chain defaults (``check_defaults`` refuses them: an older version's demo), so
+    the demo starts afresh where ``evaluate`` would refuse; trials under today's defaults are
+    kept, and the sweep resumes them."""
+    from simgrasp.evaluation.sweep import TRIALS_FILE
+    from simgrasp.evaluation.trial_log import DEFAULTS_FILE, check_defaults
+
+    stale = not _holds_a_record(out / TRIALS_FILE)
+    if not stale:
+        try:
+            check_defaults(out)
+        except SimgraspError:
+            stale = True
+    if stale:
+        for name in (TRIALS_FILE, DEFAULTS_FILE):
+            (out / name).unlink(missing_ok=True)
 
 
 def _holds_a_record(trials: Path) -> bool:
