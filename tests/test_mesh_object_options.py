@@ -119,4 +119,23 @@ def test_files_of_a_mesh_object_are_named_by_its_stem(
     assert not list(workdir.glob("box_mm.stl?*"))
     scenes = ["scenes", "export", "--object", mesh, "--units", "mm", "--seeds", "1"]
     assert main([*scenes, "--scene.num-views", "1", "--out", "s"]) == 0
-    assert [p.name for p in (workdir / "s").iterdir()] == ["box_mm_s0_view0.pcd"]
+    assert [p.name for p in (workdir / "s").glob("*.pcd")] == ["box_mm_s0_view0.pcd"]
+
+
+def test_evaluate_refuses_to_resume_on_an_edited_mesh(
+    workdir: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A mesh file edited under its name after a sweep ran on it: resuming into the same
+    folder would pool trials of two meshes as one object, so it is refused in one line; the
+    unchanged file resumes (no trial rerun)."""
+    sweep = ["evaluate", "--objects", "box_m.stl", "--detector", "random", "--noise", "0"]
+    sweep += ["--out", "e", "--no-progress", "--seeds"]
+    assert main([*sweep, "1"]) == 0
+    log = (workdir / "e" / "trials.jsonl").read_bytes()
+    assert main([*sweep, "1"]) == 0 and (workdir / "e" / "trials.jsonl").read_bytes() == log
+    capsys.readouterr()
+    trimesh.creation.box(np.array(BOX_M) * 1.3).export(workdir / "box_m.stl")
+    assert main([*sweep, "2"]) == 2  # after a note that the new mesh's handle is being found
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "holds trials of these objects run on other mesh file contents (box_m.stl:" in line
+    assert (workdir / "e" / "trials.jsonl").read_bytes() == log

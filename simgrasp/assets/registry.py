@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import re
+from pathlib import Path
 
 import trimesh
 
@@ -21,7 +22,7 @@ from simgrasp.assets.mesh_object import (
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.errors import SimgraspError
 
-__all__ = ["GENERATED_KINDS", "load_object", "load_object_mesh"]
+__all__ = ["GENERATED_KINDS", "load_object", "load_object_mesh", "mesh_file_of"]
 
 _GENERATED_NAMES = ", ".join(f"gen_{kind}" for kind in GENERATED_KINDS)
 """Every loadable generated tool, for error messages (the ``generated`` set holds fewer)."""
@@ -80,3 +81,12 @@ def load_object_mesh(
     if spec is not None:
         return read_mesh(parse_mesh_spec(spec))
     return load_object(base, ycb_dir, seed=seed).mesh
+
+
+def mesh_file_of(name: str) -> Path | None:
+    """The mesh file object ``name`` is read from when it is a mesh file spec or a catalog
+    name (its contents then belong to a run's identity: the file can change under its name),
+    else None (a YCB object or a generated tool)."""
+    base = split_spec(name)[0]
+    spec = name if is_mesh_spec(name) else catalog_entry(base)
+    return None if spec is None else parse_mesh_spec(spec).path

@@ -20,6 +20,7 @@ from simgrasp.evaluation.trial_log import (
     NOISE_DIGITS,
     TrialKey,
     check_defaults,
+    check_meshes,
     trial_key,
     trial_log,
     trial_settings,
@@ -130,6 +131,7 @@ def run_sweep(
     object's model before the first trial."""
     run = RunConfig(workers, backend, address, progress)
     check_defaults(Path(out_dir))
+    check_meshes(Path(out_dir), list(dict.fromkeys(s.object for s in specs)))
     objects = tuple((name,) for name in dict.fromkeys(s.object for s in specs))
     work = Work(run_spec, (ycb_dir,), warm_up=prepare_object, warm_calls=objects)
     finished = run_resumable(

@@ -89,6 +89,35 @@ def check_defaults(out_dir: Path) -> None:
     )
 
 
+MESHES_FILE = "meshes.json"
+"""SHA-256 of each mesh file object's file the sweep's trials were run on (name -> digest)."""
+
+
+def check_meshes(out_dir: Path, objects: list[str]) -> None:
+    """Record the contents of the mesh file objects among ``objects`` in
+    ``out_dir/meshes.json``, or refuse a directory whose trials of such an object were run on
+    other contents (the file edited under its name: a resume would mix the two meshes).
+    Objects new to the directory are added; YCB objects and generated tools have no entry."""
+    from simgrasp.assets.registry import mesh_file_of
+    from simgrasp.runs.identity import file_digest
+
+    files = {name: mesh_file_of(name) for name in objects}
+    digests = {name: file_digest(p) for name, p in files.items() if p is not None and p.is_file()}
+    if not digests:
+        return
+    path = Path(out_dir) / MESHES_FILE
+    claim_identity(
+        path,
+        digests,
+        what="trials of these objects run on other mesh file contents",
+        hint="use another --out, or delete its trials.jsonl to rerun",
+        shared_only=True,
+    )
+    earlier = json.loads(path.read_text(encoding="utf-8"))
+    if set(digests) - set(earlier):
+        path.write_text(json.dumps({**earlier, **digests}, indent=2) + "\n", encoding="utf-8")
+
+
 def record_settings(record: dict[str, Any]) -> dict[str, Any]:
     """The settings a trial record was run with (see :func:`trial_settings`); records written
     before the ``settings`` field are read from their top-level fields."""
