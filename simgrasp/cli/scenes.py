@@ -7,21 +7,29 @@ layout: organized 640 x 480, binary, fields ``label x y z rgba``, meters in the 
 OpenCV frame (``VIEWPOINT`` at the origin), NaN where the sensor returned nothing. Labels are
 exact: 0 invalid, 1 the table, 20 the target, 30, 40, ... the distractors in body order
 (``simgrasp segment`` reads the files).
+
+One export at a time holds ``--out``; its ``run.json`` records the settings the views were made
+with (:mod:`simgrasp.scenes.export_run`). A rerun with other settings is refused; one with the
+same settings skips the seeds whose views are all there, so a killed export resumes and more
+``--seeds`` add the missing ones.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Literal
 
 import numpy as np
 
+from simgrasp.cli import invocation
 from simgrasp.cli.object_options import MeshObjectOptions
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
+from simgrasp.perception.sensors.settings import SensorSettings
 
 TARGET_LABEL, FIRST_DISTRACTOR_LABEL, TABLE_LABEL = 20, 30, 1
 
@@ -41,28 +49,52 @@ class Options(YcbSource, MeshObjectOptions):
 
 
 def run(options: Options) -> int:
+    """Export the views of seeds ``0..--seeds-1`` into ``--out``, holding it for the run and
+    skipping the seeds a run of the same settings finished there (module docstring)."""
     from simgrasp.assets.mesh_object import file_stem
     from simgrasp.assets.model import model_for
     from simgrasp.grippers import make_gripper
-    from simgrasp.scenes.kept_renderer import kept_renderer
-    from simgrasp.scenes.observe import observe
+    from simgrasp.runs.out_dir import claim_out_dir
+    from simgrasp.scenes.export_run import (
+        camera_names,
+        claim_export_dir,
+        export_identity,
+        finished_seeds,
+        refuse_other_command,
+        spans,
+    )
     from simgrasp.scenes.scene import build_scene
 
     if options.seeds < 1:
         raise SimgraspError(f"--seeds must be >= 1, got {options.seeds}")
-    options.out.mkdir(parents=True, exist_ok=True)
-    name = options.object_name(options.object)
+    name, out, chain = options.object_name(options.object), options.out, options.chain
     model, gripper = model_for(name, options.ycb_dir), make_gripper("builtin")
-    for seed in range(options.seeds):
-        scene = build_scene(model, gripper, options.chain.scene, seed)
-        renderer = kept_renderer(scene)
-        frames = observe(scene, renderer, 0.0, seed, options.chain.sensor).frames
-        for frame in frames:
-            rgb = renderer.rgb(scene.data, frame.camera_name, *frame.depth.shape[::-1])
-            path = options.out / f"{file_stem(name)}_s{seed}_{frame.camera_name}.pcd"
-            _write_pcd(path, frame, _labels(scene, frame), rgb)
-            print(path)
+    identity = export_identity(name, model.asset.name, chain.scene, chain.sensor)
+    stem, cameras = file_stem(name), camera_names(chain.scene)
+    with claim_out_dir(out, invocation(), partial(refuse_other_command, out)):
+        claim_export_dir(out, identity)
+        done = finished_seeds(out, stem, options.seeds, cameras)
+        if done:
+            print(f"skipped seeds {spans(done)}: their views are already in {out}")
+        for seed in sorted(set(range(options.seeds)) - set(done)):
+            scene = build_scene(model, gripper, chain.scene, seed)
+            _export_views(scene, chain.sensor, out, stem)
     return 0
+
+
+def _export_views(scene, sensor: SensorSettings, out: Path, stem: str) -> None:  # noqa: ANN001
+    """Write every camera's view of ``scene`` (a Scene: lazy import) through ``sensor`` as
+    ``OUT/<stem>_s<seed>_<camera>.pcd`` and print each path."""
+    from simgrasp.scenes.export_run import view_path
+    from simgrasp.scenes.kept_renderer import kept_renderer
+    from simgrasp.scenes.observe import observe
+
+    renderer = kept_renderer(scene)
+    for frame in observe(scene, renderer, 0.0, scene.seed, sensor).frames:
+        rgb = renderer.rgb(scene.data, frame.camera_name, *frame.depth.shape[::-1])
+        path = view_path(out, stem, scene.seed, frame.camera_name)
+        _write_pcd(path, frame, _labels(scene, frame), rgb)
+        print(path)
 
 
 def _labels(scene, frame) -> np.ndarray:  # noqa: ANN001 (Scene, DepthFrame: lazy imports)
@@ -80,6 +112,7 @@ def _labels(scene, frame) -> np.ndarray:  # noqa: ANN001 (Scene, DepthFrame: laz
 def _write_pcd(path: Path, frame, labels: np.ndarray, rgb: np.ndarray) -> None:  # noqa: ANN001
     """One organized binary PCD: ``label x y z rgba`` in the camera's OpenCV frame (m)."""
     from simgrasp.perception.camera import depth_to_points_cam
+    from simgrasp.scenes.export_run import write_whole
 
     height, width = frame.depth.shape
     points_cam, pixels = depth_to_points_cam(frame.depth, frame.intrinsics)
@@ -98,4 +131,4 @@ def _write_pcd(path: Path, frame, labels: np.ndarray, rgb: np.ndarray) -> None: 
         f"WIDTH {width}\nHEIGHT {height}\nVIEWPOINT 0 0 0 1 0 0 0\n"
         f"POINTS {height * width}\nDATA binary\n"
     )
-    path.write_bytes(header.encode("ascii") + rows.tobytes())
+    write_whole(path, header.encode("ascii") + rows.tobytes())
