@@ -100,7 +100,7 @@ def run(options: Options) -> int:
 
     if options.real is not None:
         with claim_out_dir(options.out, invocation()):  # one run at a time per --out
-            return _run_real(options)
+            return _run_real(options, options.real)
     run = RunConfig(options.workers, options.backend, options.address, not options.no_progress)
     objects = tuple(expand_objects(options.objects))
     items = plan_detections(
@@ -136,16 +136,22 @@ def _run(options: Options, items: list[DetectionItem], run: RunConfig) -> int:
     return 0
 
 
-def _run_real(options: Options) -> int:
-    """``--real``: every manifest cloud x named setting x seed (rows already in the output's
-    CSV are kept, not redone)."""
-    from simgrasp.evaluation.real_detect import run_real_detect, tables
-    from simgrasp.evaluation.real_manifest import read_manifest
+def _run_real(options: Options, manifest: Path) -> int:
+    """``--real``: every cloud of ``manifest`` x named setting x seed (rows already in the
+    output's CSV are kept, not redone, when the manifest, real data folder and clouds are the
+    ones recorded in its ``real_run.json``; otherwise refused)."""
+    from simgrasp.assets.real import default_real_dir
+    from simgrasp.evaluation.real_detect import run_identity, run_real_detect, tables
+    from simgrasp.evaluation.real_manifest import read_manifest, shipped_if_absent
 
     start = time.perf_counter()
-    clouds = read_manifest(options.real, options.real_dir)
+    manifest = shipped_if_absent(manifest)
+    real_dir = options.real_dir if options.real_dir is not None else default_real_dir()
+    clouds = read_manifest(manifest, real_dir)
+    identity = run_identity(manifest, real_dir, clouds)
     csv_path = options.out / "real_detect.csv"
-    rows = run_real_detect(clouds, options.real_configs, range(options.seeds), csv_path)
+    seeds = range(options.seeds)
+    rows = run_real_detect(clouds, options.real_configs, seeds, csv_path, identity)
     text = tables(rows)
     print(text)
     (options.out / "real_detect.md").write_text(text + "\n")

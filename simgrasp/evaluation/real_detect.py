@@ -11,14 +11,18 @@ viewpoint; nothing else about the capture is told to the detector.
 from __future__ import annotations
 
 import csv
+import hashlib
+import json
+import sys
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from simgrasp.errors import SimgraspError
+from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
@@ -26,6 +30,8 @@ from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorName
 from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
 from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS
+from simgrasp.runs.identity import claim_identity
 
 Setting = QuadricDetectorConfig | TenPasConfig | SingleViewConfig
 NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
@@ -137,43 +143,155 @@ def score_cloud(
     )
 
 
-def read_done(path: Path) -> list[RealDetectRow]:
-    """Rows already written to ``path`` (a run killed midway loses none)."""
+RUN_FILE = "real_run.json"
+"""What a ``--real`` output folder's rows were made from (:func:`run_identity`); not
+``run.json``, which a run on object meshes keeps in the same folder (the default ``--out``)."""
+COLUMNS = tuple(f.name for f in fields(RealDetectRow))
+"""The columns of ``real_detect.csv``, in order (its header line)."""
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _read(path: Path, what: str) -> bytes:
+    """The bytes of an input file; one line naming ``what`` when it cannot be read."""
+    try:
+        return path.read_bytes()
+    except OSError as exc:
+        raise SimgraspError(f"{what}: cannot read {path}: {exc.strerror or exc}") from exc
+
+
+def _cloud_inputs(cloud: RealCloud) -> dict[str, str]:
+    """SHA-256 of the cloud's file, its handle label (the label file's entry it uses) and,
+    for a depth image read through it, the GraspNet ``meta.mat`` beside it."""
+    what = f"cloud {cloud.name}"
+    if not cloud.path.is_file():
+        raise DataNotFoundError(
+            f"{what}: no file {cloud.path}; point --real-dir or $SIMGRASP_REAL_DIR at the real "
+            "data folder"
+        )
+    label = json.dumps(cloud.label.to_json(), sort_keys=True).encode()
+    inputs = {"file": _sha256(_read(cloud.path, what)), "label": _sha256(label)}
+    meta = cloud.path.parent / "meta.mat"
+    image = cloud.path.suffix.lower() in DEPTH_IMAGE_FORMATS
+    if image and cloud.depth.intrinsics is None and meta.is_file():
+        inputs["meta"] = _sha256(_read(meta, what))
+    return inputs
+
+
+def run_identity(manifest: Path, real_dir: Path, clouds: list[RealCloud]) -> dict[str, Any]:
+    """What a run's rows depend on besides their setting and seed: the manifest's SHA-256,
+    the real data folder (resolved) and each cloud's inputs (:func:`_cloud_inputs`)."""
+    return {
+        "manifest": _sha256(_read(manifest, "manifest")),
+        "real_dir": str(Path(real_dir).expanduser().resolve()),
+        "clouds": {cloud.name: _cloud_inputs(cloud) for cloud in clouds},
+    }
+
+
+def _parse_row(line: bytes) -> RealDetectRow:
+    """The row on one CSV line; a ValueError saying what is wrong with it."""
+    values = next(csv.reader([line.decode().rstrip("\r")]), [])
+    if len(values) != len(COLUMNS):
+        raise ValueError(f"{len(values)} fields, not {len(COLUMNS)}")
+    raw = dict(zip(COLUMNS, values, strict=True))
+    if raw["top_on_handle"] not in ("True", "False"):
+        raise ValueError(f"top_on_handle is {raw['top_on_handle']!r}, not True or False")
+    try:
+        return RealDetectRow(
+            cloud=raw["cloud"],
+            dataset=raw["dataset"],
+            split=raw["split"],
+            config=raw["config"],
+            seed=int(raw["seed"]),
+            points=int(raw["points"]),
+            candidates=int(raw["candidates"]),
+            on_handle=int(raw["on_handle"]),
+            handles=int(raw["handles"]),
+            top_on_handle=raw["top_on_handle"] == "True",
+            detect_s=float(raw["detect_s"]),
+        )
+    except ValueError as exc:
+        raise ValueError(f"bad number ({exc})") from None
+
+
+def _scan(path: Path) -> tuple[list[RealDetectRow], int, str]:
+    """The rows of ``path`` (none when it is absent), where its torn last row starts (the
+    file's size when none) and what is wrong with it. The last line is torn when it has no
+    newline (a run killed mid-write) or is no row; a wrong header or another bad line is one
+    error naming it."""
     if not path.is_file():
-        return []
-    with path.open() as handle:
-        return [
-            RealDetectRow(
-                cloud=raw["cloud"],
-                dataset=raw["dataset"],
-                split=raw["split"],
-                config=raw["config"],
-                seed=int(raw["seed"]),
-                points=int(raw["points"]),
-                candidates=int(raw["candidates"]),
-                on_handle=int(raw["on_handle"]),
-                handles=int(raw["handles"]),
-                top_on_handle=raw["top_on_handle"] == "True",
-                detect_s=float(raw["detect_s"]),
-            )
-            for raw in csv.DictReader(handle)
-        ]
+        return [], 0, ""
+    data = path.read_bytes()
+    *lines, rest = data.split(b"\n")  # rest: what follows the last newline
+    if lines and lines[0].rstrip(b"\r") != ",".join(COLUMNS).encode():
+        raise SimgraspError(f"{path}:1: not the header {','.join(COLUMNS)}")
+    rows: list[RealDetectRow] = []
+    start = len(lines[0]) + 1 if lines else 0
+    for number, line in enumerate(lines[1:], start=2):
+        try:
+            if line.strip():
+                rows.append(_parse_row(line))
+        except ValueError as exc:  # UnicodeDecodeError included
+            if number < len(lines) or rest:
+                raise SimgraspError(
+                    f"{path}:{number}: {exc}; the file is corrupt beyond a torn last row"
+                ) from None
+            return rows, start, str(exc)
+        start += len(line) + 1
+    return rows, start, "no newline"
+
+
+def read_done(path: Path) -> list[RealDetectRow]:
+    """Rows already written to ``path`` (a run killed midway loses none) but a torn last row
+    (:func:`_scan`), which is left in the file."""
+    return _scan(path)[0]
+
+
+def _cut_torn_row(path: Path, start: int, problem: str) -> None:
+    """Cut ``path`` (if there) at byte ``start``, where a torn last row begins, with a line on
+    stderr saying what was cut (it runs again): the next row starts on a fresh line."""
+    if not path.is_file() or start >= path.stat().st_size:
+        return
+    with path.open("rb+") as handle:
+        handle.seek(start)
+        cut = handle.read()
+        handle.truncate(start)
+    sys.stderr.write(
+        f"{path}: cut a torn last row ({len(cut)} bytes, {problem}): "
+        f"{cut[:60].decode(errors='replace')!r}...; it runs again\n"
+    )
+
+
+def _claim(out_dir: Path, identity: dict[str, Any], has_rows: bool) -> None:
+    """Record ``identity`` in ``out_dir``'s :data:`RUN_FILE`, or refuse a folder with rows of
+    other inputs; a folder without rows yet (a run stopped by a bad input) takes the new one."""
+    if not has_rows:
+        (out_dir / RUN_FILE).unlink(missing_ok=True)
+    claim_identity(out_dir / RUN_FILE, identity, what="real detections of other inputs")
 
 
 def run_real_detect(
-    clouds: list[RealCloud], configs: Iterable[str], seeds: range, out_csv: Path
+    clouds: list[RealCloud],
+    configs: Iterable[str],
+    seeds: range,
+    out_csv: Path,
+    identity: dict[str, Any],
 ) -> list[RealDetectRow]:
     """Every cloud x setting x seed, appended to ``out_csv`` as it finishes; rows already
-    there are kept and not redone."""
+    there are kept and not redone when ``identity`` (:func:`run_identity`) is the one recorded
+    beside them, and refused in one line naming what changed otherwise."""
     configs = tuple(configs)
     for name in configs:
         config_by_name(name)
-    done = read_done(out_csv)
+    done, torn, problem = _scan(out_csv)
+    _claim(out_csv.parent, identity, bool(done))  # before the file is changed
+    _cut_torn_row(out_csv, torn, problem)
     have = {(r.cloud, r.config, r.seed) for r in done}
-    out_csv.parent.mkdir(parents=True, exist_ok=True)
-    new_file = not out_csv.is_file()
+    new_file = not out_csv.is_file() or out_csv.stat().st_size == 0
     with out_csv.open("a", newline="") as handle:
-        writer = csv.DictWriter(handle, [f.name for f in fields(RealDetectRow)])
+        writer = csv.DictWriter(handle, COLUMNS)
         if new_file:
             writer.writeheader()
         for cloud in clouds:
