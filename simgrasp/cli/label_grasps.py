@@ -66,7 +66,7 @@ def run(options: Options) -> int:
         object_for,
     )
     from simgrasp.grasping.labeling.grasp_files import expand_grasp_files
-    from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.grasping.labeling.label_run import check_run_dir, label_grasp_set, run_identity
     from simgrasp.runs.out_dir import claim_out_dir
 
     if options.max_grasps is not None and options.max_grasps < 1:
@@ -79,6 +79,8 @@ def run(options: Options) -> int:
     if options.export:
         check_export(options.grasps, options.export)
     report_problems(grasps.problems)
+    if options.out is not None:  # a changed setting is refused before the object is built
+        check_run_dir(options.out, run_identity(grasps, config, options.grasps))
     model = model_for(config.object, options.ycb_dir)
     out = options.out or Path("out") / "labels" / file_stem(model.asset.name)
     with claim_out_dir(out, invocation()):  # one run at a time per --out, as evaluate

@@ -3,9 +3,12 @@
 
 Each file is a :func:`~simgrasp.grasping.label_run.label_grasp_set` run of its own directory,
 so a killed run resumes file by file and grasp by grasp (rerun the same command); a file whose
-labels are complete costs only reading them. The worker processes (or the Ray session) stay
-up from one file to the next; each file's run builds its object's labeler in them. Files that
-name their object (ACRONYM, GraspGen)
+labels are complete costs only reading them. Every file's directory is checked against this
+run's settings before any is labeled (a changed setting is refused before it mixes any), and
+each is held (:func:`~simgrasp.runs.out_dir.claim_out_dir`) while it is labeled, so a
+single-file run on it is refused meanwhile, as is this run on one another run holds. The
+worker processes (or the Ray session) stay up from one file to the next; each file's run
+builds its object's labeler in them. Files that name their object (ACRONYM, GraspGen)
 are labeled on it; others on OBJECT. Where a file carries reference labels (FleX's), the
 summary adds their agreement (:mod:`simgrasp.grasping.labeling.agreement`).
 """
@@ -63,21 +66,25 @@ def grasps_for(grasp_file: Path, max_grasps: int | None) -> GraspSet:
 
 def checked_files(files: list[Path], options: Any) -> list[LabelConfig]:
     """Each file's label settings (:func:`object_for`), every file read and checked first
-    (:func:`grasps_for`, :func:`check_export`): a bad file stops a data set's run before it
-    starts, not midway."""
+    (:func:`grasps_for`, :func:`check_export`) and so is its directory under ``options.out``,
+    if it has one, against this run's settings (:func:`check_run_dir`): a bad file or a
+    changed setting stops a data set's run before it starts, not midway."""
+    from simgrasp.grasping.labeling.label_run import check_run_dir, run_identity
+
     configs = []
     for grasp_file in files:
-        configs.append(object_for(options, grasp_file))
-        grasps_for(grasp_file, options.max_grasps)
+        config = object_for(options, grasp_file)
+        grasps = grasps_for(grasp_file, options.max_grasps)
         if options.export:
             check_export(grasp_file, options.export)
+        check_run_dir(options.out / grasp_file.stem, run_identity(grasps, config, grasp_file))
+        configs.append(config)
     return configs
 
 
 def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     """Label every file of a data set (module docstring; ``command``: the invocation recorded
     with the output directory); prints one line per file."""
-    from simgrasp.grasping.labeling.label_run import label_grasp_set
     from simgrasp.runs.engine import RunConfig, workers_kept_up
     from simgrasp.runs.out_dir import claim_out_dir
 
@@ -89,27 +96,39 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     with claim_out_dir(options.out, command), workers_kept_up(run):
         # the workers stay up from one file's object to the next
         for grasp_file, config in zip(files, configs, strict=True):
-            grasps = grasps_for(grasp_file, options.max_grasps)
-            out = options.out / grasp_file.stem
-            summary, _ = label_grasp_set(
-                grasps,
-                config,
-                out,
-                grasp_file=grasp_file,
-                ycb_dir=options.ycb_dir,
-                workers=options.workers,
-                backend=options.backend,
-                address=options.address,
-                progress=False,
-            )
-            rows.append(_row(grasp_file, out, summary))
-            if options.export:
-                export_run(grasp_file, out, options.export, options.out)
+            rows.append(label_file(grasp_file, config, options, command))
             print(f"{grasp_file.name}: {_line(rows[-1])}", file=sys.stderr)
     total = _totals(rows)
     (options.out / SUMMARY_FILE).write_text(json.dumps({"files": rows, **total}, indent=2) + "\n")
     sys.stdout.write(f"{len(rows)} files: {_line(total)}\noutput       {options.out}\n")
     return 0
+
+
+def label_file(
+    grasp_file: Path, config: LabelConfig, options: Any, command: list[str]
+) -> dict[str, Any]:
+    """Label one file of a data set into ``OUT/<file stem>/``, holding that directory
+    (:func:`~simgrasp.runs.out_dir.claim_out_dir`: refused, naming the holder, while another
+    run is on it); return its summary row."""
+    from simgrasp.grasping.labeling.label_run import label_grasp_set
+    from simgrasp.runs.out_dir import claim_out_dir
+
+    out = options.out / grasp_file.stem
+    with claim_out_dir(out, command):
+        summary, _ = label_grasp_set(
+            grasps_for(grasp_file, options.max_grasps),
+            config,
+            out,
+            grasp_file=grasp_file,
+            ycb_dir=options.ycb_dir,
+            workers=options.workers,
+            backend=options.backend,
+            address=options.address,
+            progress=False,
+        )
+        if options.export:
+            export_run(grasp_file, out, options.export, options.out)
+    return _row(grasp_file, out, summary)
 
 
 def _row(grasp_file: Path, out: Path, summary: dict[str, Any]) -> dict[str, Any]:

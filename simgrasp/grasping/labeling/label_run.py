@@ -4,11 +4,11 @@ Every labeled grasp is appended to ``OUT/labels.jsonl`` as it finishes (one line
 ``fsync``-ed by the run engine, :mod:`simgrasp.runs`), so a killed run (even
 ``kill -9``; its workers exit with it) loses at most the grasp being written; run the same
 command again and only the missing grasps run. ``OUT/run.json`` names what the directory
-labels (object, gripper, protocol, seed, placement, the grasp file's SHA-256, every trial
-setting of the protocol, the gripper's time-step cap where the protocol coarsens the step): a
-second run with other settings or another file, or after the protocol's definition changed,
-is refused instead of mixing labels. Rows that are not grasps get a record with failure
-``invalid`` and are never executed.
+labels (object, gripper, protocol, seed, placement, the grasp file's SHA-256, a mesh-file
+object's mesh SHA-256, every trial setting of the protocol, the gripper's time-step cap where
+the protocol coarsens the step): a second run with other settings, another file or an edited
+mesh, or after the protocol's definition changed, is refused instead of mixing labels. Rows
+that are not grasps get a record with failure ``invalid`` and are never executed.
 
 Outputs in input order: ``labels.npz`` (bool ``success`` and ``on_handle``, str ``failure``:
 empty for a success, float ``handle_fraction`` and ``lift_height``), ``summary.json``.
@@ -25,7 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from simgrasp.errors import SimgraspError
+from simgrasp.assets.registry import mesh_file_of
+from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.grasping.labeling.grasp_sets import GraspSet
 from simgrasp.grasping.labeling.labeling import INVALID, LabelConfig, LabelResult, label_records
 from simgrasp.grippers import make_gripper
@@ -36,6 +37,8 @@ from simgrasp.runs.record_log import RecordLog
 
 LABELS_FILE = "labels.jsonl"
 RUN_FILE = "run.json"
+OTHER_RUN = "labels of another run"
+"""What a refused directory holds instead (:func:`~simgrasp.runs.identity.claim_identity`)."""
 
 
 def label_key(record: Any) -> int:
@@ -69,11 +72,40 @@ SETTINGS_ADDED = {
 and only runs whose physics changed are refused."""
 
 
+def mesh_digest(name: str) -> str | None:
+    """The SHA-256 of the mesh file object ``name`` is read from (a mesh file spec or a catalog
+    name: :func:`~simgrasp.assets.registry.mesh_file_of`), or None for an object of no mesh
+    file (YCB, generated)."""
+    path = mesh_file_of(name)
+    if path is None:
+        return None
+    if not path.is_file():
+        raise DataNotFoundError(f"object mesh {path} does not exist")
+    return file_digest(path)
+
+
+def _adopt_mesh_digest(path: Path, identity: dict[str, Any]) -> None:
+    """Record the mesh digest in a ``run.json`` written before runs recorded one, so such a
+    directory (a long ACRONYM run, say) resumes from here on: its mesh cannot be checked
+    before this, only after."""
+    if "mesh_sha256" not in identity or not path.is_file():
+        return
+    try:
+        earlier = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):  # claim_identity names what is wrong with it
+        return
+    if isinstance(earlier, dict) and "mesh_sha256" not in earlier:
+        earlier["mesh_sha256"] = identity["mesh_sha256"]
+        path.write_text(json.dumps(earlier, indent=2) + "\n", encoding="utf-8")
+
+
 def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dict[str, Any]:
-    """What ``run.json`` holds: the label config, the grasp file's SHA-256 and row count,
-    every trial setting of the protocol, the gripper's time-step cap where the protocol
-    coarsens the step."""
+    """What ``run.json`` holds: the label config, the grasp file's SHA-256 and row count, a
+    mesh-file object's mesh SHA-256, every trial setting of the protocol, the gripper's
+    time-step cap where the protocol coarsens the step."""
     run = {**asdict(config), "grasps_sha256": file_digest(grasp_file), "count": len(grasps)}
+    if (mesh := mesh_digest(config.object)) is not None:  # YCB, generated: none, as before
+        run["mesh_sha256"] = mesh
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
     for key, before in SETTINGS_ADDED.items():
         if run["trial"][key] == before:
@@ -101,10 +133,12 @@ def label_grasp_set(
     (also ``summary.json``) and every record in input order."""
     run = RunConfig(workers, backend, address, progress)
     out_dir = Path(out_dir)
+    identity = run_identity(grasps, config, grasp_file)
+    _adopt_mesh_digest(out_dir / RUN_FILE, identity)
     claim_identity(  # labels are per grasp index: a run may go on over more of the same file
         out_dir / RUN_FILE,
-        run_identity(grasps, config, grasp_file),
-        what="labels of another run",
+        identity,
+        what=OTHER_RUN,
         ignore=("count",),
     )
     executed: list[int] = []
@@ -124,6 +158,24 @@ def label_grasp_set(
     summary = summarize(records, config, new=len(executed), wall_s=wall, workers=workers)
     (out_dir / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     return summary, records
+
+
+def check_run_dir(out_dir: Path, identity: dict[str, Any]) -> None:
+    """Refuse, as :func:`label_grasp_set` would but writing nothing (a mesh digest an older
+    ``run.json`` lacks aside: :func:`_adopt_mesh_digest`), a label directory whose
+    ``run.json`` records settings other than ``identity`` (:func:`run_identity`; its grasp
+    count aside); a directory without one passes."""
+    path = Path(out_dir) / RUN_FILE
+    if not path.is_file():
+        return
+    _adopt_mesh_digest(path, identity)
+    try:
+        earlier = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):  # claim_identity names what is wrong with it
+        earlier = None
+    count = earlier.get("count") if isinstance(earlier, dict) else None
+    # with nothing ignored, claim_identity only compares an existing file: it never writes it
+    claim_identity(path, {**identity, "count": count}, what=OTHER_RUN)
 
 
 def write_label_arrays(path: Path, records: list[dict[str, Any]]) -> None:
