@@ -8,10 +8,10 @@ import pytest
 import trimesh
 
 from simgrasp.cli import main
+from simgrasp.evaluation.scene_export import export_identity, spans
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.runs.out_dir import claim_out_dir
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.export_run import export_identity, spans
 
 EXPORT = ["scenes", "export", "--object", "gen_hammer", "--views", "1"]
 

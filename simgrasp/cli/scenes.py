@@ -9,7 +9,7 @@ exact: 0 invalid, 1 the table, 20 the target, 30, 40, ... the distractors in bod
 (``simgrasp segment`` reads the files).
 
 One export at a time holds ``--out``; its ``run.json`` records the settings the views were made
-with (:mod:`simgrasp.scenes.export_run`). A rerun with other settings is refused; one with the
+with (:mod:`simgrasp.evaluation.scene_export`). A rerun with other settings is refused; one with the
 same settings skips the seeds whose views are all there, so a killed export resumes and more
 ``--seeds`` add the missing ones.
 """
@@ -53,9 +53,7 @@ def run(options: Options) -> int:
     skipping the seeds a run of the same settings finished there (module docstring)."""
     from simgrasp.assets.mesh_object import file_stem
     from simgrasp.assets.model import model_for
-    from simgrasp.grippers import make_gripper
-    from simgrasp.runs.out_dir import claim_out_dir
-    from simgrasp.scenes.export_run import (
+    from simgrasp.evaluation.scene_export import (
         camera_names,
         claim_export_dir,
         export_identity,
@@ -63,6 +61,8 @@ def run(options: Options) -> int:
         refuse_other_command,
         spans,
     )
+    from simgrasp.grippers import make_gripper
+    from simgrasp.runs.out_dir import claim_out_dir
     from simgrasp.scenes.scene import build_scene
 
     if options.seeds < 1:
@@ -85,7 +85,7 @@ def run(options: Options) -> int:
 def _export_views(scene, sensor: SensorSettings, out: Path, stem: str) -> None:  # noqa: ANN001
     """Write every camera's view of ``scene`` (a Scene: lazy import) through ``sensor`` as
     ``OUT/<stem>_s<seed>_<camera>.pcd`` and print each path."""
-    from simgrasp.scenes.export_run import view_path
+    from simgrasp.evaluation.scene_export import view_path
     from simgrasp.scenes.kept_renderer import kept_renderer
     from simgrasp.scenes.observe import observe
 
@@ -111,8 +111,8 @@ def _labels(scene, frame) -> np.ndarray:  # noqa: ANN001 (Scene, DepthFrame: laz
 
 def _write_pcd(path: Path, frame, labels: np.ndarray, rgb: np.ndarray) -> None:  # noqa: ANN001
     """One organized binary PCD: ``label x y z rgba`` in the camera's OpenCV frame (m)."""
+    from simgrasp.evaluation.scene_export import write_whole
     from simgrasp.perception.camera import depth_to_points_cam
-    from simgrasp.scenes.export_run import write_whole
 
     height, width = frame.depth.shape
     points_cam, pixels = depth_to_points_cam(frame.depth, frame.intrinsics)
