@@ -64,22 +64,22 @@ def grasps_for(grasp_file: Path, max_grasps: int | None) -> GraspSet:
     raise SimgraspError(f"{grasp_file}: no row of the grasp file is a valid grasp ({reason})")
 
 
-def checked_files(files: list[Path], options: Any) -> list[LabelConfig]:
-    """Each file's label settings (:func:`object_for`), every file read and checked first
-    (:func:`grasps_for`, :func:`check_export`) and so is its directory under ``options.out``,
-    if it has one, against this run's settings (:func:`check_run_dir`): a bad file or a
-    changed setting stops a data set's run before it starts, not midway."""
+def checked_files(files: list[Path], options: Any) -> list[tuple[LabelConfig, GraspSet]]:
+    """Each file's label settings (:func:`object_for`) and grasps, every file read once and
+    checked first (:func:`grasps_for`, :func:`check_export`), and so is its directory under
+    ``options.out``, if it has one, against this run's settings (:func:`check_run_dir`): a bad
+    file or a changed setting stops a data set's run before it starts, not midway."""
     from simgrasp.grasping.labeling.label_run import check_run_dir, run_identity
 
-    configs = []
+    checked = []
     for grasp_file in files:
         config = object_for(options, grasp_file)
         grasps = grasps_for(grasp_file, options.max_grasps)
         if options.export:
             check_export(grasp_file, options.export)
         check_run_dir(options.out / grasp_file.stem, run_identity(grasps, config, grasp_file))
-        configs.append(config)
-    return configs
+        checked.append((config, grasps))
+    return checked
 
 
 def label_files(files: list[Path], options: Any, command: list[str]) -> int:
@@ -90,13 +90,13 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
 
     if options.out is None:
         raise SimgraspError("--grasps with several files needs --out DIR")
-    configs = checked_files(files, options)
+    checked = checked_files(files, options)
     rows = []
     run = RunConfig(options.workers, options.backend, options.address)
     with claim_out_dir(options.out, command), workers_kept_up(run):
         # the workers stay up from one file's object to the next
-        for grasp_file, config in zip(files, configs, strict=True):
-            rows.append(label_file(grasp_file, config, options, command))
+        for grasp_file, (config, grasps) in zip(files, checked, strict=True):
+            rows.append(label_file(grasp_file, config, grasps, options, command))
             print(f"{grasp_file.name}: {_line(rows[-1])}", file=sys.stderr)
     total = _totals(rows)
     (options.out / SUMMARY_FILE).write_text(json.dumps({"files": rows, **total}, indent=2) + "\n")
@@ -105,9 +105,9 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
 
 
 def label_file(
-    grasp_file: Path, config: LabelConfig, options: Any, command: list[str]
+    grasp_file: Path, config: LabelConfig, grasps: GraspSet, options: Any, command: list[str]
 ) -> dict[str, Any]:
-    """Label one file of a data set into ``OUT/<file stem>/``, holding that directory
+    """Label ``grasps``, one file's, into ``OUT/<file stem>/``, holding that directory
     (:func:`~simgrasp.runs.out_dir.claim_out_dir`: refused, naming the holder, while another
     run is on it); return its summary row."""
     from simgrasp.grasping.labeling.label_run import label_grasp_set
@@ -116,7 +116,7 @@ def label_file(
     out = options.out / grasp_file.stem
     with claim_out_dir(out, command):
         summary, _ = label_grasp_set(
-            grasps_for(grasp_file, options.max_grasps),
+            grasps,
             config,
             out,
             grasp_file=grasp_file,
