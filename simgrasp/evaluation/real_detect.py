@@ -31,7 +31,7 @@ from simgrasp.handles.detector_config import DetectorName
 from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS
-from simgrasp.runs.identity import claim_identity
+from simgrasp.runs.identity import claim_identity, file_digest
 
 Setting = QuadricDetectorConfig | TenPasConfig | SingleViewConfig
 NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
@@ -150,14 +150,11 @@ COLUMNS = tuple(f.name for f in fields(RealDetectRow))
 """The columns of ``real_detect.csv``, in order (its header line)."""
 
 
-def _sha256(data: bytes) -> str:
-    return hashlib.sha256(data).hexdigest()
-
-
-def _read(path: Path, what: str) -> bytes:
-    """The bytes of an input file; one line naming ``what`` when it cannot be read."""
+def _digest(path: Path, what: str) -> str:
+    """The SHA-256 of an input file (:func:`~simgrasp.runs.identity.file_digest`); one line
+    naming ``what`` when it cannot be read."""
     try:
-        return path.read_bytes()
+        return file_digest(path)
     except OSError as exc:
         raise SimgraspError(f"{what}: cannot read {path}: {exc.strerror or exc}") from exc
 
@@ -172,11 +169,11 @@ def _cloud_inputs(cloud: RealCloud) -> dict[str, str]:
             "data folder"
         )
     label = json.dumps(cloud.label.to_json(), sort_keys=True).encode()
-    inputs = {"file": _sha256(_read(cloud.path, what)), "label": _sha256(label)}
+    inputs = {"file": _digest(cloud.path, what), "label": hashlib.sha256(label).hexdigest()}
     meta = cloud.path.parent / "meta.mat"
     image = cloud.path.suffix.lower() in DEPTH_IMAGE_FORMATS
     if image and cloud.depth.intrinsics is None and meta.is_file():
-        inputs["meta"] = _sha256(_read(meta, what))
+        inputs["meta"] = _digest(meta, what)
     return inputs
 
 
@@ -184,7 +181,7 @@ def run_identity(manifest: Path, real_dir: Path, clouds: list[RealCloud]) -> dic
     """What a run's rows depend on besides their setting and seed: the manifest's SHA-256,
     the real data folder (resolved) and each cloud's inputs (:func:`_cloud_inputs`)."""
     return {
-        "manifest": _sha256(_read(manifest, "manifest")),
+        "manifest": _digest(manifest, "manifest"),
         "real_dir": str(Path(real_dir).expanduser().resolve()),
         "clouds": {cloud.name: _cloud_inputs(cloud) for cloud in clouds},
     }
