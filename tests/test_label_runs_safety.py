@@ -130,17 +130,24 @@ def _box(path: Path, factor: float = 1.0) -> Path:
     return path
 
 
-def test_an_edited_mesh_file_is_refused_as_a_changed_setting(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    """Two labels of a box mesh, then the file scaled by 1.3 and the run extended to all its
-    grasps: refused in one line naming ``mesh_sha256``; the old labels stay alone."""
+def _box_labeled_twice(tmp_path: Path) -> tuple[Path, Path, list[str]]:
+    """A box mesh, 4 grasps sampled on it and the first 2 labeled into ``out``: (the mesh,
+    ``out``, the label-grasps arguments for all 4)."""
     mesh = _box(tmp_path / "box.stl")
     grasps = _sample(tmp_path / "g.npz", 4, str(mesh))
     out = tmp_path / "out"
     args = ["label-grasps", str(mesh), "--grasps", str(grasps), "--protocol", "fast"]
     args += ["--no-picture", "--out", str(out)]
     assert main([*args, "--max-grasps", "2"]) == 0
+    return mesh, out, args
+
+
+def test_an_edited_mesh_file_is_refused_as_a_changed_setting(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Two labels of a box mesh, then the file scaled by 1.3 and the run extended to all its
+    grasps: refused in one line naming ``mesh_sha256``; the old labels stay alone."""
+    mesh, out, args = _box_labeled_twice(tmp_path)
     assert json.loads((out / "run.json").read_text())["mesh_sha256"] == file_digest(mesh)
     _box(mesh, 1.3)
     capsys.readouterr()
@@ -156,12 +163,7 @@ def test_a_folder_labeled_before_mesh_digests_resumes_and_records_one(
     """A mesh object's folder whose ``run.json`` predates the mesh digest (a long ACRONYM run,
     say) resumes over more grasps, labeling only the new ones, and records the digest from
     then on."""
-    mesh = _box(tmp_path / "box.stl")
-    grasps = _sample(tmp_path / "g.npz", 4, str(mesh))
-    out = tmp_path / "out"
-    args = ["label-grasps", str(mesh), "--grasps", str(grasps), "--protocol", "fast"]
-    args += ["--no-picture", "--out", str(out)]
-    assert main([*args, "--max-grasps", "2"]) == 0
+    mesh, out, args = _box_labeled_twice(tmp_path)
     run = json.loads((out / "run.json").read_text())
     del run["mesh_sha256"]  # as written before this version
     (out / "run.json").write_text(json.dumps(run))
