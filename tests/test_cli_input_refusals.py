@@ -88,6 +88,9 @@ IGNORED_FLAGS = [
     (["labels", "--real-dir", "/x", "--objects", "gen_hammer"],
      "--real-dir needs --osd or --real"),
     (["compare-labels", "lg1", "lg2", "--plot", "p.png"], "--plot needs --reference"),
+    (["compare-labels", "lg1", "lg2", "--interval-draws", "50"],
+     "--interval-draws needs --reference"),
+    (["compare-labels", "lg1", "lg2", "--seed", "3"], "--seed needs --reference"),
 ]  # fmt: skip
 
 

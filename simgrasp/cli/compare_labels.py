@@ -32,22 +32,27 @@ class Options(Checked):
     examples.json, to this folder."""
     examples_per_kind: PositiveInt = 3
     """With --examples: how many grasps of each kind."""
+    interval_draws: NonNegativeInt = 2000
+    """With --reference: resamples of the files (drawn again with replacement) for the 95 %
+    interval of each group's accuracy and balanced accuracy, which says how much a figure
+    depends on which objects were labeled; 0: no intervals."""
     seed: NonNegativeInt = 0
-    """With --examples: the seed of the examples' draw."""
+    """With --reference: the seed of the intervals' resamples and of the examples' draw."""
     json: bool = False
     """Print the counts as JSON."""
 
     def _check(self) -> None:
-        """Refuse flags that would be ignored: those of --reference without it (a plot and
-        examples show disagreements with a file's own labels), those of --examples without it
-        (given at a value other than their default)."""
-        for flag, value in (("--plot", self.plot), ("--examples", self.examples)):
-            if value is not None and self.reference_file is None:
-                raise SimgraspError(f"{flag} needs --reference (a grasp file with its own labels)")
+        """Refuse flags that would be ignored: those of --reference without it (a plot,
+        examples and intervals show agreement with a file's own labels), those of --examples
+        without it (given at a value other than their default)."""
         defaults = {f.name: f.default for f in fields(self)}
-        for name in ("examples_per_kind", "seed"):
-            if self.examples is None and getattr(self, name) != defaults[name]:
-                raise SimgraspError(f"--{name.replace('_', '-')} needs --examples")
+        changed = {f.name for f in fields(self) if getattr(self, f.name) != defaults[f.name]}
+        for name in ("plot", "examples", "interval_draws", "seed"):
+            if name in changed and self.reference_file is None:
+                flag = f"--{name.replace('_', '-')}"
+                raise SimgraspError(f"{flag} needs --reference (a grasp file with its own labels)")
+        if self.examples is None and "examples_per_kind" in changed:
+            raise SimgraspError("--examples-per-kind needs --examples")
 
 
 def run(options: Options) -> int:
@@ -81,7 +86,9 @@ def _against_file(options: Options) -> int:
     files = expand_grasp_files(options.reference_file)
     for file in files:
         check_reference_object(options.reference, file)
-    comparison = compare_with_reference(options.reference, files)
+    comparison = compare_with_reference(
+        options.reference, files, options.interval_draws, options.seed
+    )
     if options.plot is not None:
         plot_comparison(comparison, options.reference, options.plot)
     if options.examples is not None:

@@ -4,7 +4,8 @@
 ``OURS`` is a ``label-grasps`` output directory: of one file (its ``labels.npz``), or of a data
 set (``OURS/<file stem>/labels.npz``). Grasps we could not score (``invalid``,
 ``sim_unstable``) are left out; a run of a file's first N grasps is compared on those N. The
-metrics are :func:`simgrasp.grasping.agreement.agreement`'s; the plot shows each object's
+metrics are :func:`simgrasp.grasping.labeling.agreement.agreement`'s, with an interval over
+resampled files for each group of several; the plot shows each object's
 accuracy and balanced accuracy and the overall ROC curve of our ``score``.
 """
 
@@ -16,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
-from simgrasp.grasping.labeling.agreement import agreement
+from simgrasp.grasping.labeling.agreement import agreement, file_interval
 
 
 def labels_dir_of(ours: Path, reference: Path) -> Path:
@@ -38,9 +39,14 @@ def labels_dir_of(ours: Path, reference: Path) -> Path:
     raise DataNotFoundError(f"no labels of {reference.name} in {ours} (label-grasps it first)")
 
 
-def compare_with_reference(ours: Path, references: list[Path]) -> dict[str, Any]:
+def compare_with_reference(
+    ours: Path, references: list[Path], draws: int = 0, seed: int = 0
+) -> dict[str, Any]:
     """Per-file and overall agreement (also per category: the file name's part before the
-    first ``_``, as ACRONYM names files ``Category_id_scale.h5``)."""
+    first ``_``, as ACRONYM names files ``Category_id_scale.h5``). With ``draws``, each group
+    of two or more files also gets the 95 % ``interval`` of its accuracy and balanced accuracy
+    over ``draws`` resamples of its files (:func:`~simgrasp.grasping.labeling.agreement
+    .file_interval`, from ``seed``)."""
     from simgrasp.grasping.labeling.dataset_run import _our_labels
     from simgrasp.grasping.labeling.grasp_files import reference_labels
 
@@ -60,7 +66,12 @@ def compare_with_reference(ours: Path, references: list[Path]) -> dict[str, Any]
             parts[0].append(truth)
             parts[1].append(success[scored])
             parts[2].append(score[scored])
-    groups = {k: agreement(*(np.concatenate(p) for p in parts)) for k, parts in pooled.items()}
+    groups = {}
+    for key, parts in pooled.items():
+        groups[key] = agreement(*(np.concatenate(p) for p in parts))
+        interval = file_interval(list(zip(parts[0], parts[1], strict=True)), draws, seed)
+        if interval is not None:
+            groups[key]["interval"] = interval
     return {"files": rows, "groups": groups}
 
 
@@ -79,7 +90,19 @@ def comparison_text(comparison: dict[str, Any]) -> str:
     head += f"{'SF':>5s} {'FS':>5s} {'FF':>5s}   (reference x ours: S success, F failure)"
     body = [line(r["file"], r) for r in comparison["files"]]
     body += [line(f"[{k}]", a) for k, a in comparison["groups"].items()]
+    body += [
+        _interval_line(k, a["interval"]) for k, a in comparison["groups"].items() if "interval" in a
+    ]
     return "\n".join([head, *body])
+
+
+def _interval_line(group: str, interval: dict[str, Any]) -> str:
+    accuracy, balanced = interval["accuracy"], interval["balanced_accuracy"]
+    return (
+        f"[{group}] {100 * interval['level']:.0f} % interval over its {interval['files']} files "
+        f"({interval['draws']} resamples): accuracy {accuracy[0]:.3f}-{accuracy[1]:.3f}, "
+        f"balanced {balanced[0]:.3f}-{balanced[1]:.3f}"
+    )
 
 
 def plot_comparison(comparison: dict[str, Any], ours: Path, path: Path) -> None:
