@@ -1,0 +1,82 @@
+"""The ``simgrasp`` commands that README.md and the committed results print use flags today's
+parsers know: a flag renamed or removed since a run was committed fails here, not in the
+hands of a reader who copies the command."""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+from simgrasp.cli import COMMANDS, build_parser
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+COMMAND = re.compile(r"^\s*(?:[A-Z_]+=\S+\s+)*simgrasp\s+([a-z][a-z-]*)(.*)$")
+CHAIN = re.compile(r"&&|\|\||;|\|")
+"""What separates the commands of one shell line."""
+FLAG = re.compile(r"(?<![\w-])--[a-z][\w.-]*")
+
+
+def _commands(path: Path) -> list[tuple[int, str, str]]:
+    """(line number, command, its arguments with continuation lines joined) of every
+    ``simgrasp COMMAND ...`` in a fenced or 4-space indented block of ``path``, also where a
+    shell line chains several commands."""
+    found, fenced, lines, joined = [], False, path.read_text().splitlines(), 0
+    for number, line in enumerate(lines, 1):
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+            continue
+        if number <= joined or not (fenced or line.startswith("    ")) or "simgrasp " not in line:
+            continue
+        following = number
+        while line.rstrip().endswith("\\") and following < len(lines):
+            line = line.rstrip()[:-1] + " " + lines[following]
+            following += 1
+        joined = following
+        for part in CHAIN.split(line.split("#", 1)[0]):
+            if (match := COMMAND.match(part)) is not None:
+                found.append((number, match.group(1), match.group(2)))
+    return found
+
+
+def _known_flags(command: str) -> set[str]:
+    """Every option string of ``simgrasp command``."""
+    parser = build_parser(command)
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return set(sub.choices[command]._option_string_actions)
+
+
+def test_documented_commands_use_flags_the_cli_knows() -> None:
+    known: dict[str, set[str]] = {}
+    problems = []
+    checked = 0
+    for path in DOCS:
+        for number, command, rest in _commands(path):
+            where = f"{path.relative_to(ROOT)}:{number}"
+            if command not in COMMANDS:
+                problems.append(f"{where}: no command {command!r}")
+                continue
+            flags = known.setdefault(command, _known_flags(command))
+            checked += 1
+            problems += [
+                f"{where}: simgrasp {command} has no {flag}"
+                for flag in FLAG.findall(rest)
+                if flag not in flags
+            ]
+    assert checked > 50, f"only {checked} documented commands found: is the pattern stale?"
+    assert not problems, "\n".join(problems)
+
+
+def test_a_stale_flag_is_found(tmp_path: Path) -> None:
+    """The checker itself: an unknown flag of the second command of a chained, continued
+    line is reported against that command, the first command's flags against its own."""
+    page = tmp_path / "page.md"
+    chained = (
+        "simgrasp detect c.npy --json > d.json && \\\n      simgrasp view d.json --no-such-flag 1"
+    )
+    page.write_text(f"Run:\n\n    {chained}\n")
+    found = _commands(page)
+    assert [(number, command) for number, command, _ in found] == [(3, "detect"), (3, "view")]
+    stale = [f for _, c, rest in found for f in FLAG.findall(rest) if f not in _known_flags(c)]
+    assert stale == ["--no-such-flag"]
