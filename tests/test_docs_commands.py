@@ -1,6 +1,6 @@
-"""The ``simgrasp`` commands that README.md and the committed results print use flags today's
-parsers know: a flag renamed or removed since a run was committed fails here, not in the
-hands of a reader who copies the command."""
+"""The commands that README.md and the committed results print (``simgrasp ...``, ``python
+scripts/...``, ``python benchmarks/...``) use flags that exist today: a flag renamed or removed
+since a run was committed fails here, not in the hands of a reader who copies the command."""
 
 from __future__ import annotations
 
@@ -13,21 +13,22 @@ from simgrasp.cli import COMMANDS, build_parser
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
 COMMAND = re.compile(r"^\s*(?:[A-Z_]+=\S+\s+)*simgrasp\s+([a-z][a-z-]*)(.*)$")
+SCRIPT = re.compile(r"^\s*(?:[A-Z_]+=\S+\s+)*python\s+((?:scripts|benchmarks)/\w+\.py)(.*)$")
 CHAIN = re.compile(r"&&|\|\||;|\|")
 """What separates the commands of one shell line."""
 FLAG = re.compile(r"(?<![\w-])--[a-z][\w.-]*")
 
 
-def _commands(path: Path) -> list[tuple[int, str, str]]:
-    """(line number, command, its arguments with continuation lines joined) of every
-    ``simgrasp COMMAND ...`` in a fenced or 4-space indented block of ``path``, also where a
-    shell line chains several commands."""
+def _commands(path: Path, command: re.Pattern[str] = COMMAND) -> list[tuple[int, str, str]]:
+    """(line number, command, its arguments with continuation lines joined) of every match of
+    ``command`` (``simgrasp COMMAND ...``; :data:`SCRIPT`: a script's path) in a fenced or
+    4-space indented block of ``path``, also where a shell line chains several commands."""
     found, fenced, lines, joined = [], False, path.read_text().splitlines(), 0
     for number, line in enumerate(lines, 1):
         if line.lstrip().startswith("```"):
             fenced = not fenced
             continue
-        if number <= joined or not (fenced or line.startswith("    ")) or "simgrasp " not in line:
+        if number <= joined or not (fenced or line.startswith("    ")):
             continue
         following = number
         while line.rstrip().endswith("\\") and following < len(lines):
@@ -35,7 +36,7 @@ def _commands(path: Path) -> list[tuple[int, str, str]]:
             following += 1
         joined = following
         for part in CHAIN.split(line.split("#", 1)[0]):
-            if (match := COMMAND.match(part)) is not None:
+            if (match := command.match(part)) is not None:
                 found.append((number, match.group(1), match.group(2)))
     return found
 
@@ -65,6 +66,30 @@ def test_documented_commands_use_flags_the_cli_knows() -> None:
                 if flag not in flags
             ]
     assert checked > 50, f"only {checked} documented commands found: is the pattern stale?"
+    assert not problems, "\n".join(problems)
+
+
+def test_documented_scripts_use_flags_they_define() -> None:
+    """Each ``--flag`` of a documented script command is a string the script's source holds
+    (its argparse flags), or ``--help``. The three scripts whose flags a settings dataclass
+    makes (``script_main``) are left out: their flags are not strings in their source."""
+    problems, checked = [], 0
+    for path in DOCS:
+        for number, script, rest in _commands(path, SCRIPT):
+            where = f"{path.relative_to(ROOT)}:{number}"
+            if not (ROOT / script).is_file():
+                problems.append(f"{where}: no {script}")
+                continue
+            source = (ROOT / script).read_text()
+            if "script_main" in source:
+                continue
+            checked += 1
+            problems += [
+                f"{where}: {script} has no {flag}"
+                for flag in FLAG.findall(rest)
+                if flag != "--help" and f'"{flag}"' not in source
+            ]
+    assert checked > 30, f"only {checked} documented script commands found: is the pattern stale?"
     assert not problems, "\n".join(problems)
 
 
