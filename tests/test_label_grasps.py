@@ -249,3 +249,23 @@ def test_free_floating_labels(known_set: Path, tmp_path: Path) -> None:
     assert [r["on_handle"] for r in records] == [True, False, False, False]
     assert records[0]["object_pose"][2] > 0.4  # started in the air
     assert records[0]["lift_height"] < 0.0  # sagged a little under its weight, still held
+
+
+def test_labels_picture_is_the_same_from_run_to_run(tmp_path: Path) -> None:
+    """The labels picture's surface points come from a seeded draw: two pictures of the same
+    records are the same bytes (the surface was an unseeded trimesh sample)."""
+    import trimesh
+
+    from simgrasp.plots.grasp_labels import plot_labels
+
+    mesh = trimesh.creation.box((0.04, 0.06, 0.1))
+    grasps = np.tile(np.eye(4), (2, 1, 1))
+    records = [
+        {"success": True, "failure": None, "on_handle": False},
+        {"success": False, "failure": "missed", "on_handle": False},
+    ]
+    pictures = [
+        plot_labels(mesh, grasps, np.full(2, 0.08), records, tmp_path / f"{i}.png", "box")
+        for i in range(2)
+    ]
+    assert pictures[0].read_bytes() == pictures[1].read_bytes()

@@ -16,6 +16,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from simgrasp.perception import sample_surface
 from simgrasp.seeding import rng_for
 
 FINGER_LENGTH = 0.05
@@ -66,7 +67,9 @@ def plot_labels(
     import matplotlib.pyplot as plt
 
     figure = plt.figure(figsize=(12, 6))
-    surface = mesh.sample(6000, return_index=False) if len(mesh.faces) else mesh.vertices
+    surface = mesh.vertices
+    if len(mesh.faces):
+        surface, _ = sample_surface(mesh, 6000, rng_for(0, "label_plot", "surface"))
     classes = [outcome(r) for r in records]
     panels = (("held", ("on_handle", "off_handle")), ("failed", ("failed",)))
     for column, (name, wanted) in enumerate(panels, start=1):
