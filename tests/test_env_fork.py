@@ -1,7 +1,8 @@
 """``gymnasium.make_vec(..., vectorization_mode="async")`` with the default (fork) start method
 after the parent has rendered: it used to hang forever (issue 14, item 1), then failed at once
 (a GL context must not cross a fork). Now the forked workers render depth with the GL-free ray
-caster, which agrees with the parent's GL render to well under a millimeter. Run in a fresh
+caster, which agrees with the parent's GL render to well under a millimeter but at silhouette
+pixels, and the reset info says so (``render_backend``). Run in a fresh
 process with a timeout so that a regression fails instead of hanging CI."""
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ SCRIPT = textwrap.dedent(
                         height=120)
     small = dict(objects=("gen_hammer",), max_points=512, scene=SceneConfig(cameras=(camera,)))
     env = gymnasium.make("simgrasp/HandleGrasp-v0", **small)
-    parent, _ = env.reset(seed=0)  # the parent renders: it holds a GL context now
+    parent, parent_info = env.reset(seed=0)  # the parent renders: it holds a GL context now
     vector_env = gymnasium.make_vec(
         "simgrasp/HandleGrasp-v0", num_envs=2, vectorization_mode="async", **small
     )
@@ -44,6 +45,8 @@ SCRIPT = textwrap.dedent(
     seen = (parent["depth"][0] > 0) | (forked["depth"][0][0] > 0)
     print(json.dumps({
         "parent_backend": select_backend(),
+        "parent_info_backend": parent_info["render_backend"],
+        "worker_backends": [str(b) for b in info["render_backend"]],
         "pixels_both": int(both.sum()),
         "pixels_either": int(seen.sum()),
         "median_diff_m": float(np.median(diff)),
@@ -83,3 +86,6 @@ def test_async_vector_env_after_a_parent_reset_renders_in_its_forked_workers() -
     assert result["p99_diff_m"] < 5e-3, result  # silhouette pixels aside
     assert min(result["cloud_points"]) > 100, result
     assert len(result["rewards"]) == 2, result
+    # the reset info says which renderer made each cloud: the same seed differs at silhouettes
+    assert result["parent_info_backend"] == result["parent_backend"] != "raycast", result
+    assert result["worker_backends"] == ["raycast", "raycast"], result

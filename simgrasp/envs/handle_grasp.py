@@ -47,6 +47,7 @@ from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
 from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
+from simgrasp.scenes.render import select_backend
 from simgrasp.scenes.scene import Scene, build_scene
 from simgrasp.scenes.views import CHAIN_VIEWS, MAX_VIEWS
 from simgrasp.seeding import rng_for
@@ -180,9 +181,12 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[Observation, dict[str, Any]]:
-        """Start an episode; info: ``object`` (the model's name), ``episode_seed`` and
-        ``cloud_points`` (the cloud's size before subsampling). A reset that fails (an unknown
-        object, say) has ended the previous episode: ``step`` then raises, naming it."""
+        """Start an episode; info: ``object`` (the model's name), ``episode_seed``,
+        ``cloud_points`` (the cloud's size before subsampling) and ``render_backend`` (the
+        depth renderer: GL, or ``raycast`` in a worker forked after its parent rendered, whose
+        silhouette pixels differ, so the same seed gives another cloud). A reset that fails
+        (an unknown object, say) has ended the previous episode: ``step`` then raises, naming
+        it."""
         super().reset(seed=seed)
         self._end_episode()
         try:
@@ -212,6 +216,7 @@ class HandleGraspEnv(gymnasium.Env[Observation, NDArray[np.float64]]):
             "object": scene.object_name,
             "episode_seed": episode_seed,
             "cloud_points": len(cloud),
+            "render_backend": select_backend(),
         }
         return _copied(observation), info
 
