@@ -20,6 +20,7 @@ from simgrasp.grasping.trials.chain import ChainResult
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.key_frames import write_frames
+from simgrasp.scenes.render import select_backend
 from simgrasp.scenes.scene import build_scene
 from simgrasp.transforms import matrix_to_pose7
 
@@ -149,6 +150,7 @@ def test_trial_reruns_the_evaluate_record_of_the_same_object_and_seed(capsys) ->
     assert rerun["object"] == swept["object_asset"] == "gen_mug_s0"
     for key in ("failure", "success", "on_handle", "candidates", "handles", "object_pose"):
         assert rerun[key] == swept[key], key
+    assert rerun["render_backend"] == select_backend()  # as evaluate's defaults.json has it
 
 
 @pytest.mark.parametrize("blocker", ["file", "dir"])

@@ -136,12 +136,16 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
 
 
 def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
-    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`)."""
+    """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`); the
+    record says which renderer made the depth (``render_backend``: GL and ray-cast depth
+    differ at silhouettes, so a seed's trial depends on it, as ``evaluate`` records too)."""
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain import run_chain
+    from simgrasp.scenes.render import select_backend
 
     object_model = model_for(options.object_name(options.object), options.ycb_dir)
-    return run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
+    record = run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
+    return {**record, "render_backend": select_backend()}
 
 
 def _print_summary(record: dict[str, Any]) -> None:
