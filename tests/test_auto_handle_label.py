@@ -63,6 +63,7 @@ def test_cli_labels_objects_by_name(
     assert main(["label-handles", "gen_hammer_s0", "--out", str(out), *VIEWS_12]) == 0
     by_name = load_handle_label(out)
     assert by_name.object_name == "gen_hammer_s0"
+    assert "(--label.seed 0)" in json.loads(out.read_text())["description"]  # what made it
     assert _iou(by_name, asset.handle, asset.mesh) >= 0.6
     asset.mesh.copy().apply_scale(1000.0).export(tmp_path / "hammer.stl")
     catalog = tmp_path / "objects.toml"

@@ -3,6 +3,7 @@ that takes an OBJECT, and the one-line refusals of flags that contradict each ot
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -101,7 +102,11 @@ def test_object_and_sample_grasps_take_the_object_flags(
     assert (
         main(["sample-grasps", "box_mm.stl", "--units", "mm", "--n", "3", "--out", "g3.npz"]) == 0
     )
-    assert np.load(workdir / "g3.npz")["width"].shape == (3,)
+    with np.load(workdir / "g3.npz") as grasps:
+        assert grasps["width"].shape == (3,)
+        made_by = json.loads(str(grasps["made_by"]))  # what drew them, seed included
+    assert made_by["object"] == "box_mm.stl?units=mm" and made_by["seed"] == 0
+    assert made_by["n"] == 3 and made_by["gripper"] == "builtin"
     assert main(["object", "export", "box_mm.stl", "--units", "mm", "--out", "ex"]) == 0
     assert (workdir / "ex" / "box_mm.xml").is_file()
     assert "box_mm.stl?units=mm: wrote ex/box_mm.xml" in capsys.readouterr().out

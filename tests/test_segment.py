@@ -371,10 +371,12 @@ def test_a_wall_filling_the_view_is_an_empty_result(
     assert main(["segment", str(path), "--json", "--labels", str(labels)]) == 0
     report = json.loads(capsys.readouterr().out)
     assert report["objects"] == [] and report["table"]["points"] == WIDTH * HEIGHT
-    assert set(report) == {"table", "objects", "timings_s", "pixel_scale"}
+    assert set(report) == {"table", "objects", "timings_s", "pixel_scale", "settings"}
+    assert report["settings"]["seed"] == 0  # what made it: the segmentation settings
     assert (np.load(labels) == 1).all()
-    assert main(["detect", str(path), "--segment", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["handles"] == []
+    assert main(["detect", str(path), "--segment", "--json", "--seed", "4"]) == 0
+    detection = json.loads(capsys.readouterr().out)
+    assert detection["handles"] == [] and detection["input"]["seed"] == 4
 
 
 def test_scene_from_array_refuses_a_wrong_shape() -> None:

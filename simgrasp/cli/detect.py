@@ -146,15 +146,16 @@ def _run_segmented(options: Options) -> int:
 
 
 def _input_record(options: Options) -> dict[str, Any]:
-    """What ``simgrasp view`` needs to draw the detection over its input: the cloud's resolved
-    path and SHA-256 (a file replaced since is not drawn under it), its units, and with
-    ``--segment`` the segmentation settings."""
+    """What made the detection, and what ``simgrasp view`` needs to draw it over its input:
+    the cloud's resolved path and SHA-256 (a file replaced since is not drawn under it), its
+    units, the seed, and with ``--segment`` the segmentation settings."""
     from simgrasp.runs.identity import file_digest
 
     record: dict[str, Any] = {
         "path": str(options.cloud.resolve()),
         "sha256": file_digest(options.cloud),
         "units": options.units,
+        "seed": options.seed,
     }
     if options.segment:
         record["segmentation"] = asdict(options.segmentation)

@@ -63,8 +63,8 @@ def run(options: Options) -> int:
     with stdout_to_stderr():
         result = auto_handle_label(mesh, name, options.label)
     description = (
-        f"Automatic handle label of {source} by simgrasp label-handles, in the scaled mesh's "
-        "frame, meters."
+        f"Automatic handle label of {source} by simgrasp label-handles "
+        f"(--label.seed {options.label.seed}), in the scaled mesh's frame, meters."
     )
     options.out.parent.mkdir(parents=True, exist_ok=True)
     write_label_file(options.out, {name: result.label}, description)

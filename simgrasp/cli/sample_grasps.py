@@ -1,7 +1,8 @@
 """``simgrasp sample-grasps OBJECT --n N --out FILE.npz``: antipodal grasps on an object's
 mesh (as ACRONYM samples them), saved as a grasp set.
 
-The grasps are in the object's mesh frame (``object_T_grasp``, ``width``) and, unless
+The grasps are in the object's mesh frame (``object_T_grasp``, ``width``; ``made_by``: the
+object, count, seed and settings that drew them, as JSON text) and, unless
 ``--no-table``, clear of the table under the object's rest pose in the scene of ``--seed``
 (the scene ``label-grasps --seed`` labels them in).
 """
@@ -55,7 +56,16 @@ def run(options: Options) -> int:
         table=not options.no_table,
         ycb_dir=options.ycb_dir,
     )
-    write_grasp_set(options.out, grasps.object_T_tcp, grasps.width)
+    made_by = {
+        "command": "sample-grasps",
+        "object": options.object_name(options.object),
+        "n": options.n,
+        "seed": options.seed,
+        "gripper": options.gripper,
+        "placement": options.placement,
+        "table": not options.no_table,
+    }
+    write_grasp_set(options.out, grasps.object_T_tcp, grasps.width, made_by)
     seconds = time.perf_counter() - start
     found = len(grasps.width)
     short = f" (only {found} of {options.n} found)" if found < options.n else ""

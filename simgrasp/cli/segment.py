@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from simgrasp.config import setting
@@ -23,7 +23,7 @@ class Options(Checked):
     """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters), or a
     depth image .png / .tif (one sensor frame: --depth.intrinsics, --depth.scale)."""
     json: bool = False
-    """Print one JSON object."""
+    """Print one JSON object (with ``settings``: the segmentation settings, seed included)."""
     labels: Path | None = setting(None, metavar="OUT.npy", output="file", suffixes=(".npy",))
     """Write one int32 label per input point, in the input's order (0 invalid, 1 table, 2..
     objects nearest first)."""
@@ -56,7 +56,7 @@ def run(options: Options) -> int:
         written = write_object_clouds(scene, result, options.clouds)
         print(f"{len(written)} object clouds written to {options.clouds}", file=sys.stderr)
     if options.json:
-        json.dump(result.to_json(), sys.stdout)
+        json.dump({**result.to_json(), "settings": asdict(options.segment)}, sys.stdout)
         sys.stdout.write("\n")
         return 0
     plane = ", ".join(f"{v:+.4f}" for v in result.plane)

@@ -11,7 +11,7 @@ Formats (chosen by the file's suffix):
 
 - ``.npz`` / ``.json``: ``object_T_grasp`` (N x 4 x 4) or ``poses`` (N x 7,
   ``[x, y, z, qw, qx, qy, qz]``), already in our TCP convention; optional ``width`` (N, m: the
-  jaw opening before closing).
+  jaw opening before closing); ``sample-grasps`` adds ``made_by`` (JSON text: what drew them).
 - ``.h5`` / ``.hdf5``: ACRONYM (Eppner et al. 2021): ``grasps/transforms`` (N x 4 x 4) poses
   of the Franka hand's frame: its origin is the hand's base (the flange side), +z the approach,
   the fingers close along its x axis and their pads end 0.112 m along +z (ACRONYM's gripper
@@ -306,11 +306,19 @@ def _load_numpy(path: Path) -> Any:
         raise SimgraspError(f"{unreadable} ({_first_sentence(exc)})") from None
 
 
-def write_grasp_set(path: Path | str, object_T_tcp: NDArray, width: NDArray) -> Path:
-    """Save grasps as our ``.npz`` (``object_T_grasp``, ``width``); returns the path."""
+def write_grasp_set(
+    path: Path | str,
+    object_T_tcp: NDArray,
+    width: NDArray,
+    made_by: dict[str, Any] | None = None,
+) -> Path:
+    """Save grasps as our ``.npz`` (``object_T_grasp``, ``width``; with ``made_by``, also
+    that JSON text under ``made_by``: the command and settings, seed included, that drew
+    them); returns the path."""
     path = Path(path)
     if path.suffix.lower() != ".npz":
         raise SimgraspError(f"grasp sets are written as .npz, got {path}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(path, object_T_grasp=np.asarray(object_T_tcp), width=np.asarray(width))
+    extra = {} if made_by is None else {"made_by": np.array(json.dumps(made_by, sort_keys=True))}
+    np.savez(path, object_T_grasp=np.asarray(object_T_tcp), width=np.asarray(width), **extra)
     return path
