@@ -67,7 +67,7 @@ def plot_labels(
     import matplotlib.pyplot as plt
 
     figure = plt.figure(figsize=(12, 6))
-    surface = mesh.vertices
+    surface = np.asarray(mesh.vertices)
     if len(mesh.faces):
         surface, _ = sample_surface(mesh, 6000, rng_for(0, "label_plot", "surface"))
     classes = [outcome(r) for r in records]

@@ -319,6 +319,11 @@ def write_grasp_set(
     if path.suffix.lower() != ".npz":
         raise SimgraspError(f"grasp sets are written as .npz, got {path}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    extra = {} if made_by is None else {"made_by": np.array(json.dumps(made_by, sort_keys=True))}
-    np.savez(path, object_T_grasp=np.asarray(object_T_tcp), width=np.asarray(width), **extra)
+    arrays: dict[str, Any] = {
+        "object_T_grasp": np.asarray(object_T_tcp),
+        "width": np.asarray(width),
+    }
+    if made_by is not None:
+        arrays["made_by"] = np.array(json.dumps(made_by, sort_keys=True))
+    np.savez(path, **arrays)
     return path
