@@ -186,3 +186,40 @@ def test_a_catalog_object_records_its_mesh_and_a_generated_one_none(
     run = run_identity(grasps, LabelConfig("my_box"), grasp_file)
     assert run["mesh_sha256"] == file_digest(mesh)
     assert "mesh_sha256" not in run_identity(grasps, LabelConfig("gen_hammer"), grasp_file)
+
+
+def _box_handles(path: Path, half_height: float) -> Path:
+    """A handle label file of ``box``: the box's top ``half_height`` (m) as one region."""
+    region = {"type": "box", "center": [0.0, 0.0, 0.05], "rotation": np.eye(3).tolist()}
+    region["half_extents"] = [0.02, 0.03, half_height]
+    label = {"whole_object": False, "regions": [region]}
+    path.write_text(json.dumps({"description": "test", "objects": {"box": label}}))
+    return path
+
+
+def test_an_edited_handle_label_file_is_refused_and_an_older_folder_adopts_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--handles FILE`` sets what ``on_handle`` means: its SHA-256 is in ``run.json``, so
+    the file edited under its name is refused in one line naming ``handles_sha256`` (a
+    resume would score half the grasps on each label); a folder written before the digest
+    resumes and records it."""
+    mesh = _box(tmp_path / "box.stl")
+    handles = _box_handles(tmp_path / "handles.json", 0.01)
+    grasps = _sample(tmp_path / "g.npz", 4, str(mesh))
+    out = tmp_path / "out"
+    args = ["label-grasps", str(mesh), "--handles", str(handles), "--grasps", str(grasps)]
+    args += ["--protocol", "fast", "--no-picture", "--out", str(out)]
+    assert main([*args, "--max-grasps", "2"]) == 0
+    run = json.loads((out / "run.json").read_text())
+    assert run["handles_sha256"] == file_digest(handles)
+    del run["handles_sha256"]  # as written before this version
+    (out / "run.json").write_text(json.dumps(run))
+    assert main([*args, "--max-grasps", "3"]) == 0
+    assert json.loads((out / "run.json").read_text())["handles_sha256"] == file_digest(handles)
+    _box_handles(handles, 0.05)
+    capsys.readouterr()
+    assert main(args) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith(f"{ERROR}{out} holds labels of another run (handles_sha256: ")
+    assert sorted(_indices(out)) == [0, 1, 2]

@@ -142,5 +142,36 @@ def test_evaluate_refuses_to_resume_on_an_edited_mesh(
     trimesh.creation.box(np.array(BOX_M) * 1.3).export(workdir / "box_m.stl")
     assert main([*sweep, "2"]) == 2  # after a note that the new mesh's handle is being found
     line = capsys.readouterr().err.strip().splitlines()[-1]
-    assert "holds trials of these objects run on other mesh file contents (box_m.stl:" in line
+    assert (
+        "holds trials of these objects run on other mesh or handle label file contents (box_m.stl:"
+        in line
+    )
     assert (workdir / "e" / "trials.jsonl").read_bytes() == log
+
+
+def test_evaluate_refuses_to_resume_on_an_edited_handle_label_file(
+    workdir: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The handle label file given for an object sets what ``on_handle`` means: edited under
+    its name after a sweep, resuming into the same folder is refused in one line."""
+    handles = workdir / "handles.json"
+    label = {"whole_object": False, "regions": [_top_box(0.01)]}
+    handles.write_text(json.dumps({"description": "test", "objects": {"box_m": label}}))
+    sweep = ["evaluate", "--objects", "box_m.stl?handles=handles.json", "--detector", "random"]
+    sweep += ["--noise", "0", "--out", "e", "--no-progress", "--seeds"]
+    assert main([*sweep, "1"]) == 0
+    log = (workdir / "e" / "trials.jsonl").read_bytes()
+    label["regions"] = [_top_box(0.04)]
+    handles.write_text(json.dumps({"description": "test", "objects": {"box_m": label}}))
+    capsys.readouterr()
+    assert main([*sweep, "2"]) == 2
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "handle label file contents (handles of box_m.stl?handles=handles.json:" in line
+    assert (workdir / "e" / "trials.jsonl").read_bytes() == log
+
+
+def _top_box(half_height: float) -> dict[str, object]:
+    """A handle region: the top of the box ``BOX_M``, ``half_height`` (m) deep each way."""
+    center = [0.0, 0.0, BOX_M[2] / 2]
+    half = [BOX_M[0] / 2, BOX_M[1] / 2, half_height]
+    return {"type": "box", "center": center, "rotation": np.eye(3).tolist(), "half_extents": half}

@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import re
 from pathlib import Path
+from urllib.parse import parse_qsl
 
 import trimesh
 
@@ -22,7 +23,13 @@ from simgrasp.assets.mesh_object import (
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.errors import SimgraspError
 
-__all__ = ["GENERATED_KINDS", "load_object", "load_object_mesh", "mesh_file_of"]
+__all__ = [
+    "GENERATED_KINDS",
+    "handles_file_of",
+    "load_object",
+    "load_object_mesh",
+    "mesh_file_of",
+]
 
 _GENERATED_NAMES = ", ".join(f"gen_{kind}" for kind in GENERATED_KINDS)
 """Every loadable generated tool, for error messages (the ``generated`` set holds fewer)."""
@@ -81,6 +88,20 @@ def load_object_mesh(
     if spec is not None:
         return read_mesh(parse_mesh_spec(spec))
     return load_object(base, ycb_dir, seed=seed).mesh
+
+
+def handles_file_of(name: str) -> Path | None:
+    """The handle label file object ``name`` takes its label from (a mesh file spec's or a
+    named object's ``handles``, a catalog entry's), else None (a shipped or automatic label,
+    fixed by the package or the mesh). Its contents belong to a run's identity, as the
+    mesh's (:func:`mesh_file_of`)."""
+    base, query = split_spec(name)
+    if is_mesh_spec(name):
+        return parse_mesh_spec(name).handles
+    if (given := dict(parse_qsl(query)).get("handles")) is not None:
+        return Path(given)
+    spec = catalog_entry(base)
+    return None if spec is None else parse_mesh_spec(spec).handles
 
 
 def mesh_file_of(name: str) -> Path | None:

@@ -90,18 +90,21 @@ def check_defaults(out_dir: Path) -> None:
 
 
 MESHES_FILE = "meshes.json"
-"""SHA-256 of each mesh file object's file the sweep's trials were run on (name -> digest)."""
+"""SHA-256 of each mesh file object's file the sweep's trials were run on (name -> digest),
+and of each handle label file given for an object (``handles of NAME`` -> digest)."""
 
 
 def check_meshes(out_dir: Path, objects: list[str]) -> None:
-    """Record the contents of the mesh file objects among ``objects`` in
-    ``out_dir/meshes.json``, or refuse a directory whose trials of such an object were run on
-    other contents (the file edited under its name: a resume would mix the two meshes).
-    Objects new to the directory are added; YCB objects and generated tools have no entry."""
-    from simgrasp.assets.registry import mesh_file_of
+    """Record the contents of the mesh file objects among ``objects``, and of the handle label
+    files given for them, in ``out_dir/meshes.json``, or refuse a directory whose trials of
+    such an object were run on other contents (a file edited under its name: a resume would
+    mix two meshes, or score ``on_handle`` on two labels). Objects new to the directory are
+    added; YCB objects and generated tools have no mesh entry."""
+    from simgrasp.assets.registry import handles_file_of, mesh_file_of
     from simgrasp.runs.identity import file_digest
 
     files = {name: mesh_file_of(name) for name in objects}
+    files.update({f"handles of {name}": handles_file_of(name) for name in objects})
     digests = {name: file_digest(p) for name, p in files.items() if p is not None and p.is_file()}
     if not digests:
         return
@@ -109,7 +112,7 @@ def check_meshes(out_dir: Path, objects: list[str]) -> None:
     claim_identity(
         path,
         digests,
-        what="trials of these objects run on other mesh file contents",
+        what="trials of these objects run on other mesh or handle label file contents",
         hint="use another --out, or delete its trials.jsonl to rerun",
         shared_only=True,
     )

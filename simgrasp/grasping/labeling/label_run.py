@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from simgrasp.assets.registry import mesh_file_of
+from simgrasp.assets.registry import handles_file_of, mesh_file_of
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.grasping.labeling.grasp_sets import GraspSet
 from simgrasp.grasping.labeling.labeling import INVALID, LabelConfig, LabelResult, label_records
@@ -84,28 +84,37 @@ def mesh_digest(name: str) -> str | None:
     return file_digest(path)
 
 
-def _adopt_mesh_digest(path: Path, identity: dict[str, Any]) -> None:
-    """Record the mesh digest in a ``run.json`` written before runs recorded one, so such a
-    directory (a long ACRONYM run, say) resumes from here on: its mesh cannot be checked
-    before this, only after."""
-    if "mesh_sha256" not in identity or not path.is_file():
+FILE_DIGESTS = ("mesh_sha256", "handles_sha256")
+"""The object's file digests, recorded since 6 December 2026 (``run.json``)."""
+
+
+def _adopt_file_digests(path: Path, identity: dict[str, Any]) -> None:
+    """Record the object's file digests (:data:`FILE_DIGESTS`) in a ``run.json`` written
+    before runs recorded them, so such a directory (a long ACRONYM run, say) resumes from here
+    on: its files cannot be checked before this, only after."""
+    adopted = {key: identity[key] for key in FILE_DIGESTS if key in identity}
+    if not adopted or not path.is_file():
         return
     try:
         earlier = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):  # claim_identity names what is wrong with it
         return
-    if isinstance(earlier, dict) and "mesh_sha256" not in earlier:
-        earlier["mesh_sha256"] = identity["mesh_sha256"]
+    if isinstance(earlier, dict) and set(adopted) - set(earlier):
+        earlier.update({key: value for key, value in adopted.items() if key not in earlier})
         path.write_text(json.dumps(earlier, indent=2) + "\n", encoding="utf-8")
 
 
 def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dict[str, Any]:
     """What ``run.json`` holds: the label config, the grasp file's SHA-256 and row count, a
-    mesh-file object's mesh SHA-256, every trial setting of the protocol, the gripper's
-    time-step cap where the protocol coarsens the step."""
+    mesh-file object's mesh SHA-256, a handle label file's SHA-256, every trial setting of
+    the protocol, the gripper's time-step cap where the protocol coarsens the step."""
     run = {**asdict(config), "grasps_sha256": file_digest(grasp_file), "count": len(grasps)}
     if (mesh := mesh_digest(config.object)) is not None:  # YCB, generated: none, as before
         run["mesh_sha256"] = mesh
+    if (handles := handles_file_of(config.object)) is not None:
+        if not handles.is_file():
+            raise DataNotFoundError(f"handle label file {handles} does not exist")
+        run["handles_sha256"] = file_digest(handles)
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
     for key, before in SETTINGS_ADDED.items():
         if run["trial"][key] == before:
@@ -134,7 +143,7 @@ def label_grasp_set(
     run = RunConfig(workers, backend, address, progress)
     out_dir = Path(out_dir)
     identity = run_identity(grasps, config, grasp_file)
-    _adopt_mesh_digest(out_dir / RUN_FILE, identity)
+    _adopt_file_digests(out_dir / RUN_FILE, identity)
     claim_identity(  # labels are per grasp index: a run may go on over more of the same file
         out_dir / RUN_FILE,
         identity,
@@ -161,14 +170,14 @@ def label_grasp_set(
 
 
 def check_run_dir(out_dir: Path, identity: dict[str, Any]) -> None:
-    """Refuse, as :func:`label_grasp_set` would but writing nothing (a mesh digest an older
-    ``run.json`` lacks aside: :func:`_adopt_mesh_digest`), a label directory whose
+    """Refuse, as :func:`label_grasp_set` would but writing nothing (file digests an older
+    ``run.json`` lacks aside: :func:`_adopt_file_digests`), a label directory whose
     ``run.json`` records settings other than ``identity`` (:func:`run_identity`; its grasp
     count aside); a directory without one passes."""
     path = Path(out_dir) / RUN_FILE
     if not path.is_file():
         return
-    _adopt_mesh_digest(path, identity)
+    _adopt_file_digests(path, identity)
     try:
         earlier = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):  # claim_identity names what is wrong with it
