@@ -255,20 +255,7 @@ def test_glob_of_files_resumes_after_sigkill(tmp_path: Path) -> None:
         "--out",
         str(out),
     )
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    first = subprocess.Popen(
-        [sys.executable, "-m", "simgrasp", *args],
-        env=env,
-        cwd=tmp_path,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    log = out / "a" / "labels.jsonl"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and not (log.exists() and log.read_text().count("\n") >= 2):
-        time.sleep(0.05)
-    first.send_signal(signal.SIGKILL)
-    first.wait()
+    _killed_after_two_labels(args, tmp_path, out / "a" / "labels.jsonl")
     assert not (out / "summary.json").exists()
     done = _cli(*args, cwd=tmp_path)
     assert done.returncode == 0, done.stderr
@@ -277,6 +264,26 @@ def test_glob_of_files_resumes_after_sigkill(tmp_path: Path) -> None:
         assert sorted(indices) == list(range(12))
     summary = json.loads((out / "summary.json").read_text())
     assert [row["file"] for row in summary["files"]] == ["a.json", "b.json"]
+    _graspgen_file(tmp_path, "c.json", 12)  # a file more, killed again: no summary of a and b
+    _killed_after_two_labels(args, tmp_path, out / "c" / "labels.jsonl")
+    assert not (out / "summary.json").exists()
+
+
+def _killed_after_two_labels(args: tuple[str, ...], cwd: Path, log: Path) -> None:
+    """Run ``simgrasp *args`` and SIGKILL it once ``log`` holds two labels."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    run = subprocess.Popen(
+        [sys.executable, "-m", "simgrasp", *args],
+        env=env,
+        cwd=cwd,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not (log.exists() and log.read_text().count("\n") >= 2):
+        time.sleep(0.05)
+    run.send_signal(signal.SIGKILL)
+    run.wait()
 
 
 @pytest.fixture(scope="module")

@@ -1,5 +1,6 @@
 """Label a whole data set of grasp files in one run: each file into ``OUT/<file stem>/``, one
-``OUT/summary.json`` over all of them.
+``OUT/summary.json`` over all of them, written when every file is done (a run removes an
+earlier one first, so a run that stopped midway leaves none).
 
 Each file is a :func:`~simgrasp.grasping.label_run.label_grasp_set` run of its own directory,
 so a killed run resumes file by file and grasp by grasp (rerun the same command); a file whose
@@ -94,6 +95,8 @@ def label_files(files: list[Path], options: Any, command: list[str]) -> int:
     rows = []
     run = RunConfig(options.workers, options.backend, options.address)
     with claim_out_dir(options.out, command), workers_kept_up(run):
+        # an earlier run's summary would stand for this one if it stops before the end
+        (options.out / SUMMARY_FILE).unlink(missing_ok=True)
         # the workers stay up from one file's object to the next
         for grasp_file, (config, grasps) in zip(files, checked, strict=True):
             rows.append(label_file(grasp_file, config, grasps, options, command))
