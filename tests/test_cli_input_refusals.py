@@ -65,12 +65,26 @@ def test_demo_refuses_another_commands_run_and_restarts_only_its_own(
     assert (runs["demo"] / "trials.jsonl").read_text() == '{"object": "gen_hammer_s0"}\n'
 
 
-@pytest.mark.parametrize("command", ["evaluate", "labels", "detect-eval"])
-def test_an_empty_objects_list_is_refused(
-    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["evaluate", "--objects", ""],
+        ["labels", "--objects", ""],
+        ["detect-eval", "--objects", ""],
+        ["evaluate", "--detector", ""],  # ran nothing, then: "no trial records to report"
+        ["evaluate", "--sensor", " , "],
+        ["labels", "--osd", ""],  # drew every object's label instead of a scene's
+        ["detect-eval", "--real", "m.toml", "--real-configs", ""],
+    ],
+)
+def test_an_empty_list_is_refused(
+    argv: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    line = refused([command, "--objects", "", "--out", str(tmp_path / "out")], capsys)
-    assert line.startswith("--objects is empty"), line
+    """A comma list given empty (``--osd "$SCENE"`` with SCENE unset) is refused in one line
+    naming the flag, before anything is written; it would run the command's default."""
+    line = refused([*argv, "--out", str(tmp_path / "out")], capsys)
+    assert line.startswith(f"{argv[-2]} is empty: give at least one value ("), line
+    assert not (tmp_path / "out").exists()
 
 
 IGNORED_FLAGS = [

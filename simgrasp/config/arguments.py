@@ -9,6 +9,7 @@ its type, choices, default and docstring in ``--help``. Three flags come with ev
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import types
 import typing
@@ -134,8 +135,17 @@ def _from_flag(leaf: Leaf, value: Any) -> Any:
         except SimgraspError as exc:
             raise SimgraspError(f"{leaf.key}: {exc}") from None
     if isinstance(value, str):
+        if _is_list(leaf.annotation) and not value.replace(",", "").strip():
+            # `--osd "$SCENE"` with SCENE unset: an empty list would run the command's default
+            what = re.sub(r":\w+:`~?([^`]*)`", r"\1", leaf.doc).rstrip(".")
+            raise SimgraspError(f"{flag_name(leaf.key)} is empty: give at least one value ({what})")
         return parse_text(value, leaf.annotation, leaf.key)
     return convert(value, leaf.annotation, leaf.key)
+
+
+def _is_list(annotation: Any) -> bool:
+    """Whether ``annotation`` is a tuple of any length (a comma list on the command line)."""
+    return typing.get_origin(annotation) is tuple and Ellipsis in typing.get_args(annotation)
 
 
 def given_settings(cls: type, args: argparse.Namespace) -> dict[str, Any]:
