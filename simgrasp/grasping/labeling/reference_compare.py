@@ -45,8 +45,7 @@ def compare_with_reference(
     """Per-file and overall agreement (also per category: the file name's part before the
     first ``_``, as ACRONYM names files ``Category_id_scale.h5``). With ``draws``, each group
     of two or more files also gets the 95 % ``interval`` of its accuracy and balanced accuracy
-    over ``draws`` resamples of its files (:func:`~simgrasp.grasping.labeling.agreement
-    .file_interval`, from ``seed``)."""
+    over ``draws`` resamples of its files, from ``seed`` (:func:`file_interval`)."""
     from simgrasp.grasping.labeling.dataset_run import _our_labels
     from simgrasp.grasping.labeling.grasp_files import reference_labels
 
@@ -97,6 +96,7 @@ def comparison_text(comparison: dict[str, Any]) -> str:
 
 
 def _interval_line(group: str, interval: dict[str, Any]) -> str:
+    """One line of a group's interval (:func:`file_interval`'s dict)."""
     accuracy, balanced = interval["accuracy"], interval["balanced_accuracy"]
     return (
         f"[{group}] {100 * interval['level']:.0f} % interval over its {interval['files']} files "
