@@ -10,12 +10,15 @@ degrades each one as another capture might, from a seed:
   the viewpoint (a noisier sensor);
 - ``holes``: the points within 15 mm of three random points removed (dropouts);
 - ``viewpoint10cm``: the viewpoint given 10 cm off in a random direction (a wrong or guessed
-  sensor pose: normals are turned toward it).
+  sensor pose: normals are turned toward it)
 
-Then ``detect``'s default runs on it (:func:`simgrasp.evaluation.real_detect.score_cloud`),
-once per seed. For each cloud and degradation it reports the candidate accuracy pooled over
-the seeds and in how many seeds the top handle is on the labeled handle. Nothing is tuned on
-these runs. Rows go to ``rows.jsonl`` as they finish, so a rerun keeps them.
+(:mod:`simgrasp.evaluation.capture_degradations`). Then ``detect``'s default runs on it
+(:func:`simgrasp.evaluation.real_detect.score_cloud`), once per seed. The simulated views
+posed like each real mug capture (:data:`~simgrasp.evaluation.sim_views.REAL_CAPTURE_VIEWS`)
+are degraded and scored alike, so the table says whether simulation predicts where the real
+captures break. For each cloud or view and degradation it reports the candidate accuracy
+pooled over the seeds and in how many seeds the top handle is on the labeled handle. Nothing
+is tuned on these runs. Rows go to ``rows.jsonl`` as they finish, so a rerun keeps them.
 ``robustness.md`` is the table.
 
     SIMGRASP_REAL_DIR=../shared/real python scripts/real_robustness.py \\
@@ -34,14 +37,11 @@ from numpy.typing import NDArray
 
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, PositiveInt
+from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
 from simgrasp.evaluation.real_detect import score_cloud
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
+from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, SimView, score_view
 from simgrasp.seeding import rng_for
-
-DEGRADATIONS = ("as captured", "half", "quarter", "noise1mm", "noise2mm", "holes", "viewpoint10cm")
-"""The ways a capture is made worse (module docstring), in table order."""
-HOLE_RADIUS = 0.015
-"""Radius (m) of each of the three holes."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -54,30 +54,9 @@ class Options(Checked):
     """Seeds 0 .. seeds - 1: each draws its degradation and seeds its detection."""
     out: Path = Path("docs/results/real-detect/robustness")
     """Folder of rows.jsonl and robustness.md."""
-
-
-def degraded(
-    points: NDArray[np.float64], viewpoint: NDArray[np.float64], kind: str, rng: np.random.Generator
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``points`` (N, 3, m) and ``viewpoint`` (3,) after degradation ``kind``."""
-    if kind == "as captured":
-        return points, viewpoint
-    if kind in ("half", "quarter"):
-        keep = len(points) // (2 if kind == "half" else 4)
-        return points[np.sort(rng.choice(len(points), keep, replace=False))], viewpoint
-    if kind in ("noise1mm", "noise2mm"):
-        rays = points - viewpoint
-        rays /= np.linalg.norm(rays, axis=1, keepdims=True)
-        sigma = 0.001 if kind == "noise1mm" else 0.002
-        return points + rays * rng.normal(0.0, sigma, (len(points), 1)), viewpoint
-    if kind == "holes":
-        centers = points[rng.choice(len(points), 3, replace=False)]
-        gaps = np.linalg.norm(points[:, None] - centers[None], axis=2).min(axis=1)
-        return points[gaps > HOLE_RADIUS], viewpoint
-    if kind == "viewpoint10cm":
-        direction = rng.normal(size=3)
-        return points, viewpoint + 0.1 * direction / np.linalg.norm(direction)
-    raise ValueError(kind)
+    sim: bool = True
+    """Also degrade and score the simulated views posed like the real mug captures (needs
+    $SIMGRASP_YCB_DIR for the YCB mug)."""
 
 
 def measure(cloud: RealCloud, points: NDArray[np.float64], kind: str, seed: int) -> dict[str, Any]:
@@ -88,6 +67,13 @@ def measure(cloud: RealCloud, points: NDArray[np.float64], kind: str, seed: int)
     return {**asdict(row), "degradation": kind}
 
 
+def measure_view(view: SimView, real: str, kind: str, seed: int) -> dict[str, Any]:
+    """One row: the default detector on simulated ``view`` (posed like real cloud ``real``)
+    degraded by ``kind`` from ``seed``."""
+    row = score_view(view, "default", seed, degradation=kind)
+    return {**asdict(row), "split": f"sim of {real}", "degradation": kind}
+
+
 def run(options: Options) -> str:
     """Measure every (cloud, degradation, seed) not yet in ``rows.jsonl``; the table."""
     clouds = read_manifest(options.manifest, options.real_dir)
@@ -95,17 +81,23 @@ def run(options: Options) -> str:
     rows_file = options.out / "rows.jsonl"
     rows = [json.loads(line) for line in rows_file.open()] if rows_file.is_file() else []
     done = {(r["cloud"], r["degradation"], r["seed"]) for r in rows}
+    names = []
     with rows_file.open("a") as log:
         for cloud in clouds:
             points = load_real_cloud(cloud)
+            views = REAL_CAPTURE_VIEWS.get(cloud.name, ()) if options.sim else ()
+            names += [cloud.name, *(view.name for view in views)]
             for kind in DEGRADATIONS:
                 for seed in range(options.seeds):
-                    if (cloud.name, kind, seed) in done:
-                        continue
-                    rows.append(measure(cloud, points, kind, seed))
-                    log.write(json.dumps(rows[-1]) + "\n")
+                    if (cloud.name, kind, seed) not in done:
+                        rows.append(measure(cloud, points, kind, seed))
+                        log.write(json.dumps(rows[-1]) + "\n")
+                    for view in views:
+                        if (view.name, kind, seed) not in done:
+                            rows.append(measure_view(view, cloud.name, kind, seed))
+                            log.write(json.dumps(rows[-1]) + "\n")
                     log.flush()
-    text = table(rows, [c.name for c in clouds], options.seeds)
+    text = table(rows, names, options.seeds)
     (options.out / "robustness.md").write_text(text)
     return text
 

@@ -15,7 +15,7 @@ from dataclasses import asdict, fields
 from pathlib import Path
 
 from simgrasp.evaluation.real_detect import RealDetectRow, read_done
-from simgrasp.evaluation.sim_views import SimView, score_view
+from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, score_view
 
 CONFIGS = (
     "default",
@@ -30,19 +30,6 @@ CONFIGS = (
     "learned",
     "learned_bars",
 )
-VIEWS = {
-    "gpd_table_mug": (
-        SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),
-        SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="stereo"),
-    ),
-    "affordancegrasp_mug1": (
-        SimView(pose="lying", distance=0.30, elevation_deg=90.0, sensor="stereo"),
-        # the kinect model returns nothing nearer than its minimum range: seen from 0.6 m
-        SimView(pose="lying", distance=0.60, elevation_deg=90.0, sensor="kinect"),
-    ),
-}
-
-
 def _cell(rows: list[RealDetectRow]) -> str:
     candidates = sum(r.candidates for r in rows)
     accuracy = sum(r.on_handle for r in rows) / candidates if candidates else 0.0
@@ -59,7 +46,7 @@ def main() -> None:
     with (args.out / "sim_views.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, [f.name for f in fields(RealDetectRow)])
         writer.writeheader()
-        for views in VIEWS.values():
+        for views in REAL_CAPTURE_VIEWS.values():
             for view in views:
                 for config in CONFIGS:
                     for seed in range(args.seeds):
@@ -68,7 +55,7 @@ def main() -> None:
     real = read_done(args.out / "real_detect.csv")
     header = ["real capture / simulated view", *CONFIGS]
     lines = ["| " + " | ".join(header) + " |", "|---" * len(header) + "|"]
-    for cloud, views in VIEWS.items():
+    for cloud, views in REAL_CAPTURE_VIEWS.items():
         seen = [_cell([r for r in real if r.cloud == cloud and r.config == c]) for c in CONFIGS]
         lines.append(f"| real {cloud} | " + " | ".join(seen) + " |")
         for view in views:

@@ -1,16 +1,20 @@
-"""``scripts/real_robustness.py``: the degradations it applies to a capture, and its run on
-the real manifest (rows kept across a rerun)."""
+"""Captures made worse (:mod:`simgrasp.evaluation.capture_degradations`) and
+``scripts/real_robustness.py``'s run on the real manifest (rows kept across a rerun)."""
 
 from __future__ import annotations
 
 import importlib.util
 import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 import pytest
+
+from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
+from simgrasp.evaluation.sim_views import SimView, score_view
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "real_robustness.py"
 
@@ -25,7 +29,7 @@ def script() -> ModuleType:
     return module
 
 
-def test_each_degradation_does_what_it_says(script: ModuleType) -> None:
+def test_each_degradation_does_what_it_says() -> None:
     """On 4,000 points of a sphere 0.5 m in front of the viewpoint: the subsamples keep a half
     and a quarter of the points, range noise moves points only along their rays (by about
     sigma), holes remove the points near three centers, the viewpoint moves by 10 cm."""
@@ -37,7 +41,7 @@ def test_each_degradation_does_what_it_says(script: ModuleType) -> None:
     eye = np.zeros(3)
 
     def worse(kind: str) -> tuple[np.ndarray, np.ndarray]:
-        return script.degraded(points, eye, kind, np.random.default_rng(1))
+        return degraded(points, eye, kind, np.random.default_rng(1))
 
     assert len(worse("half")[0]) == 2000 and len(worse("quarter")[0]) == 1000
     noisy, _ = worse("noise2mm")
@@ -50,6 +54,19 @@ def test_each_degradation_does_what_it_says(script: ModuleType) -> None:
     same, moved_eye = worse("viewpoint10cm")
     assert same is points and np.isclose(np.linalg.norm(moved_eye - eye), 0.1)
     assert worse("as captured")[0] is points
+    with pytest.raises(ValueError, match="unknown degradation 'blur'"):
+        worse("blur")
+
+
+def test_a_simulated_view_is_scored_degraded() -> None:
+    """A kinect view of the generated hammer scored with a quarter of its points: the row
+    counts the points left; as captured it is the view's own row."""
+    view = SimView("gen_hammer", "upright", 0.6, 45.0, "kinect")
+    whole = score_view(view, "default", 0)
+    quarter = score_view(view, "default", 0, degradation="quarter")
+    assert quarter.points == whole.points // 4 and quarter.candidates > 0
+    same = score_view(view, "default", 0, degradation="as captured")
+    assert replace(same, detect_s=0.0) == replace(whole, detect_s=0.0)
 
 
 def test_run_on_the_real_manifest_keeps_its_rows(
@@ -57,11 +74,11 @@ def test_run_on_the_real_manifest_keeps_its_rows(
 ) -> None:
     """One seed over the manifest's clouds: a row per cloud and degradation, and a rerun
     measures nothing again."""
-    options = script.Options(real_dir=real_dir, seeds=1, out=tmp_path)
+    options = script.Options(real_dir=real_dir, seeds=1, out=tmp_path, sim=False)
     text = script.run(options)
     rows = (tmp_path / "rows.jsonl").read_text().splitlines()
     clouds = {json.loads(row)["cloud"] for row in rows}
-    assert len(rows) == len(clouds) * len(script.DEGRADATIONS) and "gpd_table_mug" in clouds
+    assert len(rows) == len(clouds) * len(DEGRADATIONS) and "gpd_table_mug" in clouds
     assert "| gpd_table_mug (holdout) |" in text
     script.run(options)
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows

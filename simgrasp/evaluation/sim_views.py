@@ -55,6 +55,22 @@ class SimView:
         return f"{self.object} {self.pose} {self.sensor} {self.distance:g} m{turned}"
 
 
+REAL_CAPTURE_VIEWS = {
+    "gpd_table_mug": (
+        SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),
+        SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="stereo"),
+    ),
+    "affordancegrasp_mug1": (
+        SimView(pose="lying", distance=0.30, elevation_deg=90.0, sensor="stereo"),
+        # the kinect model returns nothing nearer than its minimum range: seen from 0.6 m
+        SimView(pose="lying", distance=0.60, elevation_deg=90.0, sensor="kinect"),
+    ),
+}
+"""The YCB mug's simulated views posed like each real mug capture of the real-data manifest:
+the GPD table mug (upright, 0.78 m, 32 degrees above the table) and the AffordanceGrasp mug
+(lying, handle flat beside it, 0.30 m straight above)."""
+
+
 @dataclass(frozen=True)
 class SimCapture:
     """A rendered view: points in the camera frame (m), and ``object_T_cam`` to the mesh frame."""
@@ -161,20 +177,25 @@ def score_view(  # noqa: ANN201
     seed: int,
     ycb_dir: str | None = None,
     single_view: SingleViewConfig | None = None,
+    degradation: str = "as captured",
 ):
     """Detect with the named setting (``single_view`` as
     :func:`~simgrasp.evaluation.real_detect.detect_named` takes it) on the view rendered with
-    ``seed`` (normals toward the camera), scored in the mesh frame: a
-    :class:`~simgrasp.evaluation.real_detect.RealDetectRow` with the view's name as its cloud
-    and ``"sim"`` as its data set."""
+    ``seed`` (normals toward the camera) and made worse by ``degradation``
+    (:func:`~simgrasp.evaluation.capture_degradations.degraded`, drawn from ``seed``), scored
+    in the mesh frame: a :class:`~simgrasp.evaluation.real_detect.RealDetectRow` with the
+    view's name as its cloud and ``"sim"`` as its data set."""
     import time
 
+    from simgrasp.evaluation.capture_degradations import degraded
     from simgrasp.evaluation.real_detect import RealDetectRow, detect_named
     from simgrasp.handles.accuracy import moved_detection
 
     shot = capture(view, seed, ycb_dir)
+    rng = rng_for(seed, "degraded", degradation, view.name)
+    points, eye = degraded(shot.points_cam.astype(np.float64), np.zeros(3), degradation, rng)
     start = time.perf_counter()
-    detection = detect_named(shot.points_cam, config_name, seed, np.zeros(3), single_view)
+    detection = detect_named(points, config_name, seed, eye, single_view)
     elapsed = time.perf_counter() - start
     moved = moved_detection(detection, shot.object_T_cam)
     centers = moved.candidate_centers
@@ -185,7 +206,7 @@ def score_view(  # noqa: ANN201
         split="sim",
         config=config_name,
         seed=seed,
-        points=len(shot.points_cam),
+        points=len(points),
         candidates=len(centers),
         on_handle=int(shot.label.contains(centers).sum()) if len(centers) else 0,
         handles=len(moved.handles),
