@@ -14,6 +14,7 @@ holds them; a YCB object is exported with its files by ``simgrasp object export 
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from simgrasp.assets.model import model_for
@@ -39,6 +40,7 @@ def export(
 
 
 def main() -> None:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args()  # --help only
     for object_name, gripper in SHIPPED:
         print(export(object_name, gripper, SCENES, ChainConfig()))
     print(export("gen_hammer", "builtin", SCENES, CLUTTER, "_clutter5"))
