@@ -30,6 +30,8 @@ CONFIGS = (
     "learned",
     "learned_bars",
 )
+
+
 def _cell(rows: list[RealDetectRow]) -> str:
     candidates = sum(r.candidates for r in rows)
     accuracy = sum(r.on_handle for r in rows) / candidates if candidates else 0.0
