@@ -22,8 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from simgrasp.errors import DataNotFoundError, SimgraspError
-from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud
+from simgrasp.errors import SimgraspError
+from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, require_file
 from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detection import Detection
@@ -163,11 +163,7 @@ def _cloud_inputs(cloud: RealCloud) -> dict[str, str]:
     """SHA-256 of the cloud's file, its handle label (the label file's entry it uses) and,
     for a depth image read through it, the GraspNet ``meta.mat`` beside it."""
     what = f"cloud {cloud.name}"
-    if not cloud.path.is_file():
-        raise DataNotFoundError(
-            f"{what}: no file {cloud.path}; point --real-dir or $SIMGRASP_REAL_DIR at the real "
-            "data folder"
-        )
+    require_file(cloud)
     label = json.dumps(cloud.label.to_json(), sort_keys=True).encode()
     inputs = {"file": _digest(cloud.path, what), "label": hashlib.sha256(label).hexdigest()}
     meta = cloud.path.parent / "meta.mat"

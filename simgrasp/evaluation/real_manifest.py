@@ -183,6 +183,15 @@ def read_manifest(path: Path | None = None, real_dir: Path | None = None) -> lis
     return clouds
 
 
+def require_file(cloud: RealCloud) -> None:
+    """One line naming the cloud when its file is not there."""
+    if not cloud.path.is_file():
+        raise DataNotFoundError(
+            f"cloud {cloud.name}: no file {cloud.path}; point --real-dir or $SIMGRASP_REAL_DIR "
+            "at the real data folder"
+        )
+
+
 def load_real_cloud(cloud: RealCloud) -> NDArray[np.float64]:
     """The cloud's points to detect on (m, the cloud's frame): read, converted from its units,
     cropped and cut as the manifest says; one line naming the cloud when the file is missing,
@@ -190,11 +199,7 @@ def load_real_cloud(cloud: RealCloud) -> NDArray[np.float64]:
     from simgrasp.perception.cloud_io import read_cloud
     from simgrasp.perception.depth_image import read_depth_image
 
-    if not cloud.path.is_file():
-        raise DataNotFoundError(
-            f"cloud {cloud.name}: no file {cloud.path}; point --real-dir or $SIMGRASP_REAL_DIR "
-            "at the real data folder"
-        )
+    require_file(cloud)
     if cloud.path.suffix.lower() in DEPTH_IMAGE_FORMATS:
         frame = read_depth_image(cloud.path, cloud.depth)
         points = frame.points[frame.valid].astype(np.float64)
