@@ -34,13 +34,12 @@ def export_identity(
     """What ``run.json`` holds: the object ``name`` (with its mesh file's SHA-256), the scene
     settings, the distractor pool they resolve to (with clutter: ``all`` depends on
     ``$SIMGRASP_YCB_DIR``), and the sensor kind with its model's parameters."""
-    from simgrasp.assets.registry import mesh_file_of
-    from simgrasp.runs.identity import file_digest
+    from simgrasp.runs.identity import object_file_digests
     from simgrasp.scenes.clutter_sets import distractor_pool
 
     identity: dict[str, Any] = {"object": name}
-    if (mesh := mesh_file_of(name)) is not None:
-        identity["mesh_sha256"] = file_digest(mesh)
+    if (mesh := object_file_digests(name).get("mesh_sha256")) is not None:
+        identity["mesh_sha256"] = mesh
     identity["scene"] = asdict(scene)
     if scene.clutter:
         identity["clutter_pool"] = distractor_pool(scene.clutter_objects, asset_name)

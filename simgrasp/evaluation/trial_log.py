@@ -100,12 +100,15 @@ def check_meshes(out_dir: Path, objects: list[str]) -> None:
     such an object were run on other contents (a file edited under its name: a resume would
     mix two meshes, or score ``on_handle`` on two labels). Objects new to the directory are
     added; YCB objects and generated tools have no mesh entry."""
-    from simgrasp.assets.registry import handles_file_of, mesh_file_of
-    from simgrasp.runs.identity import file_digest
+    from simgrasp.runs.identity import object_file_digests
 
-    files = {name: mesh_file_of(name) for name in objects}
-    files.update({f"handles of {name}": handles_file_of(name) for name in objects})
-    digests = {name: file_digest(p) for name, p in files.items() if p is not None and p.is_file()}
+    digests = {}
+    for name in objects:
+        files = object_file_digests(name)
+        if "mesh_sha256" in files:
+            digests[name] = files["mesh_sha256"]
+        if "handles_sha256" in files:
+            digests[f"handles of {name}"] = files["handles_sha256"]
     if not digests:
         return
     path = Path(out_dir) / MESHES_FILE

@@ -17,6 +17,28 @@ def file_digest(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
+def object_file_digests(name: str) -> dict[str, str]:
+    """SHA-256 of the files object ``name`` is read from, which can change under its name:
+    ``mesh_sha256`` for a mesh file object or a catalog name
+    (:func:`~simgrasp.assets.registry.mesh_file_of`), ``handles_sha256`` for a handle label file
+    given for it (:func:`~simgrasp.assets.registry.handles_file_of`); neither for a YCB object
+    or a generated tool with its shipped or automatic label. A named file that is not there is
+    one line naming it."""
+    from simgrasp.assets.registry import handles_file_of, mesh_file_of
+    from simgrasp.errors import DataNotFoundError
+
+    digests = {}
+    if (mesh := mesh_file_of(name)) is not None:
+        if not mesh.is_file():
+            raise DataNotFoundError(f"object mesh {mesh} does not exist")
+        digests["mesh_sha256"] = file_digest(mesh)
+    if (handles := handles_file_of(name)) is not None:
+        if not handles.is_file():
+            raise DataNotFoundError(f"handle label file {handles} does not exist")
+        digests["handles_sha256"] = file_digest(handles)
+    return digests
+
+
 SHOWN_CHANGES = 3
 """Changed settings named one by one in a refusal before the rest are counted."""
 

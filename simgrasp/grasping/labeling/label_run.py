@@ -25,14 +25,13 @@ from typing import Any
 
 import numpy as np
 
-from simgrasp.assets.registry import handles_file_of, mesh_file_of
-from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.errors import SimgraspError
 from simgrasp.grasping.labeling.grasp_sets import GraspSet
 from simgrasp.grasping.labeling.labeling import INVALID, LabelConfig, LabelResult, label_records
 from simgrasp.grippers import make_gripper
 from simgrasp.grippers.mount import MOUNT_IMPRATIO
 from simgrasp.runs.engine import Backend, RunConfig, run_resumable
-from simgrasp.runs.identity import claim_identity, file_digest
+from simgrasp.runs.identity import claim_identity, file_digest, object_file_digests
 from simgrasp.runs.record_log import RecordLog
 
 LABELS_FILE = "labels.jsonl"
@@ -72,18 +71,6 @@ SETTINGS_ADDED = {
 and only runs whose physics changed are refused."""
 
 
-def mesh_digest(name: str) -> str | None:
-    """The SHA-256 of the mesh file object ``name`` is read from (a mesh file spec or a catalog
-    name: :func:`~simgrasp.assets.registry.mesh_file_of`), or None for an object of no mesh
-    file (YCB, generated)."""
-    path = mesh_file_of(name)
-    if path is None:
-        return None
-    if not path.is_file():
-        raise DataNotFoundError(f"object mesh {path} does not exist")
-    return file_digest(path)
-
-
 FILE_DIGESTS = ("mesh_sha256", "handles_sha256")
 """The object's file digests, recorded since 6 December 2026 (``run.json``)."""
 
@@ -109,12 +96,7 @@ def run_identity(grasps: GraspSet, config: LabelConfig, grasp_file: Path) -> dic
     mesh-file object's mesh SHA-256, a handle label file's SHA-256, every trial setting of
     the protocol, the gripper's time-step cap where the protocol coarsens the step."""
     run = {**asdict(config), "grasps_sha256": file_digest(grasp_file), "count": len(grasps)}
-    if (mesh := mesh_digest(config.object)) is not None:  # YCB, generated: none, as before
-        run["mesh_sha256"] = mesh
-    if (handles := handles_file_of(config.object)) is not None:
-        if not handles.is_file():
-            raise DataNotFoundError(f"handle label file {handles} does not exist")
-        run["handles_sha256"] = file_digest(handles)
+    run.update(object_file_digests(config.object))  # YCB, generated: none, as before
     run["trial"] = json.loads(json.dumps(asdict(config.trial)))
     for key, before in SETTINGS_ADDED.items():
         if run["trial"][key] == before:
