@@ -193,7 +193,7 @@ def score_view(  # noqa: ANN201
 
     shot = capture(view, seed, ycb_dir)
     rng = rng_for(seed, "degraded", degradation, view.name)
-    points, eye = degraded(shot.points_cam.astype(np.float64), np.zeros(3), degradation, rng)
+    points, eye = degraded(np.asarray(shot.points_cam, np.float64), np.zeros(3), degradation, rng)
     start = time.perf_counter()
     detection = detect_named(points, config_name, seed, eye, single_view)
     elapsed = time.perf_counter() - start
