@@ -3,15 +3,8 @@
 Issue 26's real-mug goal is checked on captures we do not have: other sensors, distances and
 densities. This script takes the clouds of the real-data manifest
 (``models/handles/real_detect.toml``: the two held-out mugs, the five tune knives) and
-degrades each one as another capture might, from a seed:
-
-- ``half`` / ``quarter``: a random half or quarter of the points (a sparser or farther sensor);
-- ``noise1mm`` / ``noise2mm``: Gaussian range noise of 1 or 2 mm along each point's ray from
-  the viewpoint (a noisier sensor);
-- ``holes``: the points within 15 mm of three random points removed (dropouts);
-- ``viewpoint10cm``: the viewpoint given 10 cm off in a random direction (a wrong or guessed
-  sensor pose: normals are turned toward it)
-
+degrades each one as another capture might, from a seed: fewer points, range noise,
+holes, a wrong viewpoint
 (:mod:`simgrasp.evaluation.capture_degradations`). Then ``detect``'s default runs on it
 (:func:`simgrasp.evaluation.real_detect.score_cloud`), once per seed. The simulated views
 posed like each real mug capture (:data:`~simgrasp.evaluation.sim_views.REAL_CAPTURE_VIEWS`)
