@@ -6,35 +6,24 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simgrasp.errors import SimgraspError
-from simgrasp.perception._arrays import float_array
+from simgrasp.perception._arrays import as_normals, as_points
 
 
 def validate_cloud(
     points: ArrayLike, normals: ArrayLike | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
-    """Return ``points`` (N, 3) and ``normals`` (N, 3) or None as float64 arrays.
+    """Return ``points`` (N, 3) and ``normals`` (N, 3) or None as float64 arrays: the
+    perception checks (:func:`~simgrasp.perception._arrays.as_points`, ``as_normals``) plus
+    unit-length normals (the detectors use them as directions, unscaled).
 
     Raises:
-        ValueError: values that are not numbers, wrong shape, empty cloud, non-finite values,
-            or normals that do not match the points or are not unit length.
+        SimgraspError: values that are not numbers, wrong shape, empty cloud, non-finite
+            values, or normals that do not match the points or are not unit length.
     """
-    pts = float_array(points, "points", "an (N, 3) array of numbers")
-    if pts.ndim != 2 or pts.shape[1] != 3:
-        raise SimgraspError(f"points must be an (N, 3) array, got shape {pts.shape}")
-    if len(pts) == 0:
-        raise SimgraspError("the point cloud is empty")
-    bad = ~np.all(np.isfinite(pts), axis=1)
-    if bad.any():
-        raise SimgraspError(
-            f"the point cloud has {int(bad.sum())} of {len(pts)} points with NaN or inf "
-            "coordinates; drop them before detection"
-        )
+    pts = as_points(points)
     if normals is None:
         return pts, None
-    nrm = float_array(normals, "normals", "an (N, 3) array of numbers")
-    if nrm.shape != pts.shape:
-        raise SimgraspError(f"normals must match points {pts.shape}, got shape {nrm.shape}")
-    lengths = np.linalg.norm(nrm, axis=1)
-    if not np.all(np.isfinite(lengths)) or np.any(np.abs(lengths - 1) > 1e-3):
-        raise SimgraspError("normals must be finite unit vectors")
+    nrm = as_normals(normals, pts)
+    if np.any(np.abs(np.linalg.norm(nrm, axis=1) - 1) > 1e-3):
+        raise SimgraspError("normals must be unit vectors")
     return pts, nrm
