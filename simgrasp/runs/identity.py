@@ -4,6 +4,7 @@ configurations."""
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 from pathlib import Path
@@ -13,8 +14,19 @@ from simgrasp.errors import SimgraspError
 
 
 def file_digest(path: Path) -> str:
-    """SHA-256 of a file's bytes (hex): how a run records which input file it was made from."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    """SHA-256 of a file's bytes (hex): how a run records which input file it was made from.
+    A file unchanged since it was last hashed in this process (same size and modification
+    time) is not read again: a command checks its output folder's identity before it runs
+    and records it when it starts."""
+    resolved = Path(path).resolve()
+    stat = resolved.stat()
+    return _digest_of(resolved, stat.st_size, stat.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=256)
+def _digest_of(path: Path, size: int, mtime_ns: int) -> str:
+    """SHA-256 of ``path``'s bytes; ``size`` and ``mtime_ns`` key the cache."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def object_file_digests(name: str) -> dict[str, str]:
