@@ -25,6 +25,7 @@ from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_m
 from simgrasp.evaluation.real_pots import POT_SEGMENTATION, PotResult, evaluate_real_pots
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
+from simgrasp.handles.body_wall import BodyWallConfig
 
 SIM_VIEWS = (
     SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),
@@ -101,8 +102,15 @@ def main() -> None:
         help="narrowest fit kept when its axis is near its surface, in spacings (default: the "
         "learned setting's)",
     )
+    parser.add_argument(
+        "--body-wall",
+        action="store_true",
+        help="with the body-wall test on (simgrasp.handles.body_wall)",
+    )
     args = parser.parse_args()
     settings = SingleViewConfig.learned()
+    if args.body_wall:
+        settings = replace(settings, body_wall=BodyWallConfig(enabled=True))
     if args.threshold is not None:
         settings = replace(settings, classifier_threshold=args.threshold)
     if args.min_width_spacings is not None:

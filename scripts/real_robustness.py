@@ -16,6 +16,9 @@ is tuned on these runs. Rows go to ``rows.jsonl`` as they finish, so a rerun kee
 
     SIMGRASP_REAL_DIR=../shared/real python scripts/real_robustness.py \\
         --out docs/results/real-detect/robustness
+
+``--body-wall true`` scores the default with the body-wall test on instead (an output folder
+holds one setting's rows: ``run.json`` says which).
 """
 
 from __future__ import annotations
@@ -34,6 +37,9 @@ from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
 from simgrasp.evaluation.real_detect import score_cloud
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, SimView, score_view
+from simgrasp.handles import SingleViewConfig
+from simgrasp.handles.body_wall import BodyWallConfig
+from simgrasp.runs.identity import claim_identity
 from simgrasp.seeding import rng_for
 
 
@@ -50,27 +56,46 @@ class Options(Checked):
     sim: bool = True
     """Also degrade and score the simulated views posed like the real mug captures (needs
     $SIMGRASP_YCB_DIR for the YCB mug)."""
+    body_wall: bool = False
+    """Score the default with the body-wall test on (:mod:`simgrasp.handles.body_wall`)."""
+
+    def single_view(self) -> SingleViewConfig | None:
+        """The single-view settings to score (None: ``detect``'s default)."""
+        if not self.body_wall:
+            return None
+        return replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=True))
 
 
-def measure(cloud: RealCloud, points: NDArray[np.float64], kind: str, seed: int) -> dict[str, Any]:
-    """One row: the default detector on ``cloud`` degraded by ``kind`` from ``seed``."""
+def measure(
+    cloud: RealCloud,
+    points: NDArray[np.float64],
+    kind: str,
+    seed: int,
+    single_view: SingleViewConfig | None,
+) -> dict[str, Any]:
+    """One row: the default detector (``single_view`` as ``score_cloud`` takes it) on
+    ``cloud`` degraded by ``kind`` from ``seed``."""
     rng = rng_for(seed, "real_robustness", kind, cloud.name)
     worse, viewpoint = degraded(points, cloud.viewpoint, kind, rng)
-    row = score_cloud(replace(cloud, viewpoint=viewpoint), worse, "default", seed)
+    row = score_cloud(replace(cloud, viewpoint=viewpoint), worse, "default", seed, single_view)
     return {**asdict(row), "degradation": kind}
 
 
-def measure_view(view: SimView, real: str, kind: str, seed: int) -> dict[str, Any]:
+def measure_view(
+    view: SimView, real: str, kind: str, seed: int, single_view: SingleViewConfig | None
+) -> dict[str, Any]:
     """One row: the default detector on simulated ``view`` (posed like real cloud ``real``)
     degraded by ``kind`` from ``seed``."""
-    row = score_view(view, "default", seed, degradation=kind)
+    row = score_view(view, "default", seed, None, single_view, degradation=kind)
     return {**asdict(row), "split": f"sim of {real}", "degradation": kind}
 
 
 def run(options: Options) -> str:
     """Measure every (cloud, degradation, seed) not yet in ``rows.jsonl``; the table."""
     clouds = read_manifest(options.manifest, options.real_dir)
-    options.out.mkdir(parents=True, exist_ok=True)
+    identity = {"body_wall": options.body_wall, "manifest": str(options.manifest or "shipped")}
+    claim_identity(options.out / "run.json", identity, what="rows of another setting")
+    settings = options.single_view()
     rows_file = options.out / "rows.jsonl"
     rows = [json.loads(line) for line in rows_file.open()] if rows_file.is_file() else []
     done = {(r["cloud"], r["degradation"], r["seed"]) for r in rows}
@@ -83,11 +108,11 @@ def run(options: Options) -> str:
             for kind in DEGRADATIONS:
                 for seed in range(options.seeds):
                     if (cloud.name, kind, seed) not in done:
-                        rows.append(measure(cloud, points, kind, seed))
+                        rows.append(measure(cloud, points, kind, seed, settings))
                         log.write(json.dumps(rows[-1]) + "\n")
                     for view in views:
                         if (view.name, kind, seed) not in done:
-                            rows.append(measure_view(view, cloud.name, kind, seed))
+                            rows.append(measure_view(view, cloud.name, kind, seed, settings))
                             log.write(json.dumps(rows[-1]) + "\n")
                     log.flush()
     text = table(rows, names, options.seeds)

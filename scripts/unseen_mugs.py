@@ -12,8 +12,8 @@ and views with the top handle on the handle) to ``--out``.
 
 ``--narrow-width-spacings 0`` scores the default of the runs before 4 December 2026 (no
 narrow fits) beside today's (docs/results/real-detect/README.md); ``--classifier FILE`` adds
-a column for the default with another trained classifier; ``--azimuths 60,200`` views the
-mugs from other sides.
+a column for the default with another trained classifier, ``--body-wall`` one for the default
+with the body-wall test on; ``--azimuths 60,200`` views the mugs from other sides.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from pathlib import Path
 from simgrasp.evaluation.real_detect import RealDetectRow, pooled_score
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import SingleViewConfig
+from simgrasp.handles.body_wall import BodyWallConfig
 
 VIEWS = (  # (pose, distance m, elevation deg, sensor)
     ("upright", 0.78, 32.0, "kinect"),
@@ -119,6 +120,11 @@ def main() -> None:
         type=Path,
         help="also score the default with this classifier file (train_candidate_classifier.py)",
     )
+    parser.add_argument(
+        "--body-wall",
+        action="store_true",
+        help="also score the default with the body-wall test on (simgrasp.handles.body_wall)",
+    )
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("out/unseen-mugs"))
     args = parser.parse_args()
@@ -131,6 +137,8 @@ def main() -> None:
     }
     if args.classifier is not None:
         settings[args.classifier.name] = replace(default, classifier_file=str(args.classifier))
+    if args.body_wall:
+        settings["body wall"] = replace(default, body_wall=BodyWallConfig(enabled=True))
     work = jobs(args.strap_seeds, args.tube_seeds, args.azimuths, settings)
     with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
         scored = pool.map(score, work, chunksize=2)

@@ -13,6 +13,7 @@ from types import ModuleType
 import numpy as np
 import pytest
 
+from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
 from simgrasp.evaluation.sim_views import SimView, score_view
 
@@ -81,4 +82,7 @@ def test_run_on_the_real_manifest_keeps_its_rows(
     assert len(rows) == len(clouds) * len(DEGRADATIONS) and "gpd_table_mug" in clouds
     assert "| gpd_table_mug (holdout) |" in text
     script.run(options)
+    assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
+    with pytest.raises(SimgraspError, match="body_wall"):  # one setting's rows a folder
+        script.run(replace(options, body_wall=True))
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows

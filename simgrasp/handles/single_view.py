@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
+from simgrasp.handles.body_wall import BodyWallConfig, fit_body_wall
 from simgrasp.handles.candidate_features import (
     FEATURES,
     MaxEnsemble,
@@ -93,6 +94,9 @@ class SingleViewConfig(Checked):
     classifier_file: str = ""
     """With ``classifier``: a model written by ``scripts/train_candidate_classifier.py`` to
     use instead of the shipped one (a path; empty: the shipped one)."""
+    body_wall: BodyWallConfig = field(default_factory=BodyWallConfig)
+    """With ``body_wall.enabled``: kept candidates on the view's body wall are dropped
+    (:mod:`simgrasp.handles.body_wall`; off by default, docs/results/real-detect)."""
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
@@ -189,7 +193,25 @@ def _keep(
 ) -> NDArray[np.bool_]:
     """Which candidates pass: the standoff test, or with ``classifier`` the shipped model
     (on fits at least ``min_width_spacings`` wide, or ``narrow_width_spacings`` wide with
-    their axes near their surface)."""
+    their axes near their surface); with ``body_wall.enabled``, those off the body wall."""
+    keep = _passing(candidates, cloud, eye, spacing, config)
+    if not (config.body_wall.enabled and keep.any()):
+        return keep
+    wall = fit_body_wall(cloud, config.body_wall)
+    if wall is None:
+        return keep
+    surface = np.stack([c.center for c in candidates])
+    return keep & (wall.distance(surface) >= config.body_wall.drop_distance)
+
+
+def _passing(
+    candidates: tuple[Candidate, ...],
+    cloud: NDArray[np.float64],
+    eye: NDArray[np.float64],
+    spacing: float,
+    config: SingleViewConfig,
+) -> NDArray[np.bool_]:
+    """The standoff test's or the classifier's verdict on each candidate (:func:`_keep`)."""
     floor = _floor(config, config.min_width_spacings, spacing)
     standoff = replace(config.standoff, min_width=floor)
     opening = config.quadric.gripper_max_opening
