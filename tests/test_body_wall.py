@@ -28,7 +28,7 @@ def _seen_half_cylinder(
     return np.stack([r * np.cos(a), 0.5 + r * np.sin(a), z], axis=-1).reshape(-1, 3)
 
 
-@pytest.mark.parametrize("noise", [0.0, 0.001])
+@pytest.mark.parametrize("noise", [0.0, 0.001, 0.002])
 def test_a_half_wall_seen_from_one_side_gives_its_radius_and_axis(noise: float) -> None:
     rng = np.random.default_rng(0)
     wall = fit_body_wall(_seen_half_cylinder(0.04, 0.09, rng, noise), BodyWallConfig())

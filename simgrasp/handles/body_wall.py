@@ -8,7 +8,10 @@ than a handle. The axis is the direction most perpendicular to the view's normal
 every normal is perpendicular to it); across the axis, the centre is the point the normals'
 lines pass nearest (least squares, reweighted so that points off the wall, a handle's or a
 rim's, count less); the radius is the median distance of the points whose normal lines pass
-near it. A half wall seen from one side is enough, where
+near it. Noisy normals pull that centre toward the seen side (2 mm of range noise took a real
+mug's 3.8 cm wall to 3.3 cm), so a circle fitted to the points near that first wall then sets
+the centre and radius; a wall must pass the radius and share tests both before and after.
+A half wall seen from one side is enough, where
 :func:`simgrasp.handles.revolution.fit_revolution` (for meshes) asks for normals from every
 side. A flat knife or a spatula, whose normals are parallel, or a hammer or screwdriver, round
 about a handle thinner than ``min_radius``, has no wall.
@@ -23,6 +26,7 @@ from typing import Annotated
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.optimize import least_squares
 
 from simgrasp.config.checks import Checked, Fraction, Positive, Range
 from simgrasp.perception.normals import estimate_normals
@@ -35,6 +39,8 @@ lines pass near its centre."""
 REWEIGHTINGS = 4
 """Least-squares passes for the wall's centre, each reweighting the normal lines by how near
 the last centre they pass (the first pass weighs all alike)."""
+REFINE_BAND = 0.01
+"""Points this near (m) the first wall estimate refine it (:func:`_circle_through`)."""
 NORMAL_REACH = 0.05
 """Search radius (m) of the normals' neighbours: wide, so that ``normal_neighbors`` decides."""
 
@@ -106,10 +112,38 @@ def fit_body_wall(points: NDArray[np.float64], config: BodyWallConfig) -> BodyWa
         return None
     radii = np.linalg.norm(points_2d - center_2d, axis=1)
     radius = float(np.median(radii[crossing][on_lines]))
-    share = float(np.mean(np.abs(radii - radius) < config.wall_tolerance))
-    if not (config.min_radius <= radius <= config.max_radius) or share < config.min_wall_share:
+    if not _is_wall(radii, radius, config):
         return None
+    near_wall = np.abs(radii - radius) < REFINE_BAND
+    center_2d, radius = _circle_through(points_2d[near_wall], center_2d, radius)
+    radii = np.linalg.norm(points_2d - center_2d, axis=1)
+    if not _is_wall(radii, radius, config):
+        return None
+    share = float(np.mean(np.abs(radii - radius) < config.wall_tolerance))
     return BodyWall(axis, center_2d @ across, radius, share)
+
+
+def _is_wall(radii: NDArray[np.float64], radius: float, config: BodyWallConfig) -> bool:
+    """Whether a circle of ``radius`` (m), the points at ``radii`` (N,) from its centre, is a
+    wall: its radius in ``config``'s range and enough of the points on it."""
+    share = float(np.mean(np.abs(radii - radius) < config.wall_tolerance))
+    return config.min_radius <= radius <= config.max_radius and share >= config.min_wall_share
+
+
+def _circle_through(
+    points: NDArray[np.float64], center: NDArray[np.float64], radius: float
+) -> tuple[NDArray[np.float64], float]:
+    """The circle (centre (2,), radius m) nearest ``points`` (M, 2) in the least-squares
+    sense, started from ``center`` and ``radius``: the wall's points lie on it whatever the
+    noise in their normals, which pulls the normal lines' meeting point toward them."""
+    start = np.append(center, radius)
+    fit = least_squares(
+        lambda p: np.linalg.norm(points - p[:2], axis=1) - p[2],
+        start,
+        loss="soft_l1",
+        f_scale=0.002,
+    )
+    return fit.x[:2], float(fit.x[2])
 
 
 def _basis_across(axis: NDArray[np.float64]) -> NDArray[np.float64]:
