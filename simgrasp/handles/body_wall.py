@@ -41,6 +41,9 @@ REWEIGHTINGS = 4
 the last centre they pass (the first pass weighs all alike)."""
 REFINE_BAND = 0.01
 """Points this near (m) the first wall estimate refine it (:func:`_circle_through`)."""
+CIRCLE_LOSS_SCALE = 0.002
+"""Residual (m) beyond which a point counts less in the circle fit (soft L1): a handle's or a
+rim's points inside the band do not pull the wall."""
 NORMAL_REACH = 0.05
 """Search radius (m) of the normals' neighbours: wide, so that ``normal_neighbors`` decides."""
 
@@ -141,7 +144,7 @@ def _circle_through(
         lambda p: np.linalg.norm(points - p[:2], axis=1) - p[2],
         start,
         loss="soft_l1",
-        f_scale=0.002,
+        f_scale=CIRCLE_LOSS_SCALE,
     )
     return fit.x[:2], float(fit.x[2])
 
