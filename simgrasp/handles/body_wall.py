@@ -126,6 +126,18 @@ def fit_body_wall(points: NDArray[np.float64], config: BodyWallConfig) -> BodyWa
     return BodyWall(axis, center_2d @ across, radius, share)
 
 
+def off_body_wall(
+    surface: NDArray[np.float64], points: NDArray[np.float64], config: BodyWallConfig
+) -> NDArray[np.bool_]:
+    """(M,) True for the candidates whose seen surface points ``surface`` (M, 3) lie off the
+    body wall of the view ``points`` (N, 3) by at least ``config.drop_distance``; all True
+    where the view has no wall."""
+    wall = fit_body_wall(points, config)
+    if wall is None:
+        return np.ones(len(surface), dtype=bool)
+    return wall.distance(surface) >= config.drop_distance
+
+
 def _is_wall(radii: NDArray[np.float64], radius: float, config: BodyWallConfig) -> bool:
     """Whether a circle of ``radius`` (m), the points at ``radii`` (N,) from its centre, is a
     wall: its radius in ``config``'s range and enough of the points on it."""

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
-from simgrasp.handles.body_wall import BodyWallConfig, fit_body_wall
+from simgrasp.handles.body_wall import BodyWallConfig, off_body_wall
 from simgrasp.handles.candidate_features import (
     FEATURES,
     MaxEnsemble,
@@ -193,25 +193,7 @@ def _keep(
 ) -> NDArray[np.bool_]:
     """Which candidates pass: the standoff test, or with ``classifier`` the shipped model
     (on fits at least ``min_width_spacings`` wide, or ``narrow_width_spacings`` wide with
-    their axes near their surface); with ``body_wall.enabled``, those off the body wall."""
-    keep = _passing(candidates, cloud, eye, spacing, config)
-    if not (config.body_wall.enabled and keep.any()):
-        return keep
-    wall = fit_body_wall(cloud, config.body_wall)
-    if wall is None:
-        return keep
-    surface = np.stack([c.center for c in candidates])
-    return keep & (wall.distance(surface) >= config.body_wall.drop_distance)
-
-
-def _passing(
-    candidates: tuple[Candidate, ...],
-    cloud: NDArray[np.float64],
-    eye: NDArray[np.float64],
-    spacing: float,
-    config: SingleViewConfig,
-) -> NDArray[np.bool_]:
-    """The standoff test's or the classifier's verdict on each candidate (:func:`_keep`)."""
+    their axes near their surface)."""
     floor = _floor(config, config.min_width_spacings, spacing)
     standoff = replace(config.standoff, min_width=floor)
     opening = config.quadric.gripper_max_opening
@@ -246,6 +228,9 @@ def detect_single_view(
     if not raw.candidates:
         return raw
     keep = _keep(raw.candidates, cloud, eye, spacing, config)
+    if config.body_wall.enabled and keep.any():
+        surface = np.stack([c.center for c in raw.candidates])
+        keep &= off_body_wall(surface, cloud, config.body_wall)
     kept = tuple(c for c, k in zip(raw.candidates, keep, strict=True) if k)
     if not kept:
         return replace(raw, candidates=(), handles=())
