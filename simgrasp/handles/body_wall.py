@@ -115,14 +115,14 @@ def fit_body_wall(points: NDArray[np.float64], config: BodyWallConfig) -> BodyWa
         return None
     radii = np.linalg.norm(points_2d - center_2d, axis=1)
     radius = float(np.median(radii[crossing][on_lines]))
-    if not _is_wall(radii, radius, config):
+    if _wall_share(radii, radius, config) is None:
         return None
     near_wall = np.abs(radii - radius) < REFINE_BAND
     center_2d, radius = _circle_through(points_2d[near_wall], center_2d, radius)
     radii = np.linalg.norm(points_2d - center_2d, axis=1)
-    if not _is_wall(radii, radius, config):
+    share = _wall_share(radii, radius, config)
+    if share is None:
         return None
-    share = float(np.mean(np.abs(radii - radius) < config.wall_tolerance))
     return BodyWall(axis, center_2d @ across, radius, share)
 
 
@@ -138,11 +138,13 @@ def off_body_wall(
     return wall.distance(surface) >= config.drop_distance
 
 
-def _is_wall(radii: NDArray[np.float64], radius: float, config: BodyWallConfig) -> bool:
-    """Whether a circle of ``radius`` (m), the points at ``radii`` (N,) from its centre, is a
-    wall: its radius in ``config``'s range and enough of the points on it."""
+def _wall_share(radii: NDArray[np.float64], radius: float, config: BodyWallConfig) -> float | None:
+    """The share of the points, at ``radii`` (N,) from a circle's centre, on that circle of
+    ``radius`` (m) when it is a wall (its radius in ``config``'s range, enough points on it);
+    else None."""
     share = float(np.mean(np.abs(radii - radius) < config.wall_tolerance))
-    return config.min_radius <= radius <= config.max_radius and share >= config.min_wall_share
+    in_range = config.min_radius <= radius <= config.max_radius
+    return share if in_range and share >= config.min_wall_share else None
 
 
 def _circle_through(
