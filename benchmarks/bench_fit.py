@@ -11,15 +11,19 @@ from __future__ import annotations
 
 import os
 
-for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_variable] = "1"
+if __name__ == "__main__":  # run, not imported (a test reading the options)
+    for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[_variable] = "1"
 
-import argparse  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
 
 import numpy as np  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.quadric import METHODS, analyze_quadrics, fit_quadrics  # noqa: E402
 from simgrasp.seeding import rng_for  # noqa: E402
 
@@ -53,47 +57,60 @@ def median_seconds(run, repeats: int) -> tuple[float, float]:  # noqa: ANN001 - 
     return float(np.median(wall)), float(np.median(cpu))
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--batch", type=int, default=20000)
-    parser.add_argument("--points", type=int, default=50)
-    parser.add_argument("--repeats", type=int, default=7)
-    parser.add_argument("--seed", type=int, default=0)
-    args = parser.parse_args()
-    pts, nrm = neighborhoods(args.batch, args.points, args.seed)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    batch: PositiveInt = 20000
+    """Neighborhoods fitted in one batch."""
+    points: PositiveInt = 50
+    """Points per neighborhood."""
+    repeats: PositiveInt = 7
+    """Timed runs of each step (after one warm-up run); the median is printed."""
+    seed: int = 0
+    """Seed of the neighborhoods and of the ragged batch's sizes."""
+
+
+def run(options: Options) -> None:
+    """Print the table of fits per second (see the module doc)."""
+    pts, nrm = neighborhoods(options.batch, options.points, options.seed)
     print(
-        f"B = {args.batch} neighborhoods x {args.points} points, 1 thread, median of "
-        f"{args.repeats} runs"
+        f"B = {options.batch} neighborhoods x {options.points} points, 1 thread, median of "
+        f"{options.repeats} runs"
     )
     print("| step | wall s | CPU s | per wall second | per CPU second | vs paper (~308/s) |")
     print("|---|---|---|---|---|---|")
     for method in METHODS:
-        wall, cpu = median_seconds(lambda m=method: fit_quadrics(pts, nrm, method=m), args.repeats)
-        rate = args.batch / cpu
-        print(
-            f"| fit {method} | {wall:.3f} | {cpu:.3f} | {args.batch / wall:,.0f} | {rate:,.0f} | "
-            f"{rate / PAPER_FITS_PER_SECOND:,.0f}x |"
+        wall, cpu = median_seconds(
+            lambda m=method: fit_quadrics(pts, nrm, method=m), options.repeats
         )
-    sizes = rng_for(args.seed, "bench_fit", "ragged").integers(
-        args.points // 2, args.points + 1, args.batch
+        rate = options.batch / cpu
+        print(
+            f"| fit {method} | {wall:.3f} | {cpu:.3f} | {options.batch / wall:,.0f} | "
+            f"{rate:,.0f} | {rate / PAPER_FITS_PER_SECOND:,.0f}x |"
+        )
+    sizes = rng_for(options.seed, "bench_fit", "ragged").integers(
+        options.points // 2, options.points + 1, options.batch
     )
-    mask = np.arange(args.points) < sizes[:, None]
-    wall, cpu = median_seconds(lambda: fit_quadrics(pts, nrm, mask=mask), args.repeats)
-    rate = args.batch / cpu
+    mask = np.arange(options.points) < sizes[:, None]
+    wall, cpu = median_seconds(lambda: fit_quadrics(pts, nrm, mask=mask), options.repeats)
+    rate = options.batch / cpu
     print(
-        f"| fit birdal, ragged (mask) | {wall:.3f} | {cpu:.3f} | {args.batch / wall:,.0f} | "
+        f"| fit birdal, ragged (mask) | {wall:.3f} | {cpu:.3f} | {options.batch / wall:,.0f} | "
         f"{rate:,.0f} | {rate / PAPER_FITS_PER_SECOND:,.0f}x |"
     )
     fit = fit_quadrics(pts, nrm)
     wall, cpu = median_seconds(
         lambda: analyze_quadrics(fit.coefficients, rtol=1e-2, reference_points=fit.centroids),
-        args.repeats,
+        options.repeats,
     )
     print(
-        f"| analyze (birdal fits) | {wall:.3f} | {cpu:.3f} | {args.batch / wall:,.0f} | "
-        f"{args.batch / cpu:,.0f} | |"
+        f"| analyze (birdal fits) | {wall:.3f} | {cpu:.3f} | {options.batch / wall:,.0f} | "
+        f"{options.batch / cpu:,.0f} | |"
     )
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

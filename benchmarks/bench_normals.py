@@ -11,19 +11,23 @@ from __future__ import annotations
 
 import os
 
-for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
+if __name__ == "__main__":  # run, not imported (a test reading the options)
+    for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
 
-import argparse  # noqa: E402
 import statistics  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import open3d as o3d  # noqa: E402
 import trimesh  # noqa: E402
 
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.perception import (  # noqa: E402
     estimate_normals,
     gather_neighborhoods,
@@ -51,13 +55,20 @@ def _mesh(name: str) -> trimesh.Trimesh:
     return trimesh.load(path, force="mesh")
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--object", default="torus")
-    parser.add_argument("--points", type=int, default=20000)
-    parser.add_argument("--repeats", type=int, default=7)
-    args = parser.parse_args()
-    points, _ = sample_surface(_mesh(args.object), args.points, rng_for(0, "bench_normals"))
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    object: str = "torus"
+    """The cloud's mesh: ``torus`` (generated) or a YCB id such as ``025_mug`` (read from
+    ``$SIMGRASP_YCB_DIR``)."""
+    points: PositiveInt = 20000
+    """Points sampled on the mesh's surface."""
+    repeats: PositiveInt = 7
+    """Timed runs of each step; the median is printed."""
+
+
+def run(options: Options) -> None:
+    """Print the median time of each step (see the module doc)."""
+    points, _ = sample_surface(_mesh(options.object), options.points, rng_for(0, "bench_normals"))
     radius = RADIUS_PER_SPACING * point_spacing(points)
 
     def open3d_only() -> None:
@@ -77,13 +88,17 @@ def main() -> None:
             points, normals, centers, 0.016, "cube", 64, 10, rng_for(0)
         ),
     }
-    medians = {name: _median_s(step, args.repeats) for name, step in rows.items()}
+    medians = {name: _median_s(step, options.repeats) for name, step in rows.items()}
     base = medians["open3d estimate_normals"]
-    print(f"{args.object}: {len(points)} points, radius {radius * 1000:.2f} mm")
-    print(f"median of {args.repeats} runs, one thread")
+    print(f"{options.object}: {len(points)} points, radius {radius * 1000:.2f} mm")
+    print(f"median of {options.repeats} runs, one thread")
     for name, seconds in medians.items():
         print(f"  {name:40s} {seconds * 1000:8.1f} ms  ({seconds / base:5.1f}x Open3D)")
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
