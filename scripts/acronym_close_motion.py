@@ -17,12 +17,11 @@ of those moved the object more than ``THROWN`` m, with FleX's own median closing
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 from collections import defaultdict
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -31,6 +30,8 @@ import numpy as np
 
 import simgrasp.grasping.trials.trial as trial_module
 from simgrasp.assets.model import model_for
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.grasping.labeling.grasp_files import carried_object, reference_labels
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
@@ -39,6 +40,8 @@ THROWN = 0.1
 """m: a grasp that moved the object farther than this while closing threw it."""
 HALVES = Path(__file__).resolve().parents[1] / "docs/results/acronym/halves.json"
 FLEX_CLOSING = "grasps/qualities/flex/object_motion_during_closing_linear"
+ACRONYM_DIR = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym"))
+"""The ACRONYM data root: ``$SIMGRASP_ACRONYM_DIR``, else ``../shared/acronym``."""
 
 
 def _recording_close(moved: list[float]) -> Callable[[Any], Any]:
@@ -100,33 +103,46 @@ def table(rows: dict[str, list[tuple]], title: str) -> list[str]:
     return [*lines, ""]
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    root = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym"))
-    parser.add_argument("--grasps", type=Path, default=root / "affordance" / "grasps")
-    parser.add_argument("--half", choices=("tune", "held_out"), default="tune")
-    parser.add_argument("--max-grasps", type=int, default=500)
-    parser.add_argument("--integrator", choices=("implicitfast", "discrete"), required=True)
-    parser.add_argument("--impratio", type=float, required=True)
-    parser.add_argument("--out", type=Path, required=True)
-    args = parser.parse_args()
-    files = json.loads(HALVES.read_text())[f"{args.half}/files"]
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    grasps: Path = ACRONYM_DIR / "affordance" / "grasps"
+    """Folder of the ACRONYM grasp files (by default affordance/grasps under
+    $SIMGRASP_ACRONYM_DIR, else under ../shared/acronym)."""
+    half: Literal["tune", "held_out"] = "tune"
+    """Half of docs/results/acronym/halves.json whose files are labeled."""
+    max_grasps: PositiveInt = 500
+    """Grasps labeled per file (its first ones)."""
+    integrator: Literal["implicitfast", "discrete"]
+    """MuJoCo integrator replacing the acronym protocol's."""
+    impratio: float
+    """MuJoCo impratio (frictional to normal constraint impedance) replacing the protocol's."""
+    out: Path
+    """Markdown file the table is written to."""
+
+
+def run(options: Options) -> str:
+    """Label the half's files under the options' integrator and impratio; the table."""
+    files = json.loads(HALVES.read_text())[f"{options.half}/files"]
     rows: dict[str, list[tuple]] = defaultdict(list)
     for name in files:
-        path = args.grasps / name
+        path = options.grasps / name
         if not path.is_file():
             raise SystemExit(f"no such grasp file: {path} (set SIMGRASP_ACRONYM_DIR)")
         rows[name.split("_")[0]] += label_file(
-            path, args.max_grasps, args.integrator, args.impratio
+            path, options.max_grasps, options.integrator, options.impratio
         )
     title = (
-        f"{args.half} half, first {args.max_grasps} grasps of each file, integrator "
-        f"{args.integrator}, impratio {args.impratio:g}"
+        f"{options.half} half, first {options.max_grasps} grasps of each file, integrator "
+        f"{options.integrator}, impratio {options.impratio:g}"
     )
     text = "\n".join(table(rows, title))
-    args.out.write_text(text)
-    print(text)
+    options.out.write_text(text)
+    return text
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

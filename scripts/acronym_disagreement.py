@@ -15,15 +15,17 @@ tuned here; it reads the label directories and the files' FleX labels only.
 
 from __future__ import annotations
 
-import argparse
 import json
 from collections import defaultdict
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import trimesh
 
 from simgrasp.assets.registry import load_object
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
 from simgrasp.grasping.labeling.grasp_files import carried_object, reference_labels
 from simgrasp.transforms import pose7_to_matrix
 
@@ -78,37 +80,49 @@ def table(title: str, column: str, bins: tuple[float, ...], cells: dict) -> list
     return [*lines, ""]
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--grasps", type=Path, required=True, help="folder of ACRONYM .h5 files")
-    parser.add_argument("--labels-dir", type=Path, required=True, help="label-grasps --out")
-    parser.add_argument("--wide", type=float, default=0.03, help="closed width (m) of a body grasp")
-    parser.add_argument("--out", type=Path, required=True, help="markdown file to write")
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    grasps: Path
+    """Folder of ACRONYM .h5 files."""
+    labels_dir: Path
+    """The label-grasps run (its --out) of those files."""
+    wide: float = 0.03
+    """Closed width (m) from which a grasp is a body grasp (the second table)."""
+    out: Path
+    """Markdown file to write."""
+
+
+def run(options: Options) -> str:
+    """FleX's success rate by closed width and by facing; the tables."""
     tune = set(json.loads(HALVES.read_text())["tune/files"])
     widths, facings = defaultdict(list), defaultdict(list)
-    for grasp_file in sorted(args.grasps.glob("*.h5")):
-        if not (args.labels_dir / grasp_file.stem / "labels.jsonl").is_file():
+    for grasp_file in sorted(options.grasps.glob("*.h5")):
+        if not (options.labels_dir / grasp_file.stem / "labels.jsonl").is_file():
             continue
         key = ("tune" if grasp_file.name in tune else "held-out", grasp_file.name.split("_")[0])
-        for flex, width, facing in held_grasps(grasp_file, args.labels_dir):
+        for flex, width, facing in held_grasps(grasp_file, options.labels_dir):
             widths[key].append((flex, width))
-            if width >= args.wide:
+            if width >= options.wide:
                 facings[key].append((flex, facing))
     lines = [
         "# FleX's success rate among the grasps our simulator held (cell: rate (grasps))",
         "",
         *table("By the width our fingers closed to (m)", "closed width", WIDTH_BINS, widths),
         *table(
-            f"Grasps closed wider than {args.wide:g} m, by how squarely the surface faces the jaws",
+            f"Grasps closed wider than {options.wide:g} m, by how squarely the surface faces the "
+            "jaws",
             "worse side's \\|cos\\|",
             FACING_BINS,
             facings,
         ),
     ]
-    args.out.write_text("\n".join(lines))
-    print("\n".join(lines))
+    options.out.write_text("\n".join(lines))
+    return "\n".join(lines)
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

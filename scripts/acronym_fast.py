@@ -16,11 +16,13 @@ no mesh data).
 
 from __future__ import annotations
 
-import argparse
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
 from simgrasp.grasping.labeling.label_compare import compare_labels
 from simgrasp.grasping.labeling.reference_compare import compare_with_reference
 
@@ -94,19 +96,30 @@ def _flex(row: dict[str, Any]) -> str:
     return f"{row['flex_accuracy']:.3f} / {row['flex_balanced']:.3f} / {auroc}"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, required=True, help="the ACRONYM grasp files")
-    parser.add_argument("--full", type=Path, required=True, help="label-grasps run, acronym")
-    parser.add_argument("--fast", type=Path, required=True, help="the same, acronym-fast")
-    parser.add_argument("--out", type=Path, required=True)
-    args = parser.parse_args()
-    rows = compare(args.data, args.full, args.fast)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "comparison.json").write_text(json.dumps(rows, indent=2) + "\n")
-    (args.out / "comparison.md").write_text(table(rows))
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    data: Path
+    """Folder of the ACRONYM grasp files."""
+    full: Path
+    """The label-grasps run of those files with --protocol acronym."""
+    fast: Path
+    """The same with --protocol acronym-fast."""
+    out: Path
+    """Folder of comparison.json and comparison.md."""
+
+
+def run(options: Options) -> None:
+    """Compare the two runs per half and category; print the table."""
+    rows = compare(options.data, options.full, options.fast)
+    options.out.mkdir(parents=True, exist_ok=True)
+    (options.out / "comparison.json").write_text(json.dumps(rows, indent=2) + "\n")
+    (options.out / "comparison.md").write_text(table(rows))
     print(table(rows), end="")
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -15,11 +15,13 @@ depends on which objects fell in the half;
 
 from __future__ import annotations
 
-import argparse
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
 from simgrasp.grasping.labeling.reference_compare import compare_with_reference
 
 KEYS = ("grasps", "accuracy", "balanced_accuracy", "auroc", "interval")
@@ -41,14 +43,20 @@ def halves(data: Path, run: Path, lists: dict[str, Any]) -> dict[str, Any]:
     return result
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, required=True, help="the ACRONYM grasp files")
-    parser.add_argument("--run", type=Path, required=True, help="label-grasps --out of them")
-    parser.add_argument("--halves", type=Path, required=True, help="halves.json to update")
-    args = parser.parse_args()
-    figures = halves(args.data, args.run, json.loads(args.halves.read_text()))
-    args.halves.write_text(json.dumps(figures, indent=2) + "\n")
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    data: Path
+    """Folder of the ACRONYM grasp files."""
+    run: Path
+    """The label-grasps run (its --out) of those files."""
+    halves: Path
+    """halves.json to update (its file lists kept, its figures rewritten)."""
+
+
+def run(options: Options) -> None:
+    """Rewrite the halves' figures from the run; print them."""
+    figures = halves(options.data, options.run, json.loads(options.halves.read_text()))
+    options.halves.write_text(json.dumps(figures, indent=2) + "\n")
     for key, row in figures.items():
         if not key.endswith("/files"):
             accuracy, balanced = row["interval"]["accuracy"], row["interval"]["balanced_accuracy"]
@@ -59,5 +67,9 @@ def main() -> None:
             )
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -40,12 +40,11 @@ the tune half of ``halves.json``:
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 from collections import Counter
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -61,6 +60,8 @@ from simgrasp.assets.model import (
     model_for,
 )
 from simgrasp.assets.registry import load_object
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, NonNegativeInt
 from simgrasp.grasping.labeling.grasp_files import carried_object, reference_labels
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
@@ -78,6 +79,8 @@ DEFAULT_FILES = (
 FINGERS = ("gripper/left_finger", "gripper/right_finger")
 HALVES = Path(__file__).resolve().parents[1] / "docs" / "results" / "acronym" / "halves.json"
 """The committed split of the affordance files into a tune and a held-out half."""
+ACRONYM_DIR = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym"))
+"""The ACRONYM data root: ``$SIMGRASP_ACRONYM_DIR``, else ``../shared/acronym``."""
 FINE_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=32, preprocess_resolution=50)
 TIGHT_HULLS = DecompositionConfig(threshold=0.05, max_convex_hull=-1, preprocess_mode="off")
 NO_REMESH = DecompositionConfig(preprocess_mode="off")
@@ -245,25 +248,36 @@ def summary(name: str, rows: list[Row]) -> str:
     return " | ".join(parts)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    root = Path(os.environ.get("SIMGRASP_ACRONYM_DIR", "../shared/acronym"))
-    parser.add_argument("--grasps", type=Path, default=root / "affordance" / "grasps")
-    parser.add_argument("--files", default=",".join(DEFAULT_FILES))
-    parser.add_argument("--variants", default="base")
-    parser.add_argument("--per-class", type=int, default=20)
-    args = parser.parse_args()
-    names = args.files.split(",")
-    if args.files == "tune":
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    grasps: Path = ACRONYM_DIR / "affordance" / "grasps"
+    """Folder of the ACRONYM grasp files (by default affordance/grasps under
+    $SIMGRASP_ACRONYM_DIR, else under ../shared/acronym)."""
+    files: tuple[str, ...] = DEFAULT_FILES
+    """Tune-half grasp files to label, or ``tune``: every file of the tune half."""
+    variants: tuple[str, ...] = ("base",)
+    """Variants to measure, each joining changes with ``+`` (the module doc)."""
+    per_class: NonNegativeInt = 20
+    """FleX successes and as many failures drawn per file (0: all of its first 500 grasps)."""
+
+
+def run(options: Options) -> None:
+    """Label each file's subset once per variant; print a summary line per variant."""
+    names = list(options.files)
+    if options.files == ("tune",):
         halves = json.loads(HALVES.read_text())
         names = list(halves["tune/files"])
-    files = [args.grasps / name for name in names]
+    files = [options.grasps / name for name in names]
     missing = [str(f) for f in files if not f.is_file()]
     if missing:
         raise SystemExit(f"no such grasp file: {missing[0]} (set SIMGRASP_ACRONYM_DIR)")
-    for name in args.variants.split(","):
-        print(summary(name, label_variant(name, files, args.per_class)), flush=True)
+    for name in options.variants:
+        print(summary(name, label_variant(name, files, options.per_class)), flush=True)
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
