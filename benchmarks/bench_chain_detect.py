@@ -9,18 +9,23 @@ objects, one scene per seed; each is detected with both settings in turn, ``--ru
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 import time
+from dataclasses import dataclass
+from typing import Literal
 
-for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
+if __name__ == "__main__":  # run, not imported (a test reading the options)
+    for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
 
 import numpy as np  # noqa: E402
+from needs_ycb import skipped_without_ycb  # noqa: E402  (this folder)
 
 from simgrasp.assets.model import model_for  # noqa: E402
 from simgrasp.assets.object_sets import PAPER_OBJECTS  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.grasping.trials.chain_config import ChainConfig  # noqa: E402
 from simgrasp.grippers import make_gripper  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, detect  # noqa: E402
@@ -50,16 +55,21 @@ def chain_clouds(sensor: str, seeds: int) -> list[tuple[np.ndarray, np.ndarray]]
     return clouds
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sensor", default="kinect", choices=("ideal", "kinect"))
-    parser.add_argument("--seeds", type=int, default=2)
-    parser.add_argument("--runs", type=int, default=5)
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    sensor: Literal["ideal", "kinect"] = "kinect"
+    """Depth sensor model of the chain's camera clouds."""
+    seeds: PositiveInt = 2
+    """Scenes per paper object (seeds 0 .. seeds - 1), one cloud each."""
+    runs: PositiveInt = 5
+    """Timed passes of both settings over all clouds; medians are printed."""
 
-    clouds = chain_clouds(args.sensor, args.seeds)
+
+def run(options: Options) -> None:
+    """Print the milliseconds per cloud of both settings and their ratio."""
+    clouds = chain_clouds(options.sensor, options.seeds)
     per_cloud: dict[str, list[float]] = {name: [] for name in SETTINGS}
-    for _ in range(args.runs):
+    for _ in range(options.runs):
         for name, settings in SETTINGS.items():
             start = time.perf_counter()
             for seed, (points, normals) in enumerate(clouds):
@@ -67,16 +77,19 @@ def main() -> None:
             per_cloud[name].append((time.perf_counter() - start) / len(clouds))
     median = {name: float(np.median(values)) for name, values in per_cloud.items()}
     print(
-        f"{len(clouds)} chain clouds ({len(PAPER_OBJECTS)} paper objects x {args.seeds} seeds, "
-        f"{args.sensor} depth), median of {args.runs} runs, one core"
+        f"{len(clouds)} chain clouds ({len(PAPER_OBJECTS)} paper objects x {options.seeds} seeds, "
+        f"{options.sensor} depth), median of {options.runs} runs, one core"
     )
     for name, seconds in median.items():
         print(f"{name:14s} {1000 * seconds:6.0f} ms a cloud")
     print(f"two_scales() / single pass: {median['two_scales()'] / median['single pass']:.2f}x")
 
 
+def main() -> int:
+    return script_main(
+        Options, skipped_without_ycb(run, "bench_chain_detect.py"), __doc__.splitlines()[0]
+    )
+
+
 if __name__ == "__main__":
-    try:
-        main()
-    except FileNotFoundError as exc:  # YCB meshes missing: nothing here runs without them
-        sys.exit(f"bench_chain_detect.py: skipped, it measures YCB objects: {exc}")
+    sys.exit(main())

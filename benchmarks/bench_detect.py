@@ -6,18 +6,22 @@ Open3D normal estimation alone on the same cloud, measured in one run (medians).
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 import time
+from dataclasses import dataclass
 
-for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
+if __name__ == "__main__":  # run, not imported (a test reading the options)
+    for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[_variable] = "1"  # one core for Open3D (OpenMP) and numpy alike, before import
 
 import numpy as np  # noqa: E402
 import open3d as o3d  # noqa: E402
+from needs_ycb import skipped_without_ycb  # noqa: E402  (this folder)
 
 from simgrasp.assets.registry import load_object  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, TenPasConfig, detect  # noqa: E402
 from simgrasp.handles.detection import TIMING_STEPS  # noqa: E402
 from simgrasp.perception import sample_surface, voxel_downsample  # noqa: E402
@@ -52,22 +56,29 @@ def open3d_oriented_normals_seconds(points: np.ndarray, radius: float, max_nn: i
     return time.perf_counter() - start
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--object", default="033_spatula")
-    parser.add_argument("--points", type=int, default=30000)
-    parser.add_argument("--neighborhoods", type=int, default=400)
-    parser.add_argument("--runs", type=int, default=7)
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    object: str = "033_spatula"
+    """Object whose surface is sampled (a YCB id reads ``$SIMGRASP_YCB_DIR``)."""
+    points: PositiveInt = 30000
+    """Points sampled on its surface, before voxelizing."""
+    neighborhoods: PositiveInt = 400
+    """Neighborhood centers requested from each detector."""
+    runs: PositiveInt = 7
+    """Timed runs of each detector and of Open3D's normals; medians are printed."""
+
+
+def run(options: Options) -> None:
+    """Print the per-step table and the ratios to Open3D (see the module doc)."""
     o3d.utility.set_verbosity_level(o3d.utility.VerbosityLevel.Error)
 
-    asset = load_object(args.object)
-    points, _ = sample_surface(asset.mesh, args.points, rng_for(0, "bench", args.object))
-    quadric = QuadricDetectorConfig(neighborhoods=args.neighborhoods)
-    tenpas = TenPasConfig(neighborhoods=args.neighborhoods)
+    asset = load_object(options.object)
+    points, _ = sample_surface(asset.mesh, options.points, rng_for(0, "bench", options.object))
+    quadric = QuadricDetectorConfig(neighborhoods=options.neighborhoods)
+    tenpas = TenPasConfig(neighborhoods=options.neighborhoods)
     voxelized, _ = voxel_downsample(points, quadric.voxel_size)
-    steps, totals, hoods = _measure(points, voxelized, quadric, tenpas, args.runs)
-    _report(args, points, voxelized, steps, totals, hoods)
+    steps, totals, hoods = _measure(points, voxelized, quadric, tenpas, options.runs)
+    _report(options, points, voxelized, steps, totals, hoods)
 
 
 Steps = dict[str, dict[str, list[float]]]
@@ -108,7 +119,7 @@ def _measure(
 
 
 def _report(
-    args: argparse.Namespace,
+    options: Options,
     points: np.ndarray,
     voxelized: np.ndarray,
     steps: Steps,
@@ -117,10 +128,10 @@ def _report(
 ) -> None:
     """Print the per-step table against the paper's Table III and the ratios to Open3D."""
     print(
-        f"{args.object}: {len(points)} points -> {len(voxelized)} after voxelizing, "
-        f"{args.neighborhoods} neighborhood centers requested, fitted (min-max over runs): "
+        f"{options.object}: {len(points)} points -> {len(voxelized)} after voxelizing, "
+        f"{options.neighborhoods} neighborhood centers requested, fitted (min-max over runs): "
         f"quadric {min(hoods['quadric'])}-{max(hoods['quadric'])}, "
-        f"tenpas {min(hoods['tenpas'])}-{max(hoods['tenpas'])}; median of {args.runs} runs, "
+        f"tenpas {min(hoods['tenpas'])}-{max(hoods['tenpas'])}; median of {options.runs} runs, "
         "one core"
     )
     print("| step | paper (s) | quadric (ms) | tenpas (ms) |\n|---|---|---|---|")
@@ -157,8 +168,11 @@ def _report(
     )
 
 
+def main() -> int:
+    return script_main(
+        Options, skipped_without_ycb(run, "bench_detect.py"), __doc__.splitlines()[0]
+    )
+
+
 if __name__ == "__main__":
-    try:
-        main()
-    except FileNotFoundError as exc:  # YCB meshes missing: nothing here runs without them
-        sys.exit(f"bench_detect.py: skipped, it measures YCB objects: {exc}")
+    sys.exit(main())

@@ -9,33 +9,42 @@ seed's scene is rendered both ways; the first seed only warms up.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
+from dataclasses import dataclass
 
 import numpy as np
+from needs_ycb import skipped_without_ycb  # (this folder)
 
 from simgrasp.assets.model import model_for
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
+from simgrasp.config.fields import setting
 from simgrasp.grasping.trials.chain_config import ChainConfig
-from simgrasp.grippers import make_gripper
+from simgrasp.grippers import gripper_names, make_gripper
 from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
 from simgrasp.scenes.observe import render_views
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import build_scene
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--object", default="048_hammer")
-    parser.add_argument("--gripper", default="builtin")
-    parser.add_argument("--runs", type=int, default=9)
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    object: str = "048_hammer"
+    """Object of the scenes (a YCB id reads ``$SIMGRASP_YCB_DIR``)."""
+    gripper: str = setting("builtin", choices=gripper_names)
+    """Gripper of the scenes."""
+    runs: PositiveInt = 9
+    """Timed scenes, seeds 1 .. runs (seed 0 warms up); medians are printed."""
 
-    model = model_for(args.object)
-    gripper = make_gripper(args.gripper)
+
+def run(options: Options) -> None:
+    """Print the milliseconds to build a scene and render its views both ways."""
+    model = model_for(options.object)
+    gripper = make_gripper(options.gripper)
     config = ChainConfig().scene
     times: dict[str, list[float]] = {"build": [], "fresh": [], "kept": []}
-    for seed in range(args.runs + 1):
+    for seed in range(options.runs + 1):
         start = time.perf_counter()
         scene = build_scene(model, gripper, config, seed)
         built = time.perf_counter()
@@ -52,8 +61,8 @@ def main() -> None:
 
     median = {name: float(np.median(values)) for name, values in times.items()}
     print(
-        f"{args.object}, {args.gripper} gripper, {len(scene.cameras)} views of 640x480 depth + "
-        f"segmentation, median of {args.runs} scenes (seeds 1..{args.runs})"
+        f"{options.object}, {options.gripper} gripper, {len(scene.cameras)} views of 640x480 "
+        f"depth + segmentation, median of {options.runs} scenes (seeds 1..{options.runs})"
     )
     print(f"build scene:                 {1000 * median['build']:.0f} ms")
     print(f"render views, fresh renderer: {1000 * median['fresh']:.0f} ms")
@@ -61,8 +70,11 @@ def main() -> None:
     print(f"fresh / kept: {median['fresh'] / median['kept']:.2f}x")
 
 
+def main() -> int:
+    return script_main(
+        Options, skipped_without_ycb(run, "bench_observe.py"), __doc__.splitlines()[0]
+    )
+
+
 if __name__ == "__main__":
-    try:
-        main()
-    except FileNotFoundError as exc:  # YCB meshes missing: nothing here runs without them
-        sys.exit(f"bench_observe.py: skipped, it measures YCB objects: {exc}")
+    sys.exit(main())
