@@ -10,7 +10,6 @@ calibration.md (the table against the 25 % goal), calibration.csv and calibratio
 
 from __future__ import annotations
 
-import argparse
 import csv
 import dataclasses
 import math
@@ -18,6 +17,9 @@ import os
 import time
 from pathlib import Path
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
+from simgrasp.config.fields import setting
 from simgrasp.perception.sensors import SENSORS, KinectConfig, SensorConfig, sensor_config
 from simgrasp.perception.sensors.calibration import CalibrationRow, calibration_rows
 
@@ -136,26 +138,37 @@ def plot(rows: list[CalibrationRow], name: str, path: Path) -> None:
     figure.savefig(path, dpi=100)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sensor", choices=sorted(SENSORS), default="kinect")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--real-dir", type=Path, default=default_real_dir())
-    parser.add_argument("--out", type=Path, default=Path("docs/results/sensor-calibration"))
-    args = parser.parse_args()
-    paths = scan_paths(args.real_dir)
-    config = sensor_config(args.sensor)
-    reference = LITERATURE.get(args.sensor)
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    sensor: str = setting("kinect", choices=tuple(sorted(SENSORS)))
+    """Sensor model calibrated (its defaults)."""
+    seed: int = 0
+    """Seed of the simulated sensor noise."""
+    real_dir: Path = default_real_dir()
+    """Real data root holding osd-learn (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("docs/results/sensor-calibration")
+    """Folder of calibration.md, calibration.csv and calibration.png."""
+
+
+def run(options: Options) -> str:
+    """Real and simulated figures per depth bin, written; the table."""
+    paths = scan_paths(options.real_dir)
+    config = sensor_config(options.sensor)
+    reference = LITERATURE.get(options.sensor)
     configs = [config] if reference is None else [config, reference]
     start = time.perf_counter()
-    rows, *others = calibration_rows(paths, configs, args.seed)
+    rows, *others = calibration_rows(paths, configs, options.seed)
     seconds = time.perf_counter() - start
-    args.out.mkdir(parents=True, exist_ok=True)
-    note = f"{len(paths)} scans, seed {args.seed}, {seconds:.0f} s. {NOTE}"
-    write_table(rows, config, others[0] if others else None, args.out, note)
-    plot(rows, args.sensor, args.out / "calibration.png")
-    print((args.out / "calibration.md").read_text())
+    options.out.mkdir(parents=True, exist_ok=True)
+    note = f"{len(paths)} scans, seed {options.seed}, {seconds:.0f} s. {NOTE}"
+    write_table(rows, config, others[0] if others else None, options.out, note)
+    plot(rows, options.sensor, options.out / "calibration.png")
+    return (options.out / "calibration.md").read_text()
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

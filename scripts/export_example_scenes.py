@@ -14,10 +14,12 @@ holds them; a YCB object is exported with its files by ``simgrasp object export 
 
 from __future__ import annotations
 
-import argparse
+from dataclasses import dataclass
 from pathlib import Path
 
 from simgrasp.assets.model import model_for
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.scene import build_scene
@@ -39,12 +41,21 @@ def export(
     return scene.export_xml(out_dir / f"{object_name}_{gripper}{suffix}.xml")
 
 
-def main() -> None:
-    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args()  # --help only
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    """No settings: the scenes and their settings are the module's constants."""
+
+
+def run(options: Options) -> None:
+    """Write the example scenes into ``scenes/``, printing each file."""
     for object_name, gripper in SHIPPED:
         print(export(object_name, gripper, SCENES, ChainConfig()))
     print(export("gen_hammer", "builtin", SCENES, CLUTTER, "_clutter5"))
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

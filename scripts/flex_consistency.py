@@ -19,9 +19,9 @@ other agree, beside our accuracy on the file, and how the two rank together.
 
 from __future__ import annotations
 
-import argparse
 import functools
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +30,8 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 from scipy.stats import spearmanr
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP
 from simgrasp.grasping.labeling.hdf5_files import open_hdf5
 from simgrasp.grasping.labeling.label_compare import UNSCORED, load_labels
@@ -183,17 +185,29 @@ def table(labels: Path, grasps: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--labels", type=Path, required=True, help="a label-grasps data-set run")
-    parser.add_argument("--grasps", type=Path, required=True, help="the ACRONYM files' folder")
-    parser.add_argument("--out", type=Path, required=True, help="the markdown table to write")
-    args = parser.parse_args()
-    if not args.grasps.is_dir():
-        raise SystemExit(f"no such folder: {args.grasps} (set SIMGRASP_ACRONYM_DIR)")
-    args.out.write_text(table(args.labels, args.grasps) + "\n" + per_file(args.labels, args.grasps))
-    print(args.out.read_text(), end="")
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    labels: Path
+    """A label-grasps data-set run of the ACRONYM files."""
+    grasps: Path
+    """The ACRONYM files' folder."""
+    out: Path
+    """The markdown table to write."""
+
+
+def run(options: Options) -> None:
+    """Both tables, written to ``out`` and printed."""
+    if not options.grasps.is_dir():
+        raise SystemExit(f"no such folder: {options.grasps} (set SIMGRASP_ACRONYM_DIR)")
+    options.out.write_text(
+        table(options.labels, options.grasps) + "\n" + per_file(options.labels, options.grasps)
+    )
+    print(options.out.read_text(), end="")
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -12,16 +12,18 @@ object's candidates inside the grip label and whether its top handle is. Writes
 
 from __future__ import annotations
 
-import argparse
 import csv
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from simgrasp.assets.graspnet_frame import GRASPNET_EXAMPLE, read_graspnet_frame
 from simgrasp.assets.real import default_real_dir
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
 from simgrasp.handles.scene_detect import detect_in_scene
 from simgrasp.labels import HandleLabel, load_label_file
@@ -70,14 +72,20 @@ def score(
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--real-dir", type=Path, default=None, help="default: ../shared/real")
-    parser.add_argument("--out", type=Path, default=Path("out/real-scene"))
-    args = parser.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
-    grid = read_graspnet_frame((args.real_dir or default_real_dir()) / GRASPNET_EXAMPLE)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    seeds: PositiveInt = 5
+    """Detection seeds 0 .. seeds - 1 per setting."""
+    real_dir: Path | None = None
+    """Real data root (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("out/real-scene")
+    """Folder of results.csv and report.md."""
+
+
+def run(options: Options) -> str:
+    """Each setting's detection on the frame, per seed, scored on the drill; the table."""
+    options.out.mkdir(parents=True, exist_ok=True)
+    grid = read_graspnet_frame((options.real_dir or default_real_dir()) / GRASPNET_EXAMPLE)
     labels = load_label_file(model_path("handles", "graspnet_handles.json"))
     grip = labels["graspnet_example_drill"]
     in_grip = grip.contains(np.nan_to_num(grid.reshape(-1, 3), nan=1e3))
@@ -85,9 +93,9 @@ def main() -> None:
         frame = Path(folder) / "frame.npy"
         np.save(frame, grid)
         rows = [
-            score(frame, grip, in_grip, name, s) for name in SETTINGS for s in range(args.seeds)
+            score(frame, grip, in_grip, name, s) for name in SETTINGS for s in range(options.seeds)
         ]
-    with (args.out / "results.csv").open("w", newline="") as stream:
+    with (options.out / "results.csv").open("w", newline="") as stream:
         writer = csv.DictWriter(stream, list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -103,9 +111,13 @@ def main() -> None:
         tops = sum(bool(r["top_on_grip"]) for r in mine)
         seconds = float(np.median([float(r["seconds"]) for r in mine]))  # type: ignore[arg-type]
         lines.append(f"| {name} | {accuracy} | {tops} / {len(mine)} | {seconds:.1f} |")
-    (args.out / "report.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    (options.out / "report.md").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -12,15 +12,17 @@ of the repository).
 
 from __future__ import annotations
 
-import argparse
 import csv
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from simgrasp.assets.graspnet_frame import GRASPNET_EXAMPLE, read_graspnet_frame
 from simgrasp.assets.real import default_real_dir
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
 from simgrasp.evaluation.frame_objects import read_frame_objects, table_heights, truth_labels
 from simgrasp.evaluation.segment_eval import part_ious
 from simgrasp.perception.scene_cloud import scene_from_array
@@ -56,18 +58,24 @@ def picture(grid: np.ndarray, labels: np.ndarray, heights: np.ndarray, path: Pat
     Image.fromarray(image.astype(np.uint8)).save(path)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--real-dir", type=Path, default=None, help="default: ../shared/real")
-    parser.add_argument("--out", type=Path, default=Path("out/real-scene"))
-    parser.add_argument("--picture", type=Path, help="write the labels' review picture here")
-    args = parser.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
-    grid = read_graspnet_frame((args.real_dir or default_real_dir()) / GRASPNET_EXAMPLE)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    real_dir: Path | None = None
+    """Real data root (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("out/real-scene")
+    """Folder of segmentation.csv and segmentation.md."""
+    picture: Path | None = None
+    """Write the labels' review picture here (an image file; derived from the frame)."""
+
+
+def run(options: Options) -> str:
+    """Each setting's segmentation of the frame scored per drawn object; the table."""
+    options.out.mkdir(parents=True, exist_ok=True)
+    grid = read_graspnet_frame((options.real_dir or default_real_dir()) / GRASPNET_EXAMPLE)
     annotation = read_frame_objects(model_path("handles", "graspnet_objects.json"))
     truth = truth_labels(grid, annotation)
-    if args.picture:
-        picture(grid, truth, table_heights(grid, annotation), args.picture)
+    if options.picture:
+        picture(grid, truth, table_heights(grid, annotation), options.picture)
     names = [drawn.name for drawn in annotation.objects]
     sizes = np.bincount(truth // 10, minlength=len(names) + 2)[2:]  # object i: label 10 (i + 2)
     rows = []
@@ -87,7 +95,7 @@ def main() -> None:
                     "cpu_ms": round(cpu_ms, 1),
                 }
             )
-    with (args.out / "segmentation.csv").open("w", newline="") as stream:
+    with (options.out / "segmentation.csv").open("w", newline="") as stream:
         writer = csv.DictWriter(stream, list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -103,9 +111,13 @@ def main() -> None:
         lines.append(
             f"| {setting} | {cells} | {np.mean(ious):.3f} | {under} | {mine[0]['segments']} |"
         )
-    (args.out / "segmentation.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    (options.out / "segmentation.md").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

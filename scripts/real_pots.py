@@ -7,14 +7,15 @@ to the goals) to ``--out``.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.evaluation.real_pots import (
     POT_SEGMENTATION,
     PotResult,
@@ -54,19 +55,25 @@ WITHOUT_PARTS = SegmentConfig(part_min_contact=0)
 GOALS = "candidate accuracy >= 0.80; top handle on a labeled handle in >= 80 % of the scenes"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=5, help="detection seeds per scene")
-    parser.add_argument("--real-dir", type=Path, default=None, help="default: ../shared/real")
-    parser.add_argument("--out", type=Path, default=Path("out/real-pots"))
-    args = parser.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    seeds: PositiveInt = 5
+    """Detection seeds per scene (0 .. seeds - 1)."""
+    real_dir: Path | None = None
+    """Real data root (default: $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("out/real-pots")
+    """Folder of results.csv and report.md."""
+
+
+def run(options: Options) -> str:
+    """Every setting and cut on every pot scene and seed; the report."""
+    options.out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     runs = {
         f"{name}, {cut} cut": evaluate_real_pots(
             config,
-            range(args.seeds),
-            args.real_dir,
+            range(options.seeds),
+            options.real_dir,
             detector=detector,
             cut=cut,
             segment_config=POT_SEGMENTATION,
@@ -83,15 +90,15 @@ def main() -> None:
     for variant, segmentation in segmentations.items():
         runs[f"quadric real_depth, segment cut {variant}"] = evaluate_real_pots(
             SETTINGS["quadric real_depth"][1],
-            range(args.seeds),
-            args.real_dir,
+            range(options.seeds),
+            options.real_dir,
             cut="segment",
             segment_config=segmentation,
         )
-    write_csv(args.out / "results.csv", runs)
-    report = render_report(runs, args.seeds, time.perf_counter() - start)
-    (args.out / "report.md").write_text(report)
-    print(report)
+    write_csv(options.out / "results.csv", runs)
+    report = render_report(runs, options.seeds, time.perf_counter() - start)
+    (options.out / "report.md").write_text(report)
+    return report
 
 
 def write_csv(path: Path, runs: dict[str, list[PotResult]]) -> None:
@@ -159,5 +166,9 @@ def render_report(runs: dict[str, list[PotResult]], seeds: int, elapsed: float) 
     return "\n".join(lines) + "\n"
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

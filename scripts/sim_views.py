@@ -9,11 +9,12 @@ are; writes ``sim_views.csv`` and ``sim_views.md`` (sim beside real) to ``--out`
 
 from __future__ import annotations
 
-import argparse
 import csv
-from dataclasses import asdict, fields
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.evaluation.real_detect import RealDetectRow, read_done
 from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, score_view
 
@@ -38,23 +39,29 @@ def _cell(rows: list[RealDetectRow]) -> str:
     return f"{accuracy:.2f} ({sum(r.top_on_handle for r in rows)}/{len(rows)})"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--out", type=Path, default=Path("out/sim-views"))
-    args = parser.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    seeds: PositiveInt = 5
+    """Seeds 0 .. seeds - 1 of each simulated view and setting."""
+    out: Path = Path("out/sim-views")
+    """Folder of sim_views.csv and sim_views.md (the real rows are read from its
+    real_detect.csv)."""
+
+
+def run(options: Options) -> str:
+    """Score every view, setting and seed; the table, sim beside real."""
+    options.out.mkdir(parents=True, exist_ok=True)
     rows = []
-    with (args.out / "sim_views.csv").open("w", newline="") as handle:
+    with (options.out / "sim_views.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, [f.name for f in fields(RealDetectRow)])
         writer.writeheader()
         for views in REAL_CAPTURE_VIEWS.values():
             for view in views:
                 for config in CONFIGS:
-                    for seed in range(args.seeds):
+                    for seed in range(options.seeds):
                         rows.append(score_view(view, config, seed))
                         writer.writerow(asdict(rows[-1]))
-    real = read_done(args.out / "real_detect.csv")
+    real = read_done(options.out / "real_detect.csv")
     header = ["real capture / simulated view", *CONFIGS]
     lines = ["| " + " | ".join(header) + " |", "|---" * len(header) + "|"]
     for cloud, views in REAL_CAPTURE_VIEWS.items():
@@ -66,9 +73,13 @@ def main() -> None:
             ]
             lines.append(f"| sim {view.name} | " + " | ".join(cells) + " |")
     text = "\n".join(lines)
-    (args.out / "sim_views.md").write_text(text + "\n")
-    print(text)
+    (options.out / "sim_views.md").write_text(text + "\n")
+    return text
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
