@@ -14,19 +14,23 @@ from __future__ import annotations
 
 import os
 
-for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_variable] = "1"
+if __name__ == "__main__":  # run, not imported (a test reading the options)
+    for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[_variable] = "1"
 
-import argparse  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
-from dataclasses import replace  # noqa: E402
+from dataclasses import dataclass, replace  # noqa: E402
 from functools import partial  # noqa: E402
 from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from simgrasp.assets.generated import generate_tool  # noqa: E402
+from simgrasp.assets.generated import GENERATED_KINDS, generate_tool  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
+from simgrasp.config.fields import setting  # noqa: E402
 from simgrasp.handles.auto_label import (  # noqa: E402
     AutoLabelConfig,
     label_from_candidates,
@@ -63,11 +67,16 @@ def time_object(kind: str, config: AutoLabelConfig, baseline: AutoLabelConfig, r
     )
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--objects", default="strap_mug,spatula,hammer")
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    objects: tuple[str, ...] = setting(("strap_mug", "spatula", "hammer"), choices=GENERATED_KINDS)
+    """Generated object kinds to label (seed 0 each), one table row each."""
+    repeats: PositiveInt = 3
+    """Timed runs of each stage; the median is printed."""
+
+
+def run(options: Options) -> None:
+    """Print the table of stage times (see the module doc)."""
     config = AutoLabelConfig()
     baseline = replace(
         config,
@@ -75,13 +84,17 @@ def main() -> None:
         cross_section=CrossSectionConfig(min_ratio=0.0, grow_ratio=0.0),
         pieces="slabs",
     )
-    print("one process (one core); median of", args.repeats, "runs, seconds")
+    print("one process (one core); median of", options.repeats, "runs, seconds")
     print(
         f"{'object':14s} {'scan':>6s} {'detect':>7s} {'label':>6s} {'baseline':>8s} {'ratio':>6s}"
     )
-    for kind in args.objects.split(","):
-        print(time_object(kind, config, baseline, args.repeats), flush=True)
+    for kind in options.objects:
+        print(time_object(kind, config, baseline, options.repeats), flush=True)
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

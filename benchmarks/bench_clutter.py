@@ -14,11 +14,18 @@ Goal: the clutter trial within 2x the single-object trial.
 
 from __future__ import annotations
 
-import argparse
 import statistics
+import sys
 import time
+from dataclasses import dataclass
+from typing import Annotated
 
 import simgrasp
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt, Range
+from simgrasp.config.fields import setting
+from simgrasp.perception.sensors.registry import sensor_names
+from simgrasp.scenes.clutter_sets import MAX_CLUTTER
 
 
 def timed_trial(name: str, seed: int, clutter: int, sensor: str) -> tuple[float, dict[str, float]]:
@@ -31,21 +38,28 @@ def timed_trial(name: str, seed: int, clutter: int, sensor: str) -> tuple[float,
     return time.perf_counter() - start, dict(result.timings_s)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--clutter", type=int, default=5)
-    parser.add_argument("--objects", default="gen_hammer,gen_mug")
-    parser.add_argument("--seeds", type=int, default=3)
-    parser.add_argument("--sensor", default="kinect")
-    args = parser.parse_args()
-    walls: dict[int, list[float]] = {0: [], args.clutter: []}
-    stages: dict[int, dict[str, list[float]]] = {0: {}, args.clutter: {}}
-    for name in args.objects.split(","):
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    clutter: Annotated[int, Range(ge=0, le=MAX_CLUTTER)] = 5
+    """Distractors of the cluttered scene (the single-object scene has none)."""
+    objects: tuple[str, ...] = ("gen_hammer", "gen_mug")
+    """Target objects, each timed alone and among the distractors."""
+    seeds: PositiveInt = 3
+    """Timed scene pairs per object (seeds 0 .. seeds - 1), after an untimed warm-up pair."""
+    sensor: str = setting("kinect", choices=sensor_names)
+    """Depth sensor model of the chain."""
+
+
+def run(options: Options) -> None:
+    """Print the median trial and stage times of both scenes and their ratio."""
+    walls: dict[int, list[float]] = {0: [], options.clutter: []}
+    stages: dict[int, dict[str, list[float]]] = {0: {}, options.clutter: {}}
+    for name in options.objects:
         for clutter in walls:  # warm-up
-            timed_trial(name, 10_000, clutter, args.sensor)
-        for seed in range(args.seeds):
+            timed_trial(name, 10_000, clutter, options.sensor)
+        for seed in range(options.seeds):
             for clutter in walls:
-                wall, timings = timed_trial(name, seed, clutter, args.sensor)
+                wall, timings = timed_trial(name, seed, clutter, options.sensor)
                 walls[clutter].append(wall)
                 for stage, seconds in timings.items():
                     stages[clutter].setdefault(stage, []).append(seconds)
@@ -54,9 +68,13 @@ def main() -> None:
             f"{stage} {statistics.median(v):.3f}" for stage, v in stages[clutter].items()
         )
         print(f"clutter {clutter}: median trial {statistics.median(values):.2f} s ({parts})")
-    ratio = statistics.median(walls[args.clutter]) / statistics.median(walls[0])
-    print(f"ratio clutter {args.clutter} / single: {ratio:.2f} (goal <= 2)")
+    ratio = statistics.median(walls[options.clutter]) / statistics.median(walls[0])
+    print(f"ratio clutter {options.clutter} / single: {ratio:.2f} (goal <= 2)")
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

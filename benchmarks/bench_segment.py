@@ -20,21 +20,27 @@ from __future__ import annotations
 
 import os
 
-for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"  # one core, before numpy and Open3D load
+if __name__ == "__main__":  # run, not imported (a test reading the options)
+    for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[_var] = "1"  # one core, before numpy and Open3D load
 
-import argparse  # noqa: E402
 import statistics  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
+from typing import Annotated  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from simgrasp.assets.real import default_real_dir  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, NonNegativeInt, PositiveInt, Range  # noqa: E402
 from simgrasp.perception.camera import CameraIntrinsics, depth_to_points_cam  # noqa: E402
 from simgrasp.perception.scene_cloud import SceneCloud, read_scene  # noqa: E402
 from simgrasp.perception.segmentation.segment import Segmentation, segment_scene  # noqa: E402
 from simgrasp.perception.segmentation.segment_config import SegmentConfig  # noqa: E402
+from simgrasp.scenes.clutter_sets import MAX_CLUTTER  # noqa: E402
 
 KINECT = CameraIntrinsics(width=640, height=480, fx=525.0, fy=525.0, cx=319.5, cy=239.5)
 """The osd-learn scenes' camera (camera-frame points; only the baseline uses it)."""
@@ -111,29 +117,39 @@ def report(name: str, frames: list[Frame], repeats: int, config: SegmentConfig) 
     print(f"  stage medians (wall ms): {parts}")
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--clutter-scenes", type=int, default=3)
-    parser.add_argument("--distractors", type=int, default=5, help="per clutter scene, 0-19")
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    repeats: PositiveInt = 3
+    """Timed runs per frame (after an untimed one); the least CPU time is taken."""
+    clutter_scenes: NonNegativeInt = 3
+    """Simulated clutter scenes, four kinect views each (0: the osd-learn frames only)."""
+    distractors: Annotated[int, Range(ge=0, le=MAX_CLUTTER)] = 5
+    """Distractors per clutter scene."""
+
+
+def run(options: Options) -> None:
+    """Print the segmenter's and the baseline's CPU ms per frame of both frame sets."""
     osd = osd_frames()
     if osd:
-        report("osd-learn", osd, args.repeats, SegmentConfig())
+        report("osd-learn", osd, options.repeats, SegmentConfig())
     else:
         print(
             f"skipped osd-learn: no learn*.pcd in {default_real_dir() / 'osd-learn'} "
             "(set SIMGRASP_REAL_DIR)"
         )
-    if args.clutter_scenes > 0:
-        frames = clutter_frames(args.clutter_scenes, args.distractors)
+    if options.clutter_scenes > 0:
+        frames = clutter_frames(options.clutter_scenes, options.distractors)
         report(
-            f"kinect clutter views ({args.distractors} distractors)",
+            f"kinect clutter views ({options.distractors} distractors)",
             frames,
-            args.repeats,
+            options.repeats,
             SIMULATED,
         )
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
