@@ -33,11 +33,9 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"  # one core, before numpy and Open3D load
 
-import argparse  # noqa: E402
 import csv  # noqa: E402
 import itertools  # noqa: E402
 import json  # noqa: E402
-import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
@@ -48,6 +46,9 @@ import numpy as np  # noqa: E402
 
 from simgrasp.assets.object_sets import expand_objects  # noqa: E402
 from simgrasp.assets.real import default_real_dir  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
+from simgrasp.errors import SimgraspError  # noqa: E402
 from simgrasp.evaluation.segment_eval import FIRST_PART, osd_scenes, part_ious  # noqa: E402
 from simgrasp.perception.scene_cloud import SceneCloud, read_scene  # noqa: E402
 from simgrasp.perception.segmentation.segment import segment_scene  # noqa: E402
@@ -285,21 +286,27 @@ def reported(chosen: dict[str, dict[str, int]], named: dict[str, int]) -> list[i
     )
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=default_real_dir() / "osd-learn")
-    parser.add_argument("--out", type=Path, default=Path("docs/results/segment-cv"))
-    parser.add_argument("--cache", type=Path, default=None)
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    data: Path = default_real_dir() / "osd-learn"
+    """Folder of the osd-learn scenes (default: under $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("docs/results/segment-cv")
+    """Folder of grid.csv, summary.md and summary.json."""
+    cache: Path | None = None
+    """Folder keeping the rendered simulated frames (derived data: never commit it)."""
+    repeats: PositiveInt = 3
+    """Runs of each scene for the settings reported; their times are the least of them."""
+
+
+def run(options: Options) -> str:
+    """The grid on every frame, the folds chosen, written; the summary."""
     start = time.perf_counter()
-    real = osd_frames(args.data)
+    real = osd_frames(options.data)
     if not real:
-        print(f"no learn*.pcd scenes in {args.data}", file=sys.stderr)
-        return 2
+        raise SimgraspError(f"no learn*.pcd scenes in {options.data}")
     tune_scenes = tuple((t, TUNE_SEED, TUNE_CLUTTER) for t in TARGETS)
-    frames = real + simulated_frames(tune_scenes, SIM_TUNE, args.cache)
-    frames += simulated_frames(HELD_OUT, SIM_HELD, args.cache)
+    frames = real + simulated_frames(tune_scenes, SIM_TUNE, options.cache)
+    frames += simulated_frames(HELD_OUT, SIM_HELD, options.cache)
     grid_settings = settings()
     tuning = [f for f in frames if f.group != SIM_HELD]
     grid = [evaluate(tuning, s) for s in grid_settings]
@@ -313,16 +320,19 @@ def main(argv: list[str] | None = None) -> int:
         "simulated": grid_settings.index(_of(SegmentConfig.simulated())),
     }
     for index in reported(chosen, named):  # the settings reported, timed again: least of repeats
-        grid[index] = evaluate(frames, grid_settings[index], args.repeats)
-    args.out.mkdir(parents=True, exist_ok=True)
-    _write_grid(args.out / "grid.csv", grid_settings, grid)
+        grid[index] = evaluate(frames, grid_settings[index], options.repeats)
+    options.out.mkdir(parents=True, exist_ok=True)
+    _write_grid(options.out / "grid.csv", grid_settings, grid)
     summary = _summary(grid_settings, grid, chosen, named)
     summary["seconds"] = round(time.perf_counter() - start)
-    (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    (options.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     markdown = _summary_md(summary)
-    (args.out / "summary.md").write_text(markdown)
-    print(markdown)
-    return 0
+    (options.out / "summary.md").write_text(markdown)
+    return markdown
+
+
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
 
 
 def _of(config: SegmentConfig) -> dict[str, float]:
@@ -416,4 +426,4 @@ def _summary_md(summary: dict) -> str:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(main())

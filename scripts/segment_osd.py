@@ -17,13 +17,15 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")  # one core, before numpy and Open3D load
 
-import argparse  # noqa: E402
 import csv  # noqa: E402
 import json  # noqa: E402
-import sys  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from simgrasp.assets.real import default_real_dir  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
+from simgrasp.errors import SimgraspError  # noqa: E402
 from simgrasp.evaluation.segment_eval import (  # noqa: E402
     SceneScore,
     osd_scenes,
@@ -34,24 +36,32 @@ from simgrasp.evaluation.segment_eval import (  # noqa: E402
 METHODS = {"grid": "ours (grid cuts)", "dbscan": "baseline (plane + DBSCAN)"}
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=default_real_dir() / "osd-learn")
-    parser.add_argument("--out", type=Path, default=Path("docs/results/segment-osd"))
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
-    scenes = osd_scenes(args.data)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    data: Path = default_real_dir() / "osd-learn"
+    """Folder of the osd-learn scenes (default: under $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("docs/results/segment-osd")
+    """Folder of scenes.csv, summary.md and summary.json."""
+    repeats: PositiveInt = 3
+    """Runs of each scene per method; its times are the least of them."""
+
+
+def run(options: Options) -> str:
+    """Both methods on every scene, written; the summary table."""
+    scenes = osd_scenes(options.data)
     if not scenes:
-        print(f"no learn*.pcd scenes in {args.data}", file=sys.stderr)
-        return 2
-    scores = {m: [score_scene(p, m, repeats=args.repeats) for p in scenes] for m in METHODS}
-    args.out.mkdir(parents=True, exist_ok=True)
-    _write_scenes(args.out / "scenes.csv", scores)
+        raise SimgraspError(f"no learn*.pcd scenes in {options.data}")
+    scores = {m: [score_scene(p, m, repeats=options.repeats) for p in scenes] for m in METHODS}
+    options.out.mkdir(parents=True, exist_ok=True)
+    _write_scenes(options.out / "scenes.csv", scores)
     summary = {m: summarize(s) for m, s in scores.items()}
-    (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    (args.out / "summary.md").write_text(_summary_md(summary))
-    print(_summary_md(summary))
-    return 0
+    (options.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    (options.out / "summary.md").write_text(_summary_md(summary))
+    return _summary_md(summary)
+
+
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
 
 
 def _write_scenes(path: Path, scores: dict[str, list[SceneScore]]) -> None:
@@ -93,4 +103,4 @@ def _summary_md(summary: dict[str, dict[str, float]]) -> str:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(main())

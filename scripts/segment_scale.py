@@ -29,15 +29,16 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"  # one core, before numpy and Open3D load
 
-import argparse  # noqa: E402
 import json  # noqa: E402
-import sys  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import segment_cv as cv  # noqa: E402
 
 from simgrasp.assets.real import default_real_dir  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.perception.scene_cloud import SceneCloud  # noqa: E402
 from simgrasp.perception.segmentation.segment_config import SegmentConfig  # noqa: E402
 from simgrasp.perception.segmentation.segment_scale import pixel_footprint  # noqa: E402
@@ -88,18 +89,26 @@ def footprint_mm(frame: cv.Frame) -> float:
     return 1000.0 * pixel_footprint(cloud, finite)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=default_real_dir() / "osd-learn")
-    parser.add_argument("--out", type=Path, default=Path("docs/results/segment-cv"))
-    parser.add_argument("--cache", type=Path, default=None)
-    parser.add_argument("--hires-cache", type=Path, default=None)
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
-    frames = [cv.Frame(f.name, "osd-learn", f.cloud) for f in cv.osd_frames(args.data)]
-    frames += cv.simulated_frames(SCENES[:1], "kinect-tune", args.cache)
-    frames += cv.simulated_frames(cv.HELD_OUT, "kinect-10-20", args.cache)
-    frames += hires_frames(args.hires_cache)
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    data: Path = default_real_dir() / "osd-learn"
+    """Folder of the osd-learn scenes (default: under $SIMGRASP_REAL_DIR, else ../shared/real)."""
+    out: Path = Path("docs/results/segment-cv")
+    """Folder of scale.md and scale.json."""
+    cache: Path | None = None
+    """Folder keeping the rendered kinect frames (segment_cv.py's --cache; derived data)."""
+    hires_cache: Path | None = None
+    """Folder keeping the rendered fine stereo frames (derived data)."""
+    repeats: PositiveInt = 3
+    """Runs of each scene per setting; its CPU time is the least of them."""
+
+
+def run(options: Options) -> str:
+    """Each set's pixel footprint and segmentation, scaled and unscaled; the table."""
+    frames = [cv.Frame(f.name, "osd-learn", f.cloud) for f in cv.osd_frames(options.data)]
+    frames += cv.simulated_frames(SCENES[:1], "kinect-tune", options.cache)
+    frames += cv.simulated_frames(cv.HELD_OUT, "kinect-10-20", options.cache)
+    frames += hires_frames(options.hires_cache)
     groups = list(dict.fromkeys(f.group for f in frames))
     report: dict[str, dict] = {}
     for group in groups:
@@ -107,9 +116,9 @@ def main(argv: list[str] | None = None) -> int:
         sizes = [footprint_mm(f) for f in chosen]
         report[group] = {"footprint_mm": [min(sizes), float(np.median(sizes)), max(sizes)]}
         for name, config in CONFIGS.items():
-            report[group][name] = cv.stats([cv.score(f, config, args.repeats) for f in chosen])
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "scale.json").write_text(json.dumps(report, indent=2) + "\n")
+            report[group][name] = cv.stats([cv.score(f, config, options.repeats) for f in chosen])
+    options.out.mkdir(parents=True, exist_ok=True)
+    (options.out / "scale.json").write_text(json.dumps(report, indent=2) + "\n")
     lines = [
         "| set | pixel footprint mm (min / median / max) | setting | mean part IoU | least scene "
         "IoU | scenes < 0.5 | median CPU ms |",
@@ -123,10 +132,13 @@ def main(argv: list[str] | None = None) -> int:
                 f"| {group} | {low:.2f} / {mid:.2f} / {high:.2f} | {name} | {s['mean_iou']:.3f} | "
                 f"{s['min_scene_iou']:.3f} | {s['under_0.5']} | {s['median_ms']:.1f} |"
             )
-    (args.out / "scale.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
-    return 0
+    (options.out / "scale.md").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(main())
