@@ -15,11 +15,16 @@ from __future__ import annotations
 
 import csv
 import json
-import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked
+from simgrasp.config.fields import setting
+from simgrasp.errors import SimgraspError
 
 TIMING_KEYS = {
     "timings_s",
@@ -87,22 +92,32 @@ def compare(first: Path, second: Path, name: str) -> str | None:
     return f"{len(a)} against {len(b)} records; {only_a} only in the first, {only_b} in the second"
 
 
-def main(argv: list[str]) -> int:
-    if len(argv) != 2:
-        print("usage: compare_records.py FIRST_DIR SECOND_DIR", file=sys.stderr)
-        return 2
-    first, second = Path(argv[0]), Path(argv[1])
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    first: Path = setting(positional=True, metavar="FIRST_DIR")
+    """The run folder whose record files are compared."""
+    second: Path = setting(positional=True, metavar="SECOND_DIR")
+    """The run folder they are compared with."""
+
+
+def run(options: Options) -> None:
+    """One line per record file of ``first``; exit status 1 when any differs."""
+    first, second = options.first, options.second
     names = [n for n in (*READERS, "labels.npz") if (first / n).exists()]
     if not names:
-        print(f"{first} holds no records to compare", file=sys.stderr)
-        return 2
+        raise SimgraspError(f"{first} holds no records to compare")
     failed = False
     for name in names:
         problem = compare(first, second, name)
         failed |= problem is not None
         print(f"{name}: {'identical' if problem is None else problem}")
-    return 1 if failed else 0
+    if failed:
+        raise SystemExit(1)
+
+
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    raise SystemExit(main())

@@ -18,14 +18,17 @@ with the body-wall test on; ``--azimuths 60,200`` views the mugs from other side
 
 from __future__ import annotations
 
-import argparse
 import csv
 import itertools
 import multiprocessing
 from collections import defaultdict
-from dataclasses import asdict, fields, replace
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
+from simgrasp.config.fields import setting
+from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_detect import RealDetectRow, pooled_score
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import SingleViewConfig
@@ -43,21 +46,13 @@ AZIMUTHS = (0.0, 120.0)
 120."""
 
 
-def seed_range(text: str) -> range:
-    """``START:STOP`` (stop excluded) as a range; ``argparse`` error on anything else."""
+def seed_range(text: str) -> tuple[int, ...]:
+    """``START:STOP`` (stop excluded) as the seeds; a :class:`SimgraspError` on anything else."""
     start, _, stop = text.partition(":")
     try:
-        return range(int(start), int(stop))
+        return tuple(range(int(start), int(stop)))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"seeds must be START:STOP, got {text!r}") from None
-
-
-def azimuth_list(text: str) -> tuple[float, ...]:
-    """Comma-separated azimuths (degrees); ``argparse`` error on anything else."""
-    try:
-        return tuple(float(a) for a in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"azimuths must be numbers, got {text!r}") from None
+        raise SimgraspError(f"seeds must be START:STOP, got {text!r}") from None
 
 
 Job = tuple[str, SimView, SingleViewConfig]
@@ -70,8 +65,8 @@ def score(job: Job) -> tuple[str, SimView, RealDetectRow]:
 
 
 def jobs(
-    strap: range,
-    tube: range,
+    strap: tuple[int, ...],
+    tube: tuple[int, ...],
     azimuths: tuple[float, ...],
     settings: dict[str, SingleViewConfig],
 ) -> list[Job]:
@@ -104,54 +99,62 @@ def table(scored: list[tuple[str, SimView, RealDetectRow]], names: list[str]) ->
     return "\n".join(lines) + "\n"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--strap-seeds", type=seed_range, default=range(70, 90))
-    parser.add_argument("--tube-seeds", type=seed_range, default=range(25, 30))
-    parser.add_argument(
-        "--narrow-width-spacings",
-        type=float,
-        default=0.0,
-        help="also score the default with this narrow_width_spacings (0: before 4 December 2026)",
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    strap_seeds: tuple[int, ...] = setting(
+        tuple(range(70, 90)), parse=seed_range, metavar="START:STOP"
     )
-    parser.add_argument("--azimuths", type=azimuth_list, default=AZIMUTHS)
-    parser.add_argument(
-        "--classifier",
-        type=Path,
-        help="also score the default with this classifier file (train_candidate_classifier.py)",
+    """Seeds of the flat-strap mugs (gen_strap_mug), START:STOP with STOP excluded."""
+    tube_seeds: tuple[int, ...] = setting(
+        tuple(range(25, 30)), parse=seed_range, metavar="START:STOP"
     )
-    parser.add_argument(
-        "--body-wall",
-        action="store_true",
-        help="also score the default with the body-wall test on (simgrasp.handles.body_wall)",
-    )
-    parser.add_argument("--workers", type=int, default=1)
-    parser.add_argument("--out", type=Path, default=Path("out/unseen-mugs"))
-    args = parser.parse_args()
+    """Seeds of the round-tube mugs (gen_mug), START:STOP with STOP excluded."""
+    narrow_width_spacings: float = 0.0
+    """Also score the default with this narrow_width_spacings (0: before 4 December 2026)."""
+    azimuths: tuple[float, ...] = AZIMUTHS
+    """Camera azimuths (degrees): every view is rendered from each."""
+    classifier: Path | None = None
+    """Also score the default with this classifier file (train_candidate_classifier.py)."""
+    body_wall: bool = False
+    """Also score the default with the body-wall test on (simgrasp.handles.body_wall)."""
+    workers: PositiveInt = 1
+    """Worker processes scoring the views."""
+    out: Path = Path("out/unseen-mugs")
+    """Folder of unseen_mugs.csv and unseen_mugs.md."""
+
+
+def run(options: Options) -> str:
+    """Score every mug, view and setting; the table."""
     default = SingleViewConfig.learned()
     settings = {
         "default": default,
-        f"narrow {args.narrow_width_spacings:g}": replace(
-            default, narrow_width_spacings=args.narrow_width_spacings
+        f"narrow {options.narrow_width_spacings:g}": replace(
+            default, narrow_width_spacings=options.narrow_width_spacings
         ),
     }
-    if args.classifier is not None:
-        settings[args.classifier.name] = replace(default, classifier_file=str(args.classifier))
-    if args.body_wall:
+    if options.classifier is not None:
+        settings[options.classifier.name] = replace(
+            default, classifier_file=str(options.classifier)
+        )
+    if options.body_wall:
         settings["body wall"] = replace(default, body_wall=BodyWallConfig(enabled=True))
-    work = jobs(args.strap_seeds, args.tube_seeds, args.azimuths, settings)
-    with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
+    work = jobs(options.strap_seeds, options.tube_seeds, options.azimuths, settings)
+    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         scored = pool.map(score, work, chunksize=2)
-    args.out.mkdir(parents=True, exist_ok=True)
-    with (args.out / "unseen_mugs.csv").open("w", newline="") as handle:
+    options.out.mkdir(parents=True, exist_ok=True)
+    with (options.out / "unseen_mugs.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, ["setting", *(f.name for f in fields(RealDetectRow))])
         writer.writeheader()
         for name, _, row in scored:
             writer.writerow({"setting": name, **asdict(row)})
     text = table(scored, list(settings))
-    (args.out / "unseen_mugs.md").write_text(text)
-    print(text)
+    (options.out / "unseen_mugs.md").write_text(text)
+    return text
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
