@@ -27,12 +27,12 @@ with ``acronym`` on ACRONYM's grasps is in ``docs/results/acronym-fast/``); over
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
 import sys
 import time
+from dataclasses import dataclass
 
 import numpy as np
 from mujoco import rollout
@@ -40,9 +40,13 @@ from step_replay import timed_steps  # noqa: E402  (this folder)
 
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import model_for
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
+from simgrasp.config.fields import setting
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
 from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
-from simgrasp.grippers import make_gripper
+from simgrasp.grasping.trials.protocol import Protocol
+from simgrasp.grippers import gripper_names, make_gripper
 
 
 def bench_protocol(model, obj: str, gripper: str, protocol: str, grasps, raw: int) -> dict:
@@ -117,21 +121,33 @@ def rollout_check(model, obj: str) -> dict:
     }
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=500, help="sampled grasps per object")
-    parser.add_argument("--raw", type=int, default=50, help="grasps timed again for the ratio")
-    parser.add_argument("--objects", default="048_hammer,025_mug")
-    parser.add_argument("--protocols", default="fast,full,acronym,acronym-fast")
-    parser.add_argument("--grippers", default="builtin,robotiq_2f85,franka_panda")
-    parser.add_argument("--json", action="store_true")
-    args = parser.parse_args()
-    first = args.objects.split(",")[0]
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    n: PositiveInt = 500
+    """Antipodal grasps sampled per object and gripper, each labeled once per protocol."""
+    raw: PositiveInt = 50
+    """Grasps labeled again timing only ``mj_step``: the baseline of ``over raw``."""
+    objects: tuple[str, ...] = ("048_hammer", "025_mug")
+    """Objects (a YCB id reads ``$SIMGRASP_YCB_DIR``); the first also gives the machine
+    reference and the rollout check."""
+    protocols: tuple[Protocol, ...] = ("fast", "full", "acronym", "acronym-fast")
+    """Trial protocols, each timed on the same grasps."""
+    grippers: tuple[str, ...] = setting(
+        ("builtin", "robotiq_2f85", "franka_panda"), choices=gripper_names
+    )
+    """Grippers (``robotiq_2f85`` is skipped without ``$MENAGERIE_ROOT``)."""
+    json: bool = False
+    """Print the rows, the rollout check and the notes as JSON instead of the table."""
+
+
+def run(options: Options) -> None:
+    """Label the grasps of every object, gripper and protocol and print the rates."""
+    first = options.objects[0]
     reference = reference_us_per_step(model_for(first), first)
     rows, notes = [], []
-    for obj in args.objects.split(","):
+    for obj in options.objects:
         model = model_for(obj)
-        for gripper_name in args.grippers.split(","):
+        for gripper_name in options.grippers:
             if gripper_name == "robotiq_2f85" and not os.environ.get("MENAGERIE_ROOT"):
                 notes.append(f"robotiq_2f85 skipped on {obj}: MENAGERIE_ROOT is not set")
                 continue
@@ -139,23 +155,22 @@ def main() -> int:
             scene = GraspLabeler(model, LabelConfig(obj, gripper_name)).scene
             start = time.perf_counter()
             poses, widths = sample_antipodal(
-                model.asset.mesh, gripper.planning_geometry(), args.n, 0,
+                model.asset.mesh, gripper.planning_geometry(), options.n, 0,
                 table=Table(scene.world_T_object, scene.config.table_top_z),
             )  # fmt: skip
             notes.append(f"sampled {len(poses)} grasps on {obj} for {gripper_name} in "
                          f"{time.perf_counter() - start:.1f} s")  # fmt: skip
             grasps = list(zip(poses, widths, strict=True))
-            for protocol in args.protocols.split(","):
-                rows.append(bench_protocol(model, obj, gripper_name, protocol, grasps, args.raw))
+            for protocol in options.protocols:
+                rows.append(bench_protocol(model, obj, gripper_name, protocol, grasps, options.raw))
     check = rollout_check(model_for(first), first)
     after = reference_us_per_step(model_for(first), first)
     notes.append(f"machine reference (raw mj_step, {first} resting, gripper parked): "
                  f"{reference:.1f} us/step before, {after:.1f} after")  # fmt: skip
-    if args.json:
+    if options.json:
         print(json.dumps({"rows": rows, "rollout": check, "notes": notes}, indent=2))
-        return 0
-    _print(rows, check, notes, args.raw)
-    return 0
+        return
+    _print(rows, check, notes, options.raw)
 
 
 def _print(rows: list[dict], check: dict, notes: list[str], raw: int) -> None:
@@ -171,6 +186,10 @@ def _print(rows: list[dict], check: dict, notes: list[str], raw: int) -> None:
               f"{r['us_per_step']:8.1f} {r['over_raw']:9.2f}")  # fmt: skip
     print(f"settle phase ({check['settle_steps']} steps): mj_step chunks {check['mj_step_ms']:.2f} "
           f"ms, mujoco.rollout {check['rollout_ms']:.2f} ms")  # fmt: skip
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":

@@ -16,7 +16,6 @@ virtual machine's speed swings). The code measured is the ``simgrasp`` on ``PYTH
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
@@ -24,7 +23,12 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
+
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
+from simgrasp.grasping.trials.protocol import Protocol
 
 IMPORT_ONLY = "import simgrasp.grasping.labeling.label_run"
 
@@ -62,35 +66,42 @@ def row(name: str, runs: list[dict]) -> dict:
     }
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=200, help="grasps labeled per run")
-    parser.add_argument("--runs", type=int, default=3, help="processes per variant (median)")
-    parser.add_argument("--object", default="gen_hammer")
-    parser.add_argument("--protocol", default="fast")
-    parser.add_argument("--json", action="store_true")
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    n: PositiveInt = 200
+    """Grasps sampled once and labeled by every run."""
+    runs: PositiveInt = 3
+    """Processes per variant (medians)."""
+    object: str = "gen_hammer"
+    """Object labeled (the generated hammer needs no data)."""
+    protocol: Protocol = "fast"
+    """Trial protocol of ``label-grasps``."""
+    json: bool = False
+    """Print the result as JSON instead of the table."""
+
+
+def run(options: Options) -> None:
+    """Time the label-grasps processes and print the table (see the module doc)."""
     with tempfile.TemporaryDirectory(prefix="bench-startup-") as tmp:
         grasps = Path(tmp) / "grasps.npz"
-        sample = [sys.executable, "-m", "simgrasp", "sample-grasps", args.object]
-        timed([*sample, "--n", str(args.n), "--out", str(grasps)])
+        sample = [sys.executable, "-m", "simgrasp", "sample-grasps", options.object]
+        timed([*sample, "--n", str(options.n), "--out", str(grasps)])
         rows, count = [], 0
         for name, picture in (("labels.png", True), ("--no-picture", False)):
             runs = []
-            for _ in range(args.runs):
+            for _ in range(options.runs):
                 count += 1
                 out = Path(tmp) / f"run{count}"
-                runs.append(label_run(grasps, out, args.object, args.protocol, picture))
+                runs.append(label_run(grasps, out, options.object, options.protocol, picture))
             rows.append(row(name, runs))
         imports = statistics.median(
-            timed([sys.executable, "-c", IMPORT_ONLY]) for _ in range(args.runs)
+            timed([sys.executable, "-c", IMPORT_ONLY]) for _ in range(options.runs)
         )
-    result = {"rows": rows, "import_s": imports, "object": args.object, "code": _code()}
-    if args.json:
+    result = {"rows": rows, "import_s": imports, "object": options.object, "code": _code()}
+    if options.json:
         print(json.dumps(result, indent=2))
-        return 0
-    _print(result, args.protocol)
-    return 0
+        return
+    _print(result, options.protocol)
 
 
 def _code() -> str:
@@ -111,6 +122,10 @@ def _print(result: dict, protocol: str) -> None:
               f"{r['overhead_s']:10.2f} {r['end_to_end_grasps_per_s']:12.1f} "
               f"{r['steady_grasps_per_s']:15.1f} {r['end_to_end_over_steady']:10.2f}")  # fmt: skip
     print(f"python -c '{IMPORT_ONLY}': {result['import_s']:.2f} s (median)")
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":

@@ -20,11 +20,11 @@ Targets: >= 30x real time (built-in gripper), >= 10x (Robotiq 2F-85), ratio <= 1
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +32,8 @@ import numpy as np
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.grasping.trials.trial import run_trial
 from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
@@ -108,11 +110,16 @@ def bench(gripper_name: str, repeats: int) -> dict[str, float | str | int]:
     }
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=7)
-    parser.add_argument("--json", action="store_true")
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    repeats: PositiveInt = 7
+    """Timed trials, each with its raw baselines, per gripper; medians are printed."""
+    json: bool = False
+    """Print the rows as JSON (the skipped grippers on stderr) instead of the table."""
+
+
+def run(options: Options) -> None:
+    """Time the trials of every gripper there is and print the table (see the module doc)."""
     rows, skipped = [], []
     for name in ("builtin", "robotiq_2f85"):
         try:
@@ -120,12 +127,12 @@ def main() -> int:
         except FileNotFoundError as exc:  # the Robotiq without MENAGERIE_ROOT
             skipped.append(f"skipped {name}: {exc}")
             continue
-        rows.append(bench(name, args.repeats))
-    if args.json:
+        rows.append(bench(name, options.repeats))
+    if options.json:
         print(json.dumps(rows, indent=2))
         print("\n".join(skipped), file=sys.stderr)
-        return 0
-    print(f"median of {args.repeats} runs; ratio = trial wall / raw replay (target <= 1.25)")
+        return
+    print(f"median of {options.repeats} runs; ratio = trial wall / raw replay (target <= 1.25)")
     print(
         f"{'gripper':14} {'outcome':8} {'steps':>6} {'sim s':>6} {'trial s':>8} {'x RT':>6} "
         f"{'replay s':>9} {'ratio':>6} {'parked s':>9} {'ratio':>6}"
@@ -140,7 +147,10 @@ def main() -> int:
         )
     for line in skipped:
         print(line)
-    return 0
+
+
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
 
 
 if __name__ == "__main__":
