@@ -9,12 +9,16 @@ distractor, seen by one camera.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
+
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, NonNegativeInt, PositiveInt
+from simgrasp.config.fields import setting
 
 BACKENDS = ("egl", "osmesa", "raycast")
 
@@ -63,14 +67,21 @@ def _measure(backend: str, runs: int, mesh_subdivisions: int) -> dict[str, float
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=15)
-    parser.add_argument("--mesh-subdivisions", type=int, default=5)
-    parser.add_argument("--child", choices=BACKENDS, help=argparse.SUPPRESS)
-    args = parser.parse_args()
-    if args.child:
-        print(json.dumps(_measure(args.child, args.runs, args.mesh_subdivisions)))
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    runs: PositiveInt = 15
+    """Timed frames per backend, after a warm-up frame; the median is printed."""
+    mesh_subdivisions: NonNegativeInt = 5
+    """Subdivisions of the scene's mesh sphere (5: 20,480 triangles)."""
+    child: str | None = setting(None, choices=BACKENDS)
+    """Internal: measure this backend in this process and print its figures as JSON (the run
+    starts one such process per backend)."""
+
+
+def run(options: Options) -> None:
+    """Print each backend's milliseconds per frame and its ratio to EGL's."""
+    if options.child:
+        print(json.dumps(_measure(options.child, options.runs, options.mesh_subdivisions)))
         return
     results = {}
     for backend in BACKENDS:
@@ -80,8 +91,8 @@ def main() -> None:
             env.pop("MUJOCO_GL", None)
         else:
             env["MUJOCO_GL"] = backend
-        command = [sys.executable, __file__, "--child", backend, "--runs", str(args.runs)]
-        command += ["--mesh-subdivisions", str(args.mesh_subdivisions)]
+        command = [sys.executable, __file__, "--child", backend, "--runs", str(options.runs)]
+        command += ["--mesh-subdivisions", str(options.mesh_subdivisions)]
         out = subprocess.run(command, env=env, capture_output=True, text=True, check=False)
         if out.returncode != 0:
             print(f"{backend:8s} failed: {out.stderr.strip().splitlines()[-1]}")
@@ -90,7 +101,7 @@ def main() -> None:
         r = results[backend]
         print(
             f"{backend:8s} {r['ms_per_frame']:8.1f} ms/frame (640x480 depth+segmentation, "
-            f"median of {args.runs}; {r['hit_fraction']:.0%} pixels hit, "
+            f"median of {options.runs}; {r['hit_fraction']:.0%} pixels hit, "
             f"mesh {r['triangles']} triangles)"
         )
     if "egl" in results:
@@ -99,5 +110,9 @@ def main() -> None:
             print(f"{backend:8s} {ratio:6.2f} x egl")
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

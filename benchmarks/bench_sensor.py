@@ -10,13 +10,16 @@ the baseline is rendering the same frame, in the same run. Medians.
 
 from __future__ import annotations
 
-import argparse
+import sys
 import time
+from dataclasses import dataclass
 
 import numpy as np  # noqa: E402
 from bench_render import tabletop_model  # noqa: E402  (this folder)
 
 from simgrasp._mujoco import mujoco  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.perception.sensors import SENSORS, apply_sensor, sensor_config  # noqa: E402
 from simgrasp.scenes.render import SceneRenderer  # first: chooses the GL platform
 from simgrasp.seeding import rng_for  # noqa: E402
@@ -31,16 +34,21 @@ def _median_ms(function, runs: int) -> float:
     return 1000.0 * float(np.median(times))
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=15)
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    runs: PositiveInt = 15
+    """Timed frames of the rendering and of each sensor model, after a warm-up; medians are
+    printed."""
+
+
+def run(options: Options) -> None:
+    """Print the rendering's and each sensor model's milliseconds per frame."""
     model = tabletop_model(mesh_subdivisions=5)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     with SceneRenderer(model) as renderer:
         frame = renderer.depth(data, "view0")  # warm-up
-        render_ms = _median_ms(lambda _: renderer.depth(data, "view0"), args.runs)
+        render_ms = _median_ms(lambda _: renderer.depth(data, "view0"), options.runs)
         backend = frame.backend
     depth = frame.depth.astype(np.float32)
     K = frame.intrinsics.matrix
@@ -49,12 +57,16 @@ def main() -> None:
         config = sensor_config(name)
         apply_sensor(depth, K, config, rng_for(0, "bench"))  # warm-up
 
-        def run(seed: int, config=config) -> None:
+        def apply(seed: int, config=config) -> None:
             apply_sensor(depth, K, config, rng_for(seed, "bench"))
 
-        ms = _median_ms(run, args.runs)
+        ms = _median_ms(apply, options.runs)
         print(f"{name:8s} {ms:8.1f} ms/frame  {ms / render_ms:5.2f} x render")
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -29,7 +29,6 @@ with a GPU, and grow with the CPU's load; the same-run ratio is the figure to co
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -38,8 +37,13 @@ import statistics
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Checked, PositiveInt
+from simgrasp.config.fields import setting
 
 CHROMIUM, DRIVER = Path("/usr/bin/chromium"), Path("/usr/bin/chromedriver")
 FLAGS = [
@@ -142,14 +146,22 @@ def measure(driver: Any, page: Path, loads: int, turns: int) -> dict[str, float]
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("labels", type=Path, help="a label-grasps folder of >= 2,000 grasps")
-    parser.add_argument("--grasps", type=int, default=2000)
-    parser.add_argument("--baseline", type=int, default=200)
-    parser.add_argument("--loads", type=int, default=3)
-    parser.add_argument("--turns", type=int, default=12)
-    args = parser.parse_args()
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    labels: Path = setting(positional=True)
+    """A label-grasps folder holding at least --grasps drawable grasps."""
+    grasps: PositiveInt = 2000
+    """Grasps of the measured page (the folder's first records)."""
+    baseline: PositiveInt = 200
+    """Grasps of the same-run baseline page (the folder's first records)."""
+    loads: PositiveInt = 3
+    """Timed loads of each page; the median is printed."""
+    turns: PositiveInt = 12
+    """Camera steps around a circle (a warm-up circle, then a timed one)."""
+
+
+def run(options: Options) -> None:
+    """Export both pages, time them in the browser and print their figures and ratios."""
     if not (CHROMIUM.exists() and DRIVER.exists()):
         sys.exit("needs Debian's chromium and chromium-driver (make install)")
     from simgrasp.viewer.grasp_page import grasp_page
@@ -157,25 +169,31 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         pages = {}
-        for count in (args.baseline, args.grasps):
-            folder = subset_folder(args.labels, count, work / f"labels_{count}")
+        for count in (options.baseline, options.grasps):
+            folder = subset_folder(options.labels, count, work / f"labels_{count}")
             start = time.perf_counter()
             pages[count] = work / f"page_{count}.html"
             pages[count].write_text(grasp_page(folder))
             print(f"{count} grasps: exported in {time.perf_counter() - start:.1f} s")
         driver = browser(work / "profile")
         try:
-            results = {n: measure(driver, p, args.loads, args.turns) for n, p in pages.items()}
+            results = {
+                n: measure(driver, p, options.loads, options.turns) for n, p in pages.items()
+            }
         finally:
             driver.quit()
     for count, result in results.items():
         print(f"{count:5d} grasps: " + ", ".join(f"{k} {v:.1f}" for k, v in result.items()))
-    big, small = results[args.grasps], results[args.baseline]
+    big, small = results[options.grasps], results[options.baseline]
     print(
-        f"ratio {args.grasps} / {args.baseline}: "
+        f"ratio {options.grasps} / {options.baseline}: "
         + ", ".join(f"{k} {big[k] / small[k]:.2f}" for k in ("load_ms", "turn_ms", "draw_ms"))
     )
 
 
+def main() -> int:
+    return script_main(Options, run, __doc__.splitlines()[0])
+
+
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
