@@ -45,7 +45,7 @@ from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.config.fields import setting
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
 from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
-from simgrasp.grasping.trials.protocol import Protocol
+from simgrasp.grasping.trials.protocol import PROTOCOLS
 from simgrasp.grippers import gripper_names, make_gripper
 
 
@@ -130,7 +130,9 @@ class Options(Checked):
     objects: tuple[str, ...] = ("048_hammer", "025_mug")
     """Objects (a YCB id reads ``$SIMGRASP_YCB_DIR``); the first also gives the machine
     reference and the rollout check."""
-    protocols: tuple[Protocol, ...] = ("fast", "full", "acronym", "acronym-fast")
+    protocols: tuple[str, ...] = setting(
+        ("fast", "full", "acronym", "acronym-fast"), choices=PROTOCOLS
+    )
     """Trial protocols, each timed on the same grasps."""
     grippers: tuple[str, ...] = setting(
         ("builtin", "robotiq_2f85", "franka_panda"), choices=gripper_names
