@@ -152,3 +152,31 @@ def test_a_bad_row_before_the_last_is_one_line_naming_it(
     err = _refused(_argv(manifest, out, seeds=2), capsys)
     assert f"{out / 'real_detect.csv'}:2:" in err and "top_on_handle" in err
     assert (out / "real_detect.csv").read_bytes() == text.encode()  # left as it was
+
+
+def test_rows_of_a_setting_whose_values_changed_are_refused_until_removed(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``real_settings.json`` records each setting's values beside its rows: a rerun after a
+    setting changed (here: the record as an older default would have left it) is refused
+    naming the setting and the value, not resumed under the same name; with that setting's
+    rows removed it runs again and records today's values. Another setting joins the folder."""
+    manifest, out = _write_inputs(tmp_path), tmp_path / "out"
+    assert main(_argv(manifest, out)) == 0
+    record_file = out / "real_settings.json"
+    record = json.loads(record_file.read_text())
+    today = record["multi_view"]["detector"]["neighborhood_half_size"]
+    record["multi_view"]["detector"]["neighborhood_half_size"] = today * 2
+    record_file.write_text(json.dumps(record))
+    err = _refused(_argv(manifest, out), capsys)
+    assert "'multi_view'" in err and "neighborhood_half_size" in err and "delete" in err
+    rows = (out / "real_detect.csv").read_text().splitlines()
+    (out / "real_detect.csv").write_text(rows[0] + "\n")  # the setting's rows removed
+    assert main(_argv(manifest, out)) == 0
+    record = json.loads(record_file.read_text())
+    assert record["multi_view"]["detector"]["neighborhood_half_size"] == today
+    argv = _argv(manifest, out)
+    argv[argv.index("multi_view")] = "multi_view,learned"
+    assert main(argv) == 0
+    assert set(json.loads(record_file.read_text())) == {"multi_view", "learned"}
+    assert "classifier_sha256" in json.loads(record_file.read_text())["learned"]

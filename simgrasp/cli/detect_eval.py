@@ -139,7 +139,8 @@ def _run(options: Options, items: list[DetectionItem], run: RunConfig) -> int:
 def _run_real(options: Options, manifest: Path) -> int:
     """``--real``: every cloud of ``manifest`` x named setting x seed (rows already in the
     output's CSV are kept, not redone, when the manifest, real data folder and clouds are the
-    ones recorded in its ``real_run.json``; otherwise refused)."""
+    ones recorded in its ``real_run.json`` and each setting's values the ones recorded in its
+    ``real_settings.json``; otherwise refused)."""
     from simgrasp.assets.real import default_real_dir
     from simgrasp.evaluation.real_detect import run_identity, run_real_detect, tables
     from simgrasp.evaluation.real_manifest import read_manifest, shipped_if_absent

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from simgrasp.config.values import to_plain
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, require_file
 from simgrasp.handles import detect
@@ -31,7 +32,7 @@ from simgrasp.handles.detector_config import DetectorName
 from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
 from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS
-from simgrasp.runs.identity import claim_identity, file_digest
+from simgrasp.runs.identity import claim_entries, claim_identity, file_digest
 
 Setting = QuadricDetectorConfig | TenPasConfig | SingleViewConfig
 NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
@@ -91,6 +92,21 @@ def config_by_name(name: str) -> Setting:
     return NAMED_CONFIGS[name]()
 
 
+def setting_record(name: str) -> dict[str, Any]:
+    """What the rows of setting ``name`` depend on besides the clouds and the seed: its
+    values, for ``default`` also the single-view settings it runs on a single view, and the
+    SHA-256 of the classifier file a single-view setting reads (a retrained model changes
+    the rows as a changed setting does)."""
+    config = config_by_name(name)
+    record: dict[str, Any] = {"detector": to_plain(config)}
+    single = SingleViewConfig.learned() if name == "default" else config
+    if name == "default":
+        record["single_view"] = to_plain(single)
+    if isinstance(single, SingleViewConfig) and single.classifier:
+        record["classifier_sha256"] = _digest(single.classifier_path(), f"setting {name}")
+    return record
+
+
 def detect_named(
     points: np.ndarray,
     name: str,
@@ -146,6 +162,10 @@ def score_cloud(
 RUN_FILE = "real_run.json"
 """What a ``--real`` output folder's rows were made from (:func:`run_identity`); not
 ``run.json``, which a run on object meshes keeps in the same folder (the default ``--out``)."""
+SETTINGS_FILE = "real_settings.json"
+"""The values each setting's rows in a ``--real`` output folder were made with
+(:func:`setting_record`, by setting name): a rerun after a setting changed (its defaults, a
+retrained classifier) is refused instead of keeping the old rows under the same name."""
 COLUMNS = tuple(f.name for f in fields(RealDetectRow))
 """The columns of ``real_detect.csv``, in order (its header line)."""
 
@@ -280,6 +300,13 @@ def run_real_detect(
         config_by_name(name)
     done, torn, problem = _scan(out_csv)
     _claim(out_csv.parent, identity, bool(done))  # before the file is changed
+    claim_entries(
+        out_csv.parent / SETTINGS_FILE,
+        {name: setting_record(name) for name in configs},
+        {r.config for r in done},
+        what="detector setting",
+        hint="delete that setting's rows from the CSV to rerun them, or use another --out",
+    )
     _cut_torn_row(out_csv, torn, problem)
     have = {(r.cloud, r.config, r.seed) for r in done}
     new_file = not out_csv.is_file() or out_csv.stat().st_size == 0

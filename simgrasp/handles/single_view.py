@@ -128,6 +128,15 @@ class SingleViewConfig(Checked):
             fallback=QuadricDetectorConfig.real_depth(),
         )
 
+    def classifier_path(self) -> Path:
+        """The classifier file these settings read with ``classifier``: ``classifier_file``,
+        else the shipped model."""
+        return (
+            Path(self.classifier_file)
+            if self.classifier_file
+            else model_path("handles", CLASSIFIER)
+        )
+
     @classmethod
     def learned_bars(cls) -> SingleViewConfig:
         """The single-view default of 3 December 2026, kept to reproduce its runs: the first
@@ -199,7 +208,7 @@ def _keep(
     opening = config.quadric.gripper_max_opening
     if not config.classifier:
         return standoff_mask(candidates, cloud, eye, opening, standoff)
-    model = _classifier(config.classifier_file or str(model_path("handles", CLASSIFIER)))
+    model = _classifier(str(config.classifier_path()))
     features = candidate_features(candidates, cloud, eye, spacing, standoff)
     widths = np.array([c.width for c in candidates])
     wide = widths >= floor

@@ -87,11 +87,16 @@ def claim_identity(
     keys = [k for k in current if k in earlier] if shared_only else sorted({*current, *earlier})
     changed = _changes(earlier, current, [k for k in keys if k not in ignore])
     if changed:
-        shown = ", ".join(f"{k}: {a!r:.60} -> {b!r:.60}" for k, a, b in changed[:SHOWN_CHANGES])
-        more = f" and {len(changed) - SHOWN_CHANGES} more" if len(changed) > SHOWN_CHANGES else ""
-        raise SimgraspError(f"{path.parent} holds {what} ({shown}{more}); {hint}")
+        raise SimgraspError(f"{path.parent} holds {what} ({_shown(changed)}); {hint}")
     if any(earlier.get(k) != current.get(k) for k in ignore):
         path.write_text(json.dumps({**earlier, **current}, indent=indent) + "\n", encoding="utf-8")
+
+
+def _shown(changed: list[tuple[str, Any, Any]]) -> str:
+    """Up to :data:`SHOWN_CHANGES` changed values with both values, and how many more."""
+    shown = ", ".join(f"{k}: {a!r:.60} -> {b!r:.60}" for k, a, b in changed[:SHOWN_CHANGES])
+    more = f" and {len(changed) - SHOWN_CHANGES} more" if len(changed) > SHOWN_CHANGES else ""
+    return shown + more
 
 
 def _changes(
@@ -108,3 +113,35 @@ def _changes(
         elif before != after:
             changed.append((f"{prefix}{key}", before, after))
     return changed
+
+
+def claim_entries(
+    path: Path, current: dict[str, Any], held: set[str], *, what: str, hint: str
+) -> None:
+    """Record ``current``'s named entries (e.g. each detector setting's values, by its name) in
+    the JSON table at ``path``, or refuse (naming the entry and up to :data:`SHOWN_CHANGES`
+    changed values, and ``hint``) when the entry it holds for a name in ``held`` (the names
+    the folder still has rows of) differs: those rows were made with the recorded values.
+    ``what`` says what the entries are (``"detector setting"``). Entries of names not in
+    ``current`` are kept as they were."""
+    path = Path(path)
+    current = json.loads(json.dumps(current))  # as it reads back (tuples as lists)
+    earlier: dict[str, Any] = {}
+    if path.exists():
+        try:
+            earlier = json.loads(path.read_text(encoding="utf-8"))
+        except (json.JSONDecodeError, UnicodeDecodeError) as error:
+            raise SimgraspError(f"{path} is not JSON ({error})") from error
+        if not isinstance(earlier, dict):
+            raise SimgraspError(f"{path} is not a table of {what}s")
+    for name in sorted(set(current) & set(earlier) & held):
+        changed = _changes({name: earlier[name]}, {name: current[name]}, [name])
+        if changed:
+            raise SimgraspError(
+                f"{path.parent} holds rows of {what} {name!r} made with other values "
+                f"({_shown(changed)}); {hint}"
+            )
+    merged = {**earlier, **current}
+    if merged != earlier:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(merged, indent=2, sort_keys=True) + "\n", encoding="utf-8")
