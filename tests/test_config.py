@@ -11,7 +11,9 @@ from pathlib import Path
 import pytest
 
 from simgrasp.cli import COMMANDS, build_parser, command_module, main
+from simgrasp.config import Checked, setting
 from simgrasp.config.arguments import flag_name, script_main
+from simgrasp.config.checks import PositiveInt
 from simgrasp.config.schema import leaves
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
@@ -184,3 +186,59 @@ def test_a_script_prints_its_config_without_running_and_errors_in_one_line(capsy
     assert script_main(_ScriptOptions, run, "test", ["--count", "-1"]) == 2
     err = capsys.readouterr().err
     assert err == "error: count must not be negative\n"
+
+
+def test_a_run_returning_an_int_gives_the_exit_status() -> None:
+    """A script's check (``check_function_length.py``) prints what it found and fails with 1."""
+    assert script_main(_ScriptOptions, lambda options: 1, "test", []) == 1
+
+
+@dataclass(frozen=True, kw_only=True)
+class _ManyOptions(Checked):
+    paths: tuple[Path, ...] = setting(positional=True, many=True)
+    """Files to read."""
+    sizes: tuple[PositiveInt, ...] = setting((1,), many=True)
+    """Sizes to try."""
+
+
+def _many(argv: list[str]) -> tuple[int, _ManyOptions | None]:
+    """Exit status of a script on ``_ManyOptions`` and the options its run got (None: not run)."""
+    got: list[_ManyOptions] = []
+    return script_main(_ManyOptions, got.append, "test", argv), (got or [None])[0]
+
+
+def test_a_many_setting_takes_several_values(tmp_path: Path, capsys) -> None:
+    """``setting(many=True)``: a positional takes several values, a flag several and repeated
+    (each value also a comma list); ``--set`` and ``--config`` give the list as for any list."""
+    status, options = _many(["a.npy", "b.npy", "--sizes", "2", "3", "--sizes", "4,5"])
+    assert status == 0 and options is not None
+    assert options.paths == (Path("a.npy"), Path("b.npy")) and options.sizes == (2, 3, 4, 5)
+    _, options = _many(["--set", "paths=c.npy,d.npy", "--set", "sizes=6,7"])
+    assert options is not None and options.paths == (Path("c.npy"), Path("d.npy"))
+    assert options.sizes == (6, 7)
+    config = tmp_path / "many.toml"
+    config.write_text('paths = ["e.npy"]\nsizes = [8, 9]\n')
+    _, options = _many(["--config", str(config), "f.npy"])
+    assert options is not None and options.paths == (Path("f.npy"),) and options.sizes == (8, 9)
+    assert _many([]) == (2, None)  # required and none given: the usual one-line error
+    assert capsys.readouterr().err == "error: missing PATHS (Files to read)\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["a.npy", "--sizes", "2", "big"], "sizes: expected list of int, got 'big'"),
+        (["a.npy", "--sizes", "2", "0"], "sizes: 0 is not >= 1"),
+        (["a.npy", "--sizes", ""], "--sizes is empty"),
+    ],
+)
+def test_a_bad_item_of_a_many_setting_is_a_one_line_error(argv, message, capsys) -> None:
+    assert _many(argv) == (2, None)
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1, err
+
+
+def test_print_config_shows_a_many_setting_as_a_list(capsys) -> None:
+    assert _many(["a.npy", "b.npy", "--sizes", "2", "3", "--print-config"]) == (0, None)
+    printed = tomllib.loads(capsys.readouterr().out)
+    assert printed == {"paths": ["a.npy", "b.npy"], "sizes": [2, 3]}

@@ -66,7 +66,9 @@ def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
     choices = leaf.spec.choices() if callable(leaf.spec.choices) else leaf.spec.choices
     choices = choices or _literal_choices(leaf.annotation)
     arity = _fixed_arity(leaf.annotation)
-    if arity:
+    if leaf.spec.many:
+        kwargs.update(_many_kwargs(leaf))
+    elif arity:
         kwargs.update(nargs=arity, metavar=leaf.spec.metavar or "FLOAT")
     elif leaf.annotation is bool:
         kwargs.update(nargs="?", const=True, metavar="{true,false}")
@@ -77,10 +79,22 @@ def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
     if leaf.spec.positional:
         kwargs.pop("dest")
         kwargs["metavar"] = leaf.spec.metavar or leaf.key.upper()
-        parser.add_argument(_POSITIONAL + leaf.key, nargs="?", default=None, **kwargs)
+        kwargs.setdefault("nargs", "?")
+        parser.add_argument(_POSITIONAL + leaf.key, default=None, **kwargs)
         return
     names = [flag_name(leaf.key)] + ([leaf.spec.flag] if leaf.spec.flag else [])
     parser.add_argument(*names, default=argparse.SUPPRESS, **kwargs)
+
+
+def _many_kwargs(leaf: Leaf) -> dict[str, Any]:
+    """The argparse keywords of a ``many`` list setting (``FieldSpec.many``): a positional
+    takes any number of values, a flag one or more and may be repeated (``extend``)."""
+    if not _is_list(leaf.annotation):
+        raise TypeError(f"{leaf.key}: many=True needs a tuple[X, ...] setting")
+    if leaf.spec.positional:
+        return {"nargs": "*"}
+    metavar = leaf.spec.metavar or _metavar(typing.get_args(leaf.annotation)[0])
+    return {"nargs": "+", "action": "extend", "metavar": metavar}
 
 
 def _help(leaf: Leaf) -> str:
@@ -128,19 +142,27 @@ def _fixed_arity(annotation: Any) -> int | None:
 
 
 def _from_flag(leaf: Leaf, value: Any) -> Any:
-    """The value of a flag's text (a list of texts for a fixed tuple), as the leaf's type."""
+    """The value of a flag's text (a list of texts for a fixed tuple), as the leaf's type; of a
+    ``many`` setting's texts, the items of each (a comma list) joined."""
+    if leaf.spec.many:
+        return tuple(item for text in value for item in _from_text(leaf, text))
+    if isinstance(value, str) or leaf.spec.parse is not None:
+        return _from_text(leaf, value)
+    return convert(value, leaf.annotation, leaf.key)
+
+
+def _from_text(leaf: Leaf, value: Any) -> Any:
+    """One value as typed (its ``parse``, else its text), as the leaf's type."""
     if leaf.spec.parse is not None:
         try:
             return leaf.spec.parse(value)
         except SimgraspError as exc:
             raise SimgraspError(f"{leaf.key}: {exc}") from None
-    if isinstance(value, str):
-        if _is_list(leaf.annotation) and not value.replace(",", "").strip():
-            # `--osd "$SCENE"` with SCENE unset: an empty list would run the command's default
-            what = re.sub(r":\w+:`~?([^`]*)`", r"\1", leaf.doc).rstrip(".")
-            raise SimgraspError(f"{flag_name(leaf.key)} is empty: give at least one value ({what})")
-        return parse_text(value, leaf.annotation, leaf.key)
-    return convert(value, leaf.annotation, leaf.key)
+    if _is_list(leaf.annotation) and not value.replace(",", "").strip():
+        # `--osd "$SCENE"` with SCENE unset: an empty list would run the command's default
+        what = re.sub(r":\w+:`~?([^`]*)`", r"\1", leaf.doc).rstrip(".")
+        raise SimgraspError(f"{flag_name(leaf.key)} is empty: give at least one value ({what})")
+    return parse_text(value, leaf.annotation, leaf.key)
 
 
 def _is_list(annotation: Any) -> bool:
@@ -163,7 +185,7 @@ def given_settings(cls: type, args: argparse.Namespace) -> dict[str, Any]:
     for dest, value in vars(args).items():
         if dest.startswith(_PREFIX):
             key = dest.removeprefix(_PREFIX)
-        elif dest.startswith(_POSITIONAL) and value is not None:
+        elif dest.startswith(_POSITIONAL) and value not in (None, []):  # []: a `many` one, none
             key = dest.removeprefix(_POSITIONAL)
         else:
             continue
@@ -201,14 +223,15 @@ def effective_config_text(cls: type, args: argparse.Namespace) -> str:
 
 def script_main(
     cls: type,
-    run: Callable[[Any], str | None],
+    run: Callable[[Any], str | int | None],
     description: str,
     argv: Sequence[str] | None = None,
 ) -> int:
     """The entry point of a script whose settings tree is ``cls`` (``scripts/``): flags parsed
     as for a ``simgrasp`` command, ``--print-config`` printed without running, else ``run``
-    called on the settings and what it returns printed; a :class:`SimgraspError` is one line
-    and exit status 2."""
+    called on the settings and the text it returns printed (an int it returns is the exit
+    status: a check that printed what it found); a :class:`SimgraspError` is one line and exit
+    status 2."""
     parser = argparse.ArgumentParser(description=description)
     add_settings_arguments(parser, cls)
     args = parser.parse_args(argv)
@@ -216,10 +239,12 @@ def script_main(
         if args.print_config:
             sys.stdout.write(effective_config_text(cls, args))
             return 0
-        text = run(settings_from_args(cls, args))
+        result = run(settings_from_args(cls, args))
     except SimgraspError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    if text is not None:
-        print(text)
+    if isinstance(result, int):
+        return result
+    if result is not None:
+        print(result)
     return 0

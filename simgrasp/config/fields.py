@@ -2,7 +2,8 @@
 
 Every setting of a run is a field of a frozen dataclass; :func:`setting` adds the few facts
 the generated command line needs beyond its type, default and docstring (an alias flag, the
-choices when they come from a registry, a text parser, positional or flattened placement).
+choices when they come from a registry, a text parser, positional or flattened placement,
+several values for a list).
 """
 
 from __future__ import annotations
@@ -35,6 +36,16 @@ class FieldSpec:
             and then fails to save.
         suffixes: for an output ``"file"``, the suffixes it may end in (lower case, with the
             dot; empty: any), checked with the rest before the run.
+        many: for a list setting (``tuple[X, ...]``), several space-separated values on the
+            command line: a flag takes one or more (``--exclude A B``) and may be repeated,
+            the values of all its uses joined in order (``--exclude A --exclude B``); its
+            values run to the next flag, so a positional goes before it or after ``--``. A
+            positional takes any number, none meaning its default (or, when it has none, the
+            usual "missing" error, so that ``--config`` or ``--set`` may give it instead).
+            Each value is also split at commas as every list setting's text is (``--set`` and
+            plain list flags): ``--exclude A,B C`` is three items, so an item cannot hold a
+            comma. Each item is converted to X and checked as X; ``parse``, if given, turns
+            each value into a tuple.
     """
 
     flag: str | None = None
@@ -47,6 +58,7 @@ class FieldSpec:
     cli: bool = True
     output: Literal["file", "plot", "dir"] | None = None
     suffixes: tuple[str, ...] = ()
+    many: bool = False
 
 
 def setting(
