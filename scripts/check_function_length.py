@@ -8,14 +8,27 @@ docstring included, decorators not) and exit 1 if there are any.
 
 from __future__ import annotations
 
-import argparse
 import ast
 import fnmatch
-import sys
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
+from simgrasp.config import Checked, setting
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import PositiveInt
+
 DEFAULT_MAX_LINES = 60
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    paths: tuple[Path, ...] = setting((Path("simgrasp"),), positional=True, many=True)
+    """Files and folders to check (a folder: every ``.py`` file under it)."""
+    max_lines: PositiveInt = DEFAULT_MAX_LINES
+    """Longest function allowed, in lines."""
+    exclude: tuple[str, ...] = setting((), many=True, metavar="GLOB")
+    """Globs of file paths to skip (several, or the flag repeated)."""
 
 
 def long_functions(path: Path, max_lines: int) -> Iterator[tuple[int, str, int]]:
@@ -43,23 +56,21 @@ def python_files(paths: list[Path], excludes: list[str]) -> list[Path]:
     return [f for f in files if not any(fnmatch.fnmatch(str(f), g) for g in excludes)]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("paths", nargs="*", type=Path, default=[Path("simgrasp")])
-    parser.add_argument("--max-lines", type=int, default=DEFAULT_MAX_LINES)
-    parser.add_argument(
-        "--exclude", action="append", default=[], help="glob of file paths to skip (repeatable)"
-    )
-    args = parser.parse_args(argv)
+def run(options: Options) -> int:
+    """Print every function over the limit; exit status 1 if there is one."""
     offenders = [
         (path, *found)
-        for path in python_files(args.paths, args.exclude)
-        for found in long_functions(path, args.max_lines)
+        for path in python_files(list(options.paths), list(options.exclude))
+        for found in long_functions(path, options.max_lines)
     ]
     for path, line, name, length in offenders:
-        print(f"{path}:{line}: {name} is {length} lines (max {args.max_lines})")
+        print(f"{path}:{line}: {name} is {length} lines (max {options.max_lines})")
     return 1 if offenders else 0
 
 
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(main())
