@@ -15,11 +15,14 @@ Needs ``SIMGRASP_REAL_DIR`` and ``SIMGRASP_YCB_DIR``.
 
 from __future__ import annotations
 
-import argparse
 from collections.abc import Callable, Iterator
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Annotated
 
+from simgrasp.config import Checked, setting
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import Fraction, MinLength, NonNegative
 from simgrasp.evaluation.real_detect import RealDetectRow, score_cloud
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
 from simgrasp.evaluation.real_pots import POT_SEGMENTATION, PotResult, evaluate_real_pots
@@ -46,6 +49,21 @@ SIM_VIEWS = (
         )
     ),
 )
+
+
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    models: Annotated[tuple[Path, ...], MinLength(1)] = setting(positional=True, many=True)
+    """Classifier JSON files, a column each."""
+    threshold: Fraction | None = None
+    """Classifier threshold (default: the learned setting's)."""
+    min_width_spacings: NonNegative | None = None
+    """Narrowest fit kept, in measured point spacings (default: the learned setting's)."""
+    narrow_width_spacings: NonNegative | None = None
+    """Narrowest fit kept when its axis is near its surface, in spacings (default: the learned
+    setting's)."""
+    body_wall: bool = False
+    """With the body-wall test on (:mod:`simgrasp.handles.body_wall`)."""
 
 
 def cell(rows: list[RealDetectRow] | list[PotResult]) -> str:
@@ -85,44 +103,28 @@ def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str
         )
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("models", type=Path, nargs="+", help="classifier JSON files")
-    parser.add_argument(
-        "--threshold", type=float, help="classifier threshold (default: the learned setting's)"
-    )
-    parser.add_argument(
-        "--min-width-spacings",
-        type=float,
-        help="narrowest fit kept, in measured point spacings (default: the learned setting's)",
-    )
-    parser.add_argument(
-        "--narrow-width-spacings",
-        type=float,
-        help="narrowest fit kept when its axis is near its surface, in spacings (default: the "
-        "learned setting's)",
-    )
-    parser.add_argument(
-        "--body-wall",
-        action="store_true",
-        help="with the body-wall test on (simgrasp.handles.body_wall)",
-    )
-    args = parser.parse_args()
+def run(options: Options) -> None:
+    """Print the table: a row per tune item, a column per model."""
     settings = SingleViewConfig.learned()
-    if args.body_wall:
+    if options.body_wall:
         settings = replace(settings, body_wall=BodyWallConfig(enabled=True))
-    if args.threshold is not None:
-        settings = replace(settings, classifier_threshold=args.threshold)
-    if args.min_width_spacings is not None:
-        settings = replace(settings, min_width_spacings=args.min_width_spacings)
-    if args.narrow_width_spacings is not None:
-        settings = replace(settings, narrow_width_spacings=args.narrow_width_spacings)
-    columns = [list(rows_for(replace(settings, classifier_file=str(path)))) for path in args.models]
-    print("| tune item | " + " | ".join(p.name for p in args.models) + " |")
-    print("|---" * (len(args.models) + 1) + "|")
+    if options.threshold is not None:
+        settings = replace(settings, classifier_threshold=options.threshold)
+    if options.min_width_spacings is not None:
+        settings = replace(settings, min_width_spacings=options.min_width_spacings)
+    if options.narrow_width_spacings is not None:
+        settings = replace(settings, narrow_width_spacings=options.narrow_width_spacings)
+    models = options.models
+    columns = [list(rows_for(replace(settings, classifier_file=str(path)))) for path in models]
+    print("| tune item | " + " | ".join(p.name for p in models) + " |")
+    print("|---" * (len(models) + 1) + "|")
     for i, (name, _) in enumerate(columns[0]):
         print(f"| {name} | " + " | ".join(column[i][1]() for column in columns) + " |")
 
 
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
+
+
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

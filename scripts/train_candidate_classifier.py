@@ -22,14 +22,19 @@ that keeps a candidate where any of its models keeps it (docs/results/real-detec
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import multiprocessing
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 
+from simgrasp.config import Checked, setting
+from simgrasp.config.arguments import script_main
+from simgrasp.config.checks import MinLength, NonNegativeInt, Positive, PositiveInt, Range
+from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView, capture
 from simgrasp.handles.candidate_features import FEATURES, candidate_features
 from simgrasp.handles.single_view import SingleViewConfig, single_view_candidates
@@ -191,82 +196,68 @@ def fit(
     return {"features": list(FEATURES), "learning_rate": model.learning_rate, "trees": trees}
 
 
-def arguments() -> argparse.Namespace:
-    """The command line, checked."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=2)
-    parser.add_argument(
-        "--azimuths",
-        default="0",
-        help="comma-separated camera azimuths (degrees): every view is rendered from each",
-    )
-    parser.add_argument("--workers", type=int, default=1)
-    parser.add_argument(
-        "--first-objects",
-        action="store_true",
-        help="train on the first classifier's 13 objects (no gen_strap_mug)",
-    )
-    parser.add_argument("--with-drills", action="store_true", help="add the generated drills")
-    parser.add_argument(
-        "--strap-mugs",
-        type=int,
-        default=10,
-        help="train on the flat-strap mugs of seeds 0..N-1 (the shipped model: 10)",
-    )
-    parser.add_argument(
-        "--strap-family-weight",
-        type=float,
-        default=None,
-        help="the strap mugs' views together weigh as many objects' views as this (default: "
-        "each strap mug as one object)",
-    )
-    parser.add_argument(
-        "--leave-one-out",
-        action="store_true",
-        help="print each object's figures under a model trained without it; write nothing",
-    )
-    parser.add_argument(
-        "--ensemble-leave-one-out",
-        action="store_true",
-        help="with --with-drills: print each object's figures under the models trained without "
-        "it with and without the drills, and under the two as one ensemble; write nothing",
-    )
-    parser.add_argument(
-        "--combine",
-        nargs="+",
-        metavar="FILE:THRESHOLD",
-        help="write the ensemble of these trained models (a candidate kept where any keeps "
-        "it at its own threshold) for the settings' --threshold; train nothing",
-    )
-    parser.add_argument("--threshold", type=float, default=0.7, help="with --combine")
-    parser.add_argument("--out", type=Path)
-    args = parser.parse_args()
-    if args.combine and args.out is None:
-        parser.error("--combine needs --out")
-    if args.out is None and not (args.leave_one_out or args.ensemble_leave_one_out):
-        parser.error("--out is required unless --leave-one-out or --ensemble-leave-one-out")
-    if args.ensemble_leave_one_out and not args.with_drills:
-        parser.error("--ensemble-leave-one-out needs --with-drills")
-    return args
+@dataclass(frozen=True, kw_only=True)
+class Options(Checked):
+    seeds: PositiveInt = 2
+    """Seeds 0 .. seeds - 1 of every view."""
+    azimuths: Annotated[tuple[float, ...], MinLength(1)] = (0.0,)
+    """Camera azimuths (degrees): every view is rendered from each."""
+    workers: PositiveInt = 1
+    """Processes rendering the views."""
+    first_objects: bool = False
+    """Train on the first classifier's 13 objects (no gen_strap_mug)."""
+    with_drills: bool = False
+    """Add the generated drills."""
+    strap_mugs: NonNegativeInt = 10
+    """Train on the flat-strap mugs of seeds 0..N-1 (the shipped model: 10)."""
+    strap_family_weight: Positive | None = None
+    """The strap mugs' views together weigh as many objects' views as this (default: each strap
+    mug as one object)."""
+    leave_one_out: bool = False
+    """Print each object's figures under a model trained without it; write nothing."""
+    ensemble_leave_one_out: bool = False
+    """With --with-drills: print each object's figures under the models trained without it with
+    and without the drills, and under the two as one ensemble; write nothing."""
+    combine: tuple[str, ...] = setting((), many=True, metavar="FILE:THRESHOLD")
+    """Write the ensemble of these trained models (a candidate kept where any keeps it at its
+    own threshold) for the settings' --threshold; train nothing."""
+    threshold: Annotated[float, Range(gt=0, lt=1)] = 0.7
+    """With --combine: the threshold the ensemble's settings apply."""
+    out: Path | None = None
+    """The JSON file written: the model, or with --combine the ensemble."""
+
+    def _check(self) -> None:
+        """The combinations the command line refuses."""
+        if self.combine and self.out is None:
+            raise SimgraspError("--combine needs --out")
+        if self.out is None and not (self.leave_one_out or self.ensemble_leave_one_out):
+            raise SimgraspError(
+                "--out is required unless --leave-one-out or --ensemble-leave-one-out"
+            )
+        if self.ensemble_leave_one_out and not self.with_drills:
+            raise SimgraspError("--ensemble-leave-one-out needs --with-drills")
 
 
-def main() -> None:
-    args = arguments()
-    if args.combine:
-        args.out.write_text(json.dumps(combined(args.combine, args.threshold)) + "\n")
-        print(f"wrote {args.out}")
+def run(options: Options) -> None:
+    """Write the ensemble (``--combine``), print the leave-one-out figures, or train and write
+    the model."""
+    if options.combine:
+        options.out.write_text(
+            json.dumps(combined(list(options.combine), options.threshold)) + "\n"
+        )
+        print(f"wrote {options.out}")
         return
-    strap_mugs = 0 if args.first_objects else args.strap_mugs
+    strap_mugs = 0 if options.first_objects else options.strap_mugs
     objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
-    objects += list(DRILLS) if args.with_drills else []
-    azimuths = [float(a) for a in args.azimuths.split(",")]
+    objects += list(DRILLS) if options.with_drills else []
+    azimuths = list(options.azimuths)
     jobs = [
         (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed)  # type: ignore[arg-type]
         for obj, (pose, distance, elevation, sensor), azimuth, seed in itertools.product(
-            objects, VIEWS, azimuths, range(args.seeds)
+            objects, VIEWS, azimuths, range(options.seeds)
         )
     ]
-    with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
+    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         results = pool.starmap(view_rows, jobs, chunksize=4)
     rows = [features for features, _ in results]
     labels = [on_handle for _, on_handle in results]
@@ -274,31 +265,35 @@ def main() -> None:
         print(f"{sim.name} seed {seed}: {len(on_handle)} candidates, {on_handle.sum()} on handle")
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
-    if args.leave_one_out or args.ensemble_leave_one_out:
+    if options.leave_one_out or options.ensemble_leave_one_out:
         objects_of_rows = np.concatenate(
             [np.full(len(label), sim.object) for (sim, _), label in zip(jobs, labels, strict=True)]
         )
-        check = ensemble_leave_one_out if args.ensemble_leave_one_out else leave_one_out
+        check = ensemble_leave_one_out if options.ensemble_leave_one_out else leave_one_out
         check(x, y, views, objects_of_rows)
         return
     view_weight = None
-    if args.strap_family_weight is not None and strap_mugs:
+    if options.strap_family_weight is not None and strap_mugs:
         strap = [sim.object.startswith("gen_strap_mug") for sim, _ in jobs]
-        view_weight = np.where(strap, args.strap_family_weight / strap_mugs, 1.0)
+        view_weight = np.where(strap, options.strap_family_weight / strap_mugs, 1.0)
     model = fit(x, y, views, view_weight)
     model["trained_on"] = {
         "objects": objects,
         "views": [list(v) for v in VIEWS],
         "azimuths_deg": azimuths,
-        "seeds": args.seeds,
+        "seeds": options.seeds,
         "candidates": int(len(y)),
         "on_handle": int(y.sum()),
     }
     if view_weight is not None:
-        model["trained_on"]["strap_family_weight"] = args.strap_family_weight
-    args.out.write_text(json.dumps(model) + "\n")
-    print(f"{len(y)} candidates ({y.sum()} on handle); wrote {args.out}")
+        model["trained_on"]["strap_family_weight"] = options.strap_family_weight
+    options.out.write_text(json.dumps(model) + "\n")
+    print(f"{len(y)} candidates ({y.sum()} on handle); wrote {options.out}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    return script_main(Options, run, __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
