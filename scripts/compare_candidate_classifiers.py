@@ -62,8 +62,9 @@ class Options(Checked):
     narrow_width_spacings: NonNegative | None = None
     """Narrowest fit kept when its axis is near its surface, in spacings (default: the learned
     setting's)."""
-    body_wall: bool = False
-    """With the body-wall test on (:mod:`simgrasp.handles.body_wall`)."""
+    body_wall: bool = True
+    """The default's body-wall test (:mod:`simgrasp.handles.body_wall`): on since 7 December
+    2026; false scores the default before that day."""
 
 
 def cell(rows: list[RealDetectRow] | list[PotResult]) -> str:
@@ -105,9 +106,8 @@ def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str
 
 def run(options: Options) -> None:
     """Print the table: a row per tune item, a column per model."""
-    settings = SingleViewConfig.learned()
-    if options.body_wall:
-        settings = replace(settings, body_wall=BodyWallConfig(enabled=True))
+    wall = BodyWallConfig(enabled=options.body_wall)
+    settings = replace(SingleViewConfig.learned(), body_wall=wall)
     if options.threshold is not None:
         settings = replace(settings, classifier_threshold=options.threshold)
     if options.min_width_spacings is not None:

@@ -15,10 +15,11 @@ is tuned on these runs. Rows go to ``rows.jsonl`` as they finish, so a rerun kee
 ``robustness.md`` is the table.
 
     SIMGRASP_REAL_DIR=../shared/real python scripts/real_robustness.py \\
-        --out docs/results/real-detect/robustness
+        --out docs/results/real-detect/body-wall/robustness
 
-``--body-wall true`` scores the default with the body-wall test on instead (an output folder
-holds one setting's rows: ``run.json`` says which).
+``--body-wall false`` scores the default before 7 December 2026, without the body-wall test
+(``docs/results/real-detect/robustness``; an output folder holds one setting's rows:
+``run.json`` says which).
 """
 
 from __future__ import annotations
@@ -56,14 +57,15 @@ class Options(Checked):
     sim: bool = True
     """Also degrade and score the simulated views posed like the real mug captures (needs
     $SIMGRASP_YCB_DIR for the YCB mug)."""
-    body_wall: bool = False
-    """Score the default with the body-wall test on (:mod:`simgrasp.handles.body_wall`)."""
+    body_wall: bool = True
+    """The default's body-wall test (:mod:`simgrasp.handles.body_wall`): on, as ``detect``
+    runs it since 7 December 2026; false scores the default before that day."""
 
     def single_view(self) -> SingleViewConfig | None:
         """The single-view settings to score (None: ``detect``'s default)."""
-        if not self.body_wall:
+        if self.body_wall:
             return None
-        return replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=True))
+        return replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=False))
 
 
 def measure(

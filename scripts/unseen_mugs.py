@@ -8,12 +8,14 @@ view and setting) and ``unseen_mugs.md`` (per mug kind and view: pooled candidat
 and views with the top handle on the handle) to ``--out``.
 
     python scripts/unseen_mugs.py --strap-seeds 70:90 --tube-seeds 25:30 --workers 2 \\
-        --out docs/results/real-detect/unseen-mugs-s70
+        --out out/unseen-mugs-s70
 
 ``--narrow-width-spacings 0`` scores the default of the runs before 4 December 2026 (no
 narrow fits) beside today's (docs/results/real-detect/README.md); ``--classifier FILE`` adds
-a column for the default with another trained classifier, ``--body-wall`` one for the default
-with the body-wall test on; ``--azimuths 60,200`` views the mugs from other sides.
+a column for the default with another trained classifier; ``--body-wall false`` scores the
+default before 7 December 2026 (without the body-wall test), ``--also-body-wall true|false``
+adds a column for the default with the test on or off; ``--azimuths 60,200`` views the mugs
+from other sides.
 """
 
 from __future__ import annotations
@@ -115,8 +117,11 @@ class Options(Checked):
     """Camera azimuths (degrees): every view is rendered from each."""
     classifier: Path | None = None
     """Also score the default with this classifier file (train_candidate_classifier.py)."""
-    body_wall: bool = False
-    """Also score the default with the body-wall test on (simgrasp.handles.body_wall)."""
+    body_wall: bool = True
+    """The default's body-wall test (simgrasp.handles.body_wall): on since 7 December 2026."""
+    also_body_wall: bool | None = None
+    """Also score the default with the body-wall test on (column "body wall") or off ("no body
+    wall"); none: no such column."""
     workers: PositiveInt = 1
     """Worker processes scoring the views."""
     out: Path = Path("out/unseen-mugs")
@@ -125,7 +130,9 @@ class Options(Checked):
 
 def run(options: Options) -> str:
     """Score every mug, view and setting; the table."""
-    default = SingleViewConfig.learned()
+    default = replace(
+        SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=options.body_wall)
+    )
     settings = {
         "default": default,
         f"narrow {options.narrow_width_spacings:g}": replace(
@@ -136,8 +143,9 @@ def run(options: Options) -> str:
         settings[options.classifier.name] = replace(
             default, classifier_file=str(options.classifier)
         )
-    if options.body_wall:
-        settings["body wall"] = replace(default, body_wall=BodyWallConfig(enabled=True))
+    if options.also_body_wall is not None:
+        name = "body wall" if options.also_body_wall else "no body wall"
+        settings[name] = replace(default, body_wall=BodyWallConfig(enabled=options.also_body_wall))
     work = jobs(options.strap_seeds, options.tube_seeds, options.azimuths, settings)
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         scored = pool.map(score, work, chunksize=2)

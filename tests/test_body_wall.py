@@ -64,15 +64,15 @@ def test_the_settings_refuse_an_empty_radius_range() -> None:
 
 def test_with_the_wall_on_a_strap_mug_seen_from_afar_is_held_by_its_strap() -> None:
     """A flat-strap mug no classifier saw (seed 142), upright, its handle turned 120 degrees
-    from profile, through the stereo model from 0.78 m (the regime the default is weakest in):
-    the default ranks the body first (measured: 0 of 3 candidates on the strap); with the
-    body-wall test those candidates are dropped and all that remain are on the strap
+    from profile, through the stereo model from 0.78 m (the regime the single-view detector is
+    weakest in): without the body-wall test (the default before 7 December 2026) the body is
+    ranked first (measured: 0 of 3 candidates on the strap); the default, with the test, drops
+    those candidates and all that remain are on the strap
     (docs/results/real-detect/body-wall/unseen-mugs-s130)."""
     view = SimView("gen_strap_mug_s142", "upright", 0.78, 32.0, "stereo", azimuth_deg=120.0)
-    default = score_view(view, "default", 0)
-    assert not default.top_on_handle
-    walled = replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=True))
-    row = score_view(view, "default", 0, None, walled)
+    unwalled = replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=False))
+    assert not score_view(view, "default", 0, None, unwalled).top_on_handle
+    row = score_view(view, "default", 0)
     assert row.top_on_handle and row.on_handle == row.candidates > 0
 
 
@@ -83,7 +83,8 @@ def test_no_kept_candidate_lies_on_the_wall_of_a_rendered_mug() -> None:
     view = SimView("gen_mug", "upright", 0.6, 40.0, "kinect")
     shot = capture(view, 0)
     points = np.asarray(shot.points_cam, dtype=np.float64)
-    config = replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=True))
+    config = SingleViewConfig.learned()
+    assert config.body_wall.enabled  # the default since 7 December 2026
     detection = detect_single_view(points, config, 0, np.zeros(3))
     wall = fit_body_wall(detection.points, config.body_wall)
     assert wall is not None and 0.035 <= wall.radius <= 0.045

@@ -84,5 +84,5 @@ def test_run_on_the_real_manifest_keeps_its_rows(
     script.run(options)
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
     with pytest.raises(SimgraspError, match="body_wall"):  # one setting's rows a folder
-        script.run(replace(options, body_wall=True))
+        script.run(replace(options, body_wall=False))
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows

@@ -50,8 +50,10 @@ NORMAL_REACH = 0.05
 
 @dataclass(frozen=True)
 class BodyWallConfig(Checked):
-    """When and how a single view's body wall drops candidates (off by default: see
-    docs/results/real-detect/README.md for its figures and why it is not the default)."""
+    """When and how a single view's body wall drops candidates: on in
+    :meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`, the single-view default
+    since 7 December 2026; off in a bare ``SingleViewConfig()`` and the presets kept for old
+    runs (docs/results/real-detect/README.md for its figures and how it was chosen)."""
 
     enabled: bool = False
     """Drop kept candidates whose seen surface point lies on the view's body wall."""

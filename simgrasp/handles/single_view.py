@@ -96,7 +96,7 @@ class SingleViewConfig(Checked):
     use instead of the shipped one (a path; empty: the shipped one)."""
     body_wall: BodyWallConfig = field(default_factory=BodyWallConfig)
     """With ``body_wall.enabled``: kept candidates on the view's body wall are dropped
-    (:mod:`simgrasp.handles.body_wall`; off by default, docs/results/real-detect)."""
+    (:mod:`simgrasp.handles.body_wall`; on in :meth:`learned`, docs/results/real-detect)."""
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
@@ -118,13 +118,16 @@ class SingleViewConfig(Checked):
         docs/results/real-detect, each choice made on the tune knives, the osd-learn pots and
         simulated views); where the classifier keeps nothing, the quadric detector's
         :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm neighborhoods, the plate test
-        for flat tabs; chosen on the tune osd-learn pots). ``narrow_width_spacings=0``
-        reproduces the runs before that day."""
+        for flat tabs; chosen on the tune osd-learn pots). Since 7 December 2026 kept candidates
+        on the view's body wall are dropped (:mod:`simgrasp.handles.body_wall`).
+        ``narrow_width_spacings=0`` reproduces the runs before 4 December, and
+        ``body_wall=BodyWallConfig()`` (off) those before 7 December."""
         return cls(
             classifier=True,
             classifier_threshold=0.7,
             min_width_spacings=2.0,
             narrow_width_spacings=1.0,
+            body_wall=BodyWallConfig(enabled=True),
             fallback=QuadricDetectorConfig.real_depth(),
         )
 
