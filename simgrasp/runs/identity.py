@@ -78,18 +78,25 @@ def claim_identity(
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(current, indent=indent) + "\n", encoding="utf-8")
         return
-    try:
-        earlier = json.loads(path.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as error:
-        raise SimgraspError(f"{path} is not JSON ({error})") from error
-    if not isinstance(earlier, dict):
-        raise SimgraspError(f"{path} is not a table of settings")
+    earlier = _read_table(path, "settings")
     keys = [k for k in current if k in earlier] if shared_only else sorted({*current, *earlier})
     changed = _changes(earlier, current, [k for k in keys if k not in ignore])
     if changed:
         raise SimgraspError(f"{path.parent} holds {what} ({_shown(changed)}); {hint}")
     if any(earlier.get(k) != current.get(k) for k in ignore):
         path.write_text(json.dumps({**earlier, **current}, indent=indent) + "\n", encoding="utf-8")
+
+
+def _read_table(path: Path, what: str) -> dict[str, Any]:
+    """The JSON object in ``path``; one line naming the file when it is no JSON or no table
+    (of ``what``)."""
+    try:
+        table = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as error:
+        raise SimgraspError(f"{path} is not JSON ({error})") from error
+    if not isinstance(table, dict):
+        raise SimgraspError(f"{path} is not a table of {what}")
+    return table
 
 
 def _shown(changed: list[tuple[str, Any, Any]]) -> str:
@@ -126,14 +133,7 @@ def claim_entries(
     ``current`` are kept as they were."""
     path = Path(path)
     current = json.loads(json.dumps(current))  # as it reads back (tuples as lists)
-    earlier: dict[str, Any] = {}
-    if path.exists():
-        try:
-            earlier = json.loads(path.read_text(encoding="utf-8"))
-        except (json.JSONDecodeError, UnicodeDecodeError) as error:
-            raise SimgraspError(f"{path} is not JSON ({error})") from error
-        if not isinstance(earlier, dict):
-            raise SimgraspError(f"{path} is not a table of {what}s")
+    earlier = _read_table(path, f"{what}s") if path.exists() else {}
     for name in sorted(set(current) & set(earlier) & held):
         changed = _changes({name: earlier[name]}, {name: current[name]}, [name])
         if changed:
