@@ -99,8 +99,9 @@ def setting_record(name: str) -> dict[str, Any]:
     the rows as a changed setting does)."""
     config = config_by_name(name)
     record: dict[str, Any] = {"detector": to_plain(config)}
-    single = SingleViewConfig.learned() if name == "default" else config
+    single = config
     if name == "default":
+        single = SingleViewConfig.learned()
         record["single_view"] = to_plain(single)
     if isinstance(single, SingleViewConfig) and single.classifier:
         record["classifier_sha256"] = _digest(single.classifier_path(), f"setting {name}")
@@ -296,13 +297,12 @@ def run_real_detect(
     there are kept and not redone when ``identity`` (:func:`run_identity`) is the one recorded
     beside them, and refused in one line naming what changed otherwise."""
     configs = tuple(configs)
-    for name in configs:
-        config_by_name(name)
+    records = {name: setting_record(name) for name in configs}  # an unknown name: one line
     done, torn, problem = _scan(out_csv)
     _claim(out_csv.parent, identity, bool(done))  # before the file is changed
     claim_entries(
         out_csv.parent / SETTINGS_FILE,
-        {name: setting_record(name) for name in configs},
+        records,
         {r.config for r in done},
         what="detector setting",
         hint="delete that setting's rows from the CSV to rerun them, or use another --out",
