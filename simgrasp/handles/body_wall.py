@@ -5,15 +5,17 @@ In a single view the wall is most of the points, and a noisy or sparse capture o
 small curved fits that pass for handles (docs/results/real-detect/README.md, "Which path the
 degraded held-out runs fail by"). A fitted wall says which candidates are part of a body wider
 than a handle. The axis is the direction most perpendicular to the view's normals (on a wall
-every normal is perpendicular to it); across the axis, the centre is the point the normals'
-lines pass nearest (least squares, reweighted so that points off the wall, a handle's or a
-rim's, count less); the radius is the median distance of the points whose normal lines pass
-near it. Noisy normals pull that centre toward the seen side (2 mm of range noise took a real
-mug's 3.8 cm wall to 3.3 cm), so a circle fitted to the points near that first wall then sets
-the centre and radius; a wall must pass the radius and share tests both before and after.
-A half wall seen from one side is enough, where
-:func:`simgrasp.handles.revolution.fit_revolution` (for meshes) asks for normals from every
-side. A flat knife or a spatula, whose normals are parallel, or a hammer or screwdriver, round
+every normal is perpendicular to it). Across the axis, a first circle is found by RANSAC:
+circles through three seen points, the one with most points on it whose normals point along
+its radius. Normals from the whole view tilt the axis where a handle is seen edge-on, so the
+axis is taken again from the normals near that first circle alone, and the circle drawn again
+about it. A least-squares circle through the points near it then sets the centre and radius;
+a wall must pass the radius and share tests both before and after, be no longer along its
+axis than ``max_length_radii`` radii (a mug's wall is about 3; a hammer's round handle, which
+RANSAC can take for a narrow wall, about 13) and cover ``min_arc_deg`` of arc (a flat blade
+seen along its length lies within millimetres of a large circle, on a short arc). A half wall
+seen from one side is enough, where :func:`simgrasp.handles.revolution.fit_revolution` (for
+meshes) asks for normals from every side. A knife or a spatula, flat, or a screwdriver, round
 about a handle thinner than ``min_radius``, has no wall.
 
 Lengths in meters, in the frame of the points (a sensor's frame for a single view).
@@ -36,11 +38,9 @@ MIN_VIEW_POINTS = 50
 MIN_WALL_POINTS = 20
 """A wall needs at least this many points whose normals lie across its axis and whose normal
 lines pass near its centre."""
-REWEIGHTINGS = 4
-"""Least-squares passes for the wall's centre, each reweighting the normal lines by how near
-the last centre they pass (the first pass weighs all alike)."""
 REFINE_BAND = 0.01
-"""Points this near (m) the first wall estimate refine it (:func:`_circle_through`)."""
+"""Points this near (m) the first circle set the axis again and then refine the circle
+(:func:`_circle_through`)."""
 CIRCLE_LOSS_SCALE = 0.002
 """Residual (m) beyond which a point counts less in the circle fit (soft L1): a handle's or a
 rim's points inside the band do not pull the wall."""
@@ -60,16 +60,26 @@ class BodyWallConfig(Checked):
     min_radius: Positive = 0.025
     """The narrowest wall (m): a hammer's or a screwdriver's round handle (1-2 cm) is no body."""
     max_radius: Positive = 0.12
-    """The widest wall (m): a flat face's normal lines meet nowhere near, at a huge radius."""
+    """The widest wall (m): three points of a flat face lie on a huge circle or none."""
     min_wall_share: Fraction = 0.4
     """A wall must hold at least this share of the view's points (within ``wall_tolerance``)."""
     wall_tolerance: Positive = 0.004
     """A point this near the wall's radius (m) is on the wall, for ``min_wall_share``."""
     drop_distance: Positive = 0.006
     """A candidate whose seen surface point lies this near the wall's radius (m) is dropped."""
-    line_miss: Positive = 0.005
-    """A normal line passing this near the centre (m) is a wall point: it counts fully in the
-    reweighting and its distance sets the radius."""
+    ransac_draws: Annotated[int, Range(ge=1)] = 200
+    """Circles through three seen points drawn for the first circle (from the detection's
+    seed)."""
+    radial_cos: Fraction = 0.8
+    """A point is on a drawn circle only if its normal's cosine with the circle's radius is at
+    least this (either sign): a handle's points crossing the circle do not count."""
+    min_arc_deg: Annotated[float, Range(gt=0.0, le=360.0)] = 90.0
+    """A wall's points must cover at least this arc about its axis (degrees): a flat blade
+    seen along its length lies near a large circle, but on an arc of 20-65 degrees; a mug's
+    seen wall covers about 150, with its rim about 350 (docs/results/real-detect/README.md)."""
+    max_length_radii: Positive = 6.0
+    """A wall whose points span more than this many radii along its axis is a long round
+    handle, not a body (fixed before it was measured: docs/results/real-detect/README.md)."""
     normal_neighbors: Annotated[int, Range(ge=3)] = 12
     """Nearest points of each point's PCA normal."""
 
@@ -94,29 +104,31 @@ class BodyWall:
         return np.abs(np.linalg.norm(across, axis=1) - self.radius)
 
 
-def fit_body_wall(points: NDArray[np.float64], config: BodyWallConfig) -> BodyWall | None:
+def fit_body_wall(
+    points: NDArray[np.float64], config: BodyWallConfig, seed: int
+) -> BodyWall | None:
     """The body wall of a single view's ``points`` (N, 3), or None when the view holds none
-    within ``config``'s radii and share. Normal signs play no part: lines have none."""
+    within ``config``'s radii, share and length. ``seed`` draws the RANSAC samples (the
+    detection's seed). Normal signs play no part: only the radial cosine's size counts."""
     if len(points) < MIN_VIEW_POINTS:
         return None
     normals = estimate_normals(
         points, radius=NORMAL_REACH, max_nn=config.normal_neighbors, orient="none"
     )
-    axis = np.linalg.eigh(normals.T @ normals)[1][:, 0]
+    rng = np.random.default_rng(seed)
+    axis = _least_direction(normals)
+    first = _first_circle(points, normals, axis, config, rng)
+    if first is None:
+        return None
+    near_first = _across(points, axis, first) < REFINE_BAND
+    axis = _least_direction(normals[near_first])
+    first = _first_circle(points, normals, axis, config, rng)
+    if first is None:
+        return None
     across = _basis_across(axis)
-    points_2d, normals_2d = points @ across.T, normals @ across.T
-    length = np.linalg.norm(normals_2d, axis=1)
-    crossing = length > 0.5  # normals mostly across the axis: the wall's, not a rim's or base's
-    if crossing.sum() < MIN_WALL_POINTS:
-        return None
-    center_2d, misses = _nearest_to_lines(
-        points_2d[crossing], normals_2d[crossing] / length[crossing, None], config.line_miss
-    )
-    on_lines = misses < config.line_miss
-    if on_lines.sum() < MIN_WALL_POINTS:
-        return None
+    points_2d = points @ across.T
+    center_2d, radius = first
     radii = np.linalg.norm(points_2d - center_2d, axis=1)
-    radius = float(np.median(radii[crossing][on_lines]))
     if _wall_share(radii, radius, config) is None:
         return None
     near_wall = np.abs(radii - radius) < REFINE_BAND
@@ -125,19 +137,107 @@ def fit_body_wall(points: NDArray[np.float64], config: BodyWallConfig) -> BodyWa
     share = _wall_share(radii, radius, config)
     if share is None:
         return None
+    on_wall = np.abs(radii - radius) < config.wall_tolerance
+    if np.ptp(points[on_wall] @ axis) > config.max_length_radii * radius:
+        return None
+    if _arc_deg(points_2d[on_wall] - center_2d) < config.min_arc_deg:
+        return None
     return BodyWall(axis, center_2d @ across, radius, share)
 
 
 def off_body_wall(
-    surface: NDArray[np.float64], points: NDArray[np.float64], config: BodyWallConfig
+    surface: NDArray[np.float64], points: NDArray[np.float64], config: BodyWallConfig, seed: int
 ) -> NDArray[np.bool_]:
     """(M,) True for the candidates whose seen surface points ``surface`` (M, 3) lie off the
     body wall of the view ``points`` (N, 3) by at least ``config.drop_distance``; all True
-    where the view has no wall."""
-    wall = fit_body_wall(points, config)
+    where the view has no wall. ``seed``: the detection's, for the wall's RANSAC draws."""
+    wall = fit_body_wall(points, config, seed)
     if wall is None:
         return np.ones(len(surface), dtype=bool)
     return wall.distance(surface) >= config.drop_distance
+
+
+def _arc_deg(offsets: NDArray[np.float64]) -> float:
+    """The arc (degrees) that points at ``offsets`` (M, 2) from a circle's centre cover: 360
+    less the widest angle between angularly neighbouring points."""
+    angles = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
+    gaps = np.diff(np.append(angles, angles[0] + 2 * np.pi))
+    return float(np.degrees(2 * np.pi - gaps.max()))
+
+
+def _least_direction(normals: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The unit direction (3,) most perpendicular to ``normals`` (N, 3): on a wall every
+    normal is perpendicular to its axis."""
+    return np.linalg.eigh(normals.T @ normals)[1][:, 0]
+
+
+def _across(
+    points: NDArray[np.float64],
+    axis: NDArray[np.float64],
+    circle: tuple[NDArray[np.float64], float],
+) -> NDArray[np.float64]:
+    """(N,) distances (m) of ``points`` (N, 3) from the wall of ``circle`` (centre (2,) in
+    :func:`_basis_across` of ``axis``, radius m), measured across ``axis``."""
+    center_2d, radius = circle
+    radii = np.linalg.norm(points @ _basis_across(axis).T - center_2d, axis=1)
+    return np.abs(radii - radius)
+
+
+def _first_circle(
+    points: NDArray[np.float64],
+    normals: NDArray[np.float64],
+    axis: NDArray[np.float64],
+    config: BodyWallConfig,
+    rng: np.random.Generator,
+) -> tuple[NDArray[np.float64], float] | None:
+    """The circle across ``axis`` (centre (2,) in :func:`_basis_across` of it, radius m)
+    through three of the points whose normals lie mostly across it, drawn
+    ``config.ransac_draws`` times, that has most such points on it (within
+    ``wall_tolerance``, normal along its radius by ``radial_cos``), its radius in range; None
+    when fewer than :data:`MIN_WALL_POINTS` points are on the best one."""
+    across = _basis_across(axis)
+    points_2d, normals_2d = points @ across.T, normals @ across.T
+    length = np.linalg.norm(normals_2d, axis=1)
+    crossing = length > 0.5  # normals mostly across the axis: the wall's, not a rim's or base's
+    if crossing.sum() < MIN_WALL_POINTS:
+        return None
+    seen, directions = points_2d[crossing], normals_2d[crossing] / length[crossing, None]
+    draws = seen[rng.integers(len(seen), size=(config.ransac_draws, 3))]
+    centers, radii = _circles_through_three(draws)
+    fine = np.isfinite(radii) & (radii >= config.min_radius) & (radii <= config.max_radius)
+    if not fine.any():
+        return None
+    centers, radii = centers[fine], radii[fine]
+    offsets = seen[None] - centers[:, None]  # (draws, points, 2)
+    distances = np.linalg.norm(offsets, axis=2)
+    cosines = np.abs(np.einsum("dnk,nk->dn", offsets, directions)) / np.maximum(distances, 1e-12)
+    on_circle = (np.abs(distances - radii[:, None]) < config.wall_tolerance) & (
+        cosines >= config.radial_cos
+    )
+    counts = on_circle.sum(axis=1)
+    best = int(np.argmax(counts))
+    if counts[best] < MIN_WALL_POINTS:
+        return None
+    return centers[best], float(radii[best])
+
+
+def _circles_through_three(
+    triples: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Centres (D, 2) and radii (D,) of the circles through each of ``triples`` (D, 3, 2);
+    radius inf where the three points are (nearly) on a line."""
+    a, b, c = triples[:, 0], triples[:, 1], triples[:, 2]
+    ab, ac = b - a, c - a
+    cross = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
+    ab2, ac2 = (ab**2).sum(axis=1), (ac**2).sum(axis=1)
+    degenerate = np.abs(cross) < 1e-12
+    denominator = np.where(degenerate, 1.0, 2 * cross)
+    offset = (
+        np.stack([ac[:, 1] * ab2 - ab[:, 1] * ac2, ab[:, 0] * ac2 - ac[:, 0] * ab2], axis=1)
+        / denominator[:, None]
+    )
+    radii = np.where(degenerate, np.inf, np.linalg.norm(offset, axis=1))
+    return a + offset, radii
 
 
 def _wall_share(radii: NDArray[np.float64], radius: float, config: BodyWallConfig) -> float | None:
@@ -153,8 +253,8 @@ def _circle_through(
     points: NDArray[np.float64], center: NDArray[np.float64], radius: float
 ) -> tuple[NDArray[np.float64], float]:
     """The circle (centre (2,), radius m) nearest ``points`` (M, 2) in the least-squares
-    sense, started from ``center`` and ``radius``: the wall's points lie on it whatever the
-    noise in their normals, which pulls the normal lines' meeting point toward them."""
+    sense, started from ``center`` and ``radius``: three drawn points set the first circle,
+    all the wall's points this one."""
     start = np.append(center, radius)
     fit = least_squares(
         lambda p: np.linalg.norm(points - p[:2], axis=1) - p[2],
@@ -171,21 +271,3 @@ def _basis_across(axis: NDArray[np.float64]) -> NDArray[np.float64]:
     first = np.cross(axis, helper)
     first /= np.linalg.norm(first)
     return np.stack([first, np.cross(axis, first)])
-
-
-def _nearest_to_lines(
-    points: NDArray[np.float64], directions: NDArray[np.float64], line_miss: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The 2-D point nearest the lines through ``points`` (M, 2) along unit ``directions``
-    (M, 2), lines missing the last estimate by more than ``line_miss`` weighted down by
-    ``line_miss`` over their miss; and each line's miss (m) of it."""
-    projectors = np.eye(2)[None] - directions[:, :, None] * directions[:, None, :]
-    weights = np.ones(len(points))
-    for _ in range(REWEIGHTINGS):
-        system = np.einsum("n,nij->ij", weights, projectors)
-        target = np.einsum("n,nij,nj->i", weights, projectors, points)
-        center = np.linalg.lstsq(system, target, rcond=None)[0]
-        offsets = center - points
-        misses = np.abs(offsets[:, 0] * directions[:, 1] - offsets[:, 1] * directions[:, 0])
-        weights = np.minimum(1.0, line_miss / np.maximum(misses, 1e-12))
-    return center, misses

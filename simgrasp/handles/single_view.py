@@ -242,7 +242,7 @@ def detect_single_view(
     keep = _keep(raw.candidates, cloud, eye, spacing, config)
     if config.body_wall.enabled and keep.any():
         surface = np.stack([c.center for c in raw.candidates])
-        keep &= off_body_wall(surface, cloud, config.body_wall)
+        keep &= off_body_wall(surface, cloud, config.body_wall, seed)
     kept = tuple(c for c, k in zip(raw.candidates, keep, strict=True) if k)
     if not kept:
         return replace(raw, candidates=(), handles=())
