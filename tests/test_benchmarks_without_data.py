@@ -39,3 +39,21 @@ def test_a_benchmark_that_needs_ycb_says_so_in_one_line() -> None:
     assert done.returncode != 0
     assert "Traceback" not in done.stderr
     assert done.stderr.strip().count("\n") == 0 and "SIMGRASP_YCB_DIR" in done.stderr
+
+
+def test_bench_single_view_times_the_rendered_views_and_says_it_skipped_the_real_ones(
+    tmp_path: Path,
+) -> None:
+    done = subprocess.run(
+        [sys.executable, str(BENCHMARKS / "bench_single_view.py"), "--runs", "1"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**WITHOUT_DATA, "SIMGRASP_REAL_DIR": str(tmp_path / "absent")},
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    rows = [line for line in done.stdout.splitlines() if line.startswith("| sim ")]
+    assert len(rows) == 4
+    assert all(float(row.split("|")[5]) > 0 for row in rows)  # the with / without ratio
+    assert "real clouds skipped" in done.stdout and "absent" in done.stdout
