@@ -36,8 +36,8 @@ from simgrasp.perception.normals import estimate_normals
 MIN_VIEW_POINTS = 50
 """A view of fewer points is not searched for a wall."""
 MIN_WALL_POINTS = 20
-"""A wall needs at least this many points whose normals lie across its axis and whose normal
-lines pass near its centre."""
+"""A wall needs at least this many points whose normals lie across its axis, and its first
+circle this many of them on it with their normals along its radius."""
 REFINE_BAND = 0.01
 """Points this near (m) the first circle set the axis again and then refine the circle
 (:func:`_circle_through`)."""
@@ -108,7 +108,7 @@ def fit_body_wall(
     points: NDArray[np.float64], config: BodyWallConfig, seed: int
 ) -> BodyWall | None:
     """The body wall of a single view's ``points`` (N, 3), or None when the view holds none
-    within ``config``'s radii, share and length. ``seed`` draws the RANSAC samples (the
+    within ``config``'s radii, share, length and arc. ``seed`` draws the RANSAC samples (the
     detection's seed). Normal signs play no part: only the radial cosine's size counts."""
     if len(points) < MIN_VIEW_POINTS:
         return None
