@@ -16,7 +16,7 @@ test: install
 	$(VENV)/bin/python -m pytest -n 2 --dist loadgroup
 
 lint: install
-	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check . && $(VENV)/bin/mypy simgrasp
+	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check . && $(VENV)/bin/mypy simgrasp scripts benchmarks
 
 install: system-deps $(VENV)/.installed
 

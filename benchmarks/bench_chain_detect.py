@@ -42,7 +42,7 @@ SETTINGS = {
 
 def chain_clouds(sensor: str, seeds: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """(points, viewpoint normals) of the chain's cloud of each paper object and seed."""
-    config = ChainConfig(sensor=SensorSettings(kind=sensor))  # type: ignore[arg-type]
+    config = ChainConfig(sensor=SensorSettings(kind=sensor))
     gripper = make_gripper(config.gripper)
     clouds = []
     for name in PAPER_OBJECTS:

@@ -24,6 +24,7 @@ from simgrasp.config.arguments import script_main  # noqa: E402
 from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, TenPasConfig, detect  # noqa: E402
 from simgrasp.handles.detection import TIMING_STEPS  # noqa: E402
+from simgrasp.handles.detector_config import DetectorName  # noqa: E402
 from simgrasp.perception import sample_surface, voxel_downsample  # noqa: E402
 from simgrasp.seeding import rng_for  # noqa: E402
 
@@ -98,6 +99,10 @@ def _measure(
     totals["open3d_normals_input"] = []
     totals["open3d_oriented_normals"] = []
     hoods: dict[str, list[int]] = {"quadric": [], "tenpas": []}
+    configs: dict[DetectorName, QuadricDetectorConfig | TenPasConfig] = {
+        "quadric": quadric,
+        "tenpas": tenpas,
+    }
     for run in range(runs):
         totals["open3d_normals"].append(
             open3d_normals_seconds(voxelized, quadric.normal_radius, 30)
@@ -108,7 +113,7 @@ def _measure(
         totals["open3d_oriented_normals"].append(
             open3d_oriented_normals_seconds(voxelized, quadric.normal_radius, 30)
         )
-        for name, config in (("quadric", quadric), ("tenpas", tenpas)):
+        for name, config in configs.items():
             start = time.perf_counter()
             detection = detect(points, config=config, seed=run, detector=name)
             totals[name].append(time.perf_counter() - start)

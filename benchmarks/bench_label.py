@@ -33,6 +33,7 @@ import statistics
 import sys
 import time
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from mujoco import rollout
@@ -45,11 +46,11 @@ from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.config.fields import setting
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
 from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
-from simgrasp.grasping.trials.protocol import PROTOCOLS
+from simgrasp.grasping.trials.protocol import PROTOCOLS, Protocol
 from simgrasp.grippers import gripper_names, make_gripper
 
 
-def bench_protocol(model, obj: str, gripper: str, protocol: str, grasps, raw: int) -> dict:
+def bench_protocol(model, obj: str, gripper: str, protocol: Protocol, grasps, raw: int) -> dict:
     labeler = GraspLabeler(model, LabelConfig(obj, gripper, protocol))
     labeler.label(-1, *grasps[0])  # warm-up, not timed: first calls import and allocate
     walls, steps, held, physics = [], 0, 0, 0.0
@@ -145,6 +146,8 @@ class Options(Checked):
 def run(options: Options) -> None:
     """Label the grasps of every object, gripper and protocol and print the rates."""
     first = options.objects[0]
+    # checked against PROTOCOLS, the field's choices (typed str there to keep its --help)
+    protocols = cast(tuple[Protocol, ...], options.protocols)
     reference = reference_us_per_step(model_for(first), first)
     rows, notes = [], []
     for obj in options.objects:
@@ -163,7 +166,7 @@ def run(options: Options) -> None:
             notes.append(f"sampled {len(poses)} grasps on {obj} for {gripper_name} in "
                          f"{time.perf_counter() - start:.1f} s")  # fmt: skip
             grasps = list(zip(poses, widths, strict=True))
-            for protocol in options.protocols:
+            for protocol in protocols:
                 rows.append(bench_protocol(model, obj, gripper_name, protocol, grasps, options.raw))
     check = rollout_check(model_for(first), first)
     after = reference_us_per_step(model_for(first), first)

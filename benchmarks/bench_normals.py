@@ -21,6 +21,7 @@ import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import cast  # noqa: E402
 
 import numpy as np  # noqa: E402
 import open3d as o3d  # noqa: E402
@@ -52,7 +53,7 @@ def _mesh(name: str) -> trimesh.Trimesh:
     if name == "torus":
         return trimesh.creation.torus(major_radius=0.05, minor_radius=0.015)
     path = Path(os.environ["SIMGRASP_YCB_DIR"]) / name / "google_16k" / "textured.obj"
-    return trimesh.load(path, force="mesh")
+    return cast(trimesh.Trimesh, trimesh.load(path, force="mesh"))  # force="mesh": one mesh
 
 
 @dataclass(frozen=True, kw_only=True)

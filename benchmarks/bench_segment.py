@@ -29,6 +29,7 @@ import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
+from functools import partial  # noqa: E402
 from typing import Annotated  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -99,12 +100,11 @@ def least_cpu_ms(work: Callable[[], object], repeats: int) -> float:
 
 def report(name: str, frames: list[Frame], repeats: int, config: SegmentConfig) -> None:
     """Print the median segmentation (``config``) and baseline ms per frame of ``frames``."""
-    segment_ms, baseline_ms, stages = [], [], {}
+    segment_ms, baseline_ms = [], []
+    stages: dict[str, list[float]] = {}
     for scene, depth, intrinsics in frames:
-        segment_ms.append(least_cpu_ms(lambda s=scene: segment_scene(s, config), repeats))
-        baseline_ms.append(
-            least_cpu_ms(lambda d=depth, i=intrinsics: depth_to_points_cam(d, i), repeats)
-        )
+        segment_ms.append(least_cpu_ms(partial(segment_scene, scene, config), repeats))
+        baseline_ms.append(least_cpu_ms(partial(depth_to_points_cam, depth, intrinsics), repeats))
         result: Segmentation = segment_scene(scene, config)
         for stage, seconds in result.timings_s.items():
             stages.setdefault(stage, []).append(1000.0 * seconds)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import Annotated
 
@@ -79,29 +80,33 @@ def _real_cell(cloud: RealCloud, settings: SingleViewConfig) -> str:
     return cell([score_cloud(cloud, points, "default", s, settings) for s in range(5)])
 
 
+def _sim_cell(view: SimView, settings: SingleViewConfig) -> str:
+    """One simulated view over 3 seeds."""
+    return cell([score_view(view, "default", s, None, settings) for s in range(3)])
+
+
+def _pots_cell(cut: str, settings: SingleViewConfig) -> str:
+    """The osd-learn pots cut by ``cut`` (``segment`` or ``labels``) over 5 seeds."""
+    return cell(
+        evaluate_real_pots(
+            QuadricDetectorConfig(),
+            range(5),
+            cut=cut,
+            segment_config=POT_SEGMENTATION,
+            single_view=settings,
+        )
+    )
+
+
 def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str]]]:
     """(row name, a function giving its cell) for every tune item."""
     for cloud in read_manifest(None, None):
         if cloud.split == "tune":
-            yield f"real {cloud.name}", lambda c=cloud: _real_cell(c, settings)
+            yield f"real {cloud.name}", partial(_real_cell, cloud, settings)
     for view in SIM_VIEWS:
-        yield (
-            f"sim {view.name}",
-            lambda v=view: cell([score_view(v, "default", s, None, settings) for s in range(3)]),
-        )
+        yield f"sim {view.name}", partial(_sim_cell, view, settings)
     for cut in ("segment", "labels"):
-        yield (
-            f"osd-learn pots, {cut} cut",
-            lambda c=cut: cell(
-                evaluate_real_pots(
-                    QuadricDetectorConfig(),
-                    range(5),
-                    cut=c,
-                    segment_config=POT_SEGMENTATION,
-                    single_view=settings,
-                )
-            ),
-        )
+        yield f"osd-learn pots, {cut} cut", partial(_pots_cell, cut, settings)
 
 
 def run(options: Options) -> None:

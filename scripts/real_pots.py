@@ -23,9 +23,12 @@ from simgrasp.evaluation.real_pots import (
     summarize,
 )
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig, TenPasConfig
+from simgrasp.handles.detector_config import DetectorName
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
-SETTINGS = {
+Setting = tuple[DetectorName, QuadricDetectorConfig | TenPasConfig, SingleViewConfig | None]
+"""A detector, its settings and the single-view settings ``detect`` is given (or none)."""
+SETTINGS: dict[str, Setting] = {
     "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth(), None),
     "quadric real_depth without plate test": (
         "quadric",

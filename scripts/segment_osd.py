@@ -21,6 +21,7 @@ import csv  # noqa: E402
 import json  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Literal  # noqa: E402
 
 from simgrasp.assets.real import default_real_dir  # noqa: E402
 from simgrasp.config.arguments import script_main  # noqa: E402
@@ -33,7 +34,8 @@ from simgrasp.evaluation.segment_eval import (  # noqa: E402
     summarize,
 )
 
-METHODS = {"grid": "ours (grid cuts)", "dbscan": "baseline (plane + DBSCAN)"}
+Method = Literal["grid", "dbscan"]
+METHODS: dict[Method, str] = {"grid": "ours (grid cuts)", "dbscan": "baseline (plane + DBSCAN)"}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -64,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     return script_main(Options, run, __doc__.splitlines()[0], argv)
 
 
-def _write_scenes(path: Path, scores: dict[str, list[SceneScore]]) -> None:
+def _write_scenes(path: Path, scores: dict[Method, list[SceneScore]]) -> None:
     with path.open("w", newline="") as stream:
         writer = csv.writer(stream)
         writer.writerow(
@@ -87,7 +89,7 @@ def _write_scenes(path: Path, scores: dict[str, list[SceneScore]]) -> None:
                 )
 
 
-def _summary_md(summary: dict[str, dict[str, float]]) -> str:
+def _summary_md(summary: dict[Method, dict[str, float]]) -> str:
     lines = [
         "| method | scenes | parts | mean IoU | share IoU >= 0.8 | median CPU ms | mean CPU ms "
         "| median wall ms | side parts (on their object's ground truth) |",

@@ -35,7 +35,7 @@ from simgrasp.config import Checked, setting
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import MinLength, NonNegativeInt, Positive, PositiveInt, Range
 from simgrasp.errors import SimgraspError
-from simgrasp.evaluation.sim_views import SimView, capture
+from simgrasp.evaluation.sim_views import Pose, SimView, capture
 from simgrasp.handles.candidate_features import FEATURES, candidate_features
 from simgrasp.handles.single_view import SingleViewConfig, single_view_candidates
 
@@ -59,7 +59,7 @@ OBJECTS = (
 DRILLS = tuple(f"gen_drill_s{seed}" for seed in range(10))
 """Generated pistol-grip drills, added with ``--with-drills`` (a model tried and not shipped:
 docs/results/real-detect)."""
-VIEWS = (  # (pose, distance m, elevation deg, sensor); the kinect sees nothing nearer 0.5 m
+VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
     ("upright", 0.6, 32.0, "kinect"),
     ("upright", 0.8, 45.0, "kinect"),
     ("upright", 0.5, 60.0, "stereo"),
@@ -67,6 +67,8 @@ VIEWS = (  # (pose, distance m, elevation deg, sensor); the kinect sees nothing 
     ("lying", 0.6, 90.0, "kinect"),
     ("lying", 0.35, 70.0, "stereo"),
 )
+"""(pose, distance m, elevation deg, sensor) of every view; the kinect sees nothing nearer
+0.5 m."""
 
 
 def view_rows(view: SimView, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -242,6 +244,7 @@ def run(options: Options) -> None:
     """Write the ensemble (``--combine``), print the leave-one-out figures, or train and write
     the model."""
     if options.combine:
+        assert options.out is not None  # _check: --combine needs --out
         options.out.write_text(
             json.dumps(combined(list(options.combine), options.threshold)) + "\n"
         )
@@ -252,7 +255,7 @@ def run(options: Options) -> None:
     objects += list(DRILLS) if options.with_drills else []
     azimuths = list(options.azimuths)
     jobs = [
-        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed)  # type: ignore[arg-type]
+        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed)
         for obj, (pose, distance, elevation, sensor), azimuth, seed in itertools.product(
             objects, VIEWS, azimuths, range(options.seeds)
         )
@@ -287,6 +290,7 @@ def run(options: Options) -> None:
     }
     if view_weight is not None:
         model["trained_on"]["strap_family_weight"] = options.strap_family_weight
+    assert options.out is not None  # _check: --out unless a leave-one-out run (returned above)
     options.out.write_text(json.dumps(model) + "\n")
     print(f"{len(y)} candidates ({y.sum()} on handle); wrote {options.out}")
 

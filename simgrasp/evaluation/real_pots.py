@@ -23,6 +23,7 @@ from simgrasp.handles import detect
 from simgrasp.handles.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorName
 from simgrasp.handles.single_view import SingleViewConfig
+from simgrasp.handles.tenpas_config import TenPasConfig
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
@@ -94,7 +95,7 @@ def segmented_pot(
 def score_pot(
     points: NDArray[np.float64],
     label: SceneHandleLabel,
-    config: QuadricDetectorConfig,
+    config: QuadricDetectorConfig | TenPasConfig,
     seed: int,
     detector: DetectorName = "quadric",
     cut: tuple[str, float, float] = ("labels", 1.0, 1.0),
@@ -142,7 +143,7 @@ def labeled_scenes(path: Path | None = None) -> dict[str, SceneHandleLabel]:
 
 
 def evaluate_real_pots(
-    config: QuadricDetectorConfig,
+    config: QuadricDetectorConfig | TenPasConfig,
     seeds: range | tuple[int, ...],
     real_dir: Path | None = None,
     scenes: tuple[str, ...] | None = None,
