@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
-from simgrasp.evaluation.real_detect import score_cloud
+from simgrasp.evaluation.real_detect import score_cloud, setting_record
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, SimView, score_view
 from simgrasp.handles import SingleViewConfig
@@ -92,12 +92,21 @@ def measure_view(
     return {**asdict(row), "split": f"sim of {real}", "degradation": kind}
 
 
+def identity(options: Options) -> dict[str, Any]:
+    """What the rows depend on besides the clouds and seeds: the manifest and every value of
+    the default they score (with its classifier's SHA-256), so that a rerun after the
+    default changed refuses the folder instead of keeping old rows under new settings."""
+    return {
+        "manifest": str(options.manifest or "shipped"),
+        "default": setting_record("default", options.single_view()),
+    }
+
+
 def run(options: Options) -> str:
     """Measure every (cloud, degradation, seed) not yet in ``rows.jsonl``; the table."""
     clouds = read_manifest(options.manifest, options.real_dir)
-    identity = {"body_wall": options.body_wall, "manifest": str(options.manifest or "shipped")}
-    claim_identity(options.out / "run.json", identity, what="rows of another setting")
     settings = options.single_view()
+    claim_identity(options.out / "run.json", identity(options), what="rows of another setting")
     rows_file = options.out / "rows.jsonl"
     rows = [json.loads(line) for line in rows_file.open()] if rows_file.is_file() else []
     done = {(r["cloud"], r["degradation"], r["seed"]) for r in rows}

@@ -86,3 +86,20 @@ def test_run_on_the_real_manifest_keeps_its_rows(
     with pytest.raises(SimgraspError, match="body_wall"):  # one setting's rows a folder
         script.run(replace(options, body_wall=False))
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
+
+
+def test_a_folder_of_rows_of_another_default_is_refused(
+    script: ModuleType, real_dir: Path, tmp_path: Path
+) -> None:
+    """Rows scored by an earlier default (here: its classifier threshold recorded as 0.6)
+    are not resumed under today's: the rerun refuses in one line naming the changed value,
+    before anything is measured."""
+    options = script.Options(real_dir=real_dir, seeds=1, out=tmp_path, sim=False)
+    earlier = script.identity(options)
+    earlier["default"]["single_view"]["classifier_threshold"] = 0.6
+    (tmp_path / "run.json").write_text(json.dumps(earlier))
+    (tmp_path / "rows.jsonl").write_text("")
+    with pytest.raises(SimgraspError, match="classifier_threshold") as refused:
+        script.run(options)
+    assert "\n" not in str(refused.value)
+    assert (tmp_path / "rows.jsonl").read_text() == ""

@@ -92,16 +92,17 @@ def config_by_name(name: str) -> Setting:
     return NAMED_CONFIGS[name]()
 
 
-def setting_record(name: str) -> dict[str, Any]:
+def setting_record(name: str, single_view: SingleViewConfig | None = None) -> dict[str, Any]:
     """What the rows of setting ``name`` depend on besides the clouds and the seed: its
-    values, for ``default`` also the single-view settings it runs on a single view, and the
-    SHA-256 of the classifier file a single-view setting reads (a retrained model changes
-    the rows as a changed setting does)."""
+    values, for ``default`` also the single-view settings it runs on a single view
+    (``single_view``, as :func:`detect_named` takes it; None: :meth:`SingleViewConfig.learned`),
+    and the SHA-256 of the classifier file a single-view setting reads (a retrained model
+    changes the rows as a changed setting does)."""
     config = config_by_name(name)
     record: dict[str, Any] = {"detector": to_plain(config)}
     single = config
     if name == "default":
-        single = SingleViewConfig.learned()
+        single = single_view if single_view is not None else SingleViewConfig.learned()
         record["single_view"] = to_plain(single)
     if isinstance(single, SingleViewConfig) and single.classifier:
         record["classifier_sha256"] = _digest(single.classifier_path(), f"setting {name}")
