@@ -1,11 +1,12 @@
 """What the body-wall test costs the single-view default: ``detect_single_view`` with
 ``SingleViewConfig.learned()`` (the body wall on, as ``simgrasp detect`` runs it) against the
-same settings with the body wall off, measured interleaved in one run on one core (medians,
-and the with / without ratio per cloud).
+same settings with the body wall off, in CPU time, interleaved in one run on one core
+(medians, and the with / without ratio per cloud).
 
 The clouds: rendered single views of generated mugs through the sensor models (no data
 needed: a tube mug upright through the stereo model from 0.78 m, its handle in profile and
-turned 120 degrees away; a strap mug lying, stereo from 0.3 m; the kinect view from 0.6 m),
+turned 120 degrees away, and through the kinect model from 0.6 m; a strap mug lying, stereo
+from 0.3 m),
 and, when ``$SIMGRASP_REAL_DIR`` holds them, the real clouds of the shipped manifest
 (``models/handles/real_detect.toml``).
 
