@@ -29,7 +29,6 @@ from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_m
 from simgrasp.evaluation.real_pots import POT_SEGMENTATION, PotResult, evaluate_real_pots
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
-from simgrasp.handles.body_wall import BodyWallConfig
 
 SIM_VIEWS = (
     SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),
@@ -111,8 +110,7 @@ def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str
 
 def run(options: Options) -> None:
     """Print the table: a row per tune item, a column per model."""
-    wall = BodyWallConfig(enabled=options.body_wall)
-    settings = replace(SingleViewConfig.learned(), body_wall=wall)
+    settings = SingleViewConfig.learned().with_body_wall(options.body_wall)
     if options.threshold is not None:
         settings = replace(settings, classifier_threshold=options.threshold)
     if options.min_width_spacings is not None:

@@ -39,7 +39,6 @@ from simgrasp.evaluation.real_detect import score_cloud, setting_record
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, SimView, score_view
 from simgrasp.handles import SingleViewConfig
-from simgrasp.handles.body_wall import BodyWallConfig
 from simgrasp.runs.identity import claim_identity
 from simgrasp.seeding import rng_for
 
@@ -65,7 +64,7 @@ class Options(Checked):
         """The single-view settings to score (None: ``detect``'s default)."""
         if self.body_wall:
             return None
-        return replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=False))
+        return SingleViewConfig.learned().with_body_wall(False)
 
 
 def measure(

@@ -34,7 +34,6 @@ from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_detect import RealDetectRow, pooled_score
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import SingleViewConfig
-from simgrasp.handles.body_wall import BodyWallConfig
 
 VIEWS = (  # (pose, distance m, elevation deg, sensor)
     ("upright", 0.78, 32.0, "kinect"),
@@ -130,9 +129,7 @@ class Options(Checked):
 
 def run(options: Options) -> str:
     """Score every mug, view and setting; the table."""
-    default = replace(
-        SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=options.body_wall)
-    )
+    default = SingleViewConfig.learned().with_body_wall(options.body_wall)
     settings = {
         "default": default,
         f"narrow {options.narrow_width_spacings:g}": replace(
@@ -145,7 +142,7 @@ def run(options: Options) -> str:
         )
     if options.also_body_wall is not None:
         name = "body wall" if options.also_body_wall else "no body wall"
-        settings[name] = replace(default, body_wall=BodyWallConfig(enabled=options.also_body_wall))
+        settings[name] = default.with_body_wall(options.also_body_wall)
     work = jobs(options.strap_seeds, options.tube_seeds, options.azimuths, settings)
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         scored = pool.map(score, work, chunksize=2)

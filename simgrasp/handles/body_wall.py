@@ -80,6 +80,14 @@ class BodyWallConfig(Checked):
     max_length_radii: Positive = 6.0
     """A wall whose points span more than this many radii along its axis is a long round
     handle, not a body (fixed before it was measured: docs/results/real-detect/README.md)."""
+    retry_threshold: Fraction | None = None
+    """Where the single-view detector ends with no handle and the view has a wall of at most
+    ``retry_max_radius``: keep the candidates off the wall whose classifier probability is at
+    least this, before the fallback (None: no retry)."""
+    retry_max_radius: Positive = 0.06
+    """The widest wall (m) the retry runs on: a mug's or a cup's body (3-4.5 cm); a pot's
+    (8 cm and more), whose flat side tabs only the fallback's plate test finds, keeps the
+    fallback."""
     normal_neighbors: Annotated[int, Range(ge=3)] = 12
     """Nearest points of each point's PCA normal."""
 
@@ -143,18 +151,6 @@ def fit_body_wall(
     if _arc_deg(points_2d[on_wall] - center_2d) < config.min_arc_deg:
         return None
     return BodyWall(axis, center_2d @ across, radius, share)
-
-
-def off_body_wall(
-    surface: NDArray[np.float64], points: NDArray[np.float64], config: BodyWallConfig, seed: int
-) -> NDArray[np.bool_]:
-    """(M,) True for the candidates whose seen surface points ``surface`` (M, 3) lie off the
-    body wall of the view ``points`` (N, 3) by at least ``config.drop_distance``; all True
-    where the view has no wall. ``seed``: the detection's, for the wall's RANSAC draws."""
-    wall = fit_body_wall(points, config, seed)
-    if wall is None:
-        return np.ones(len(surface), dtype=bool)
-    return wall.distance(surface) >= config.drop_distance
 
 
 def _arc_deg(offsets: NDArray[np.float64]) -> float:

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
-from simgrasp.handles.body_wall import BodyWallConfig, off_body_wall
+from simgrasp.handles.body_wall import BodyWall, BodyWallConfig, fit_body_wall
 from simgrasp.handles.candidate_features import (
     FEATURES,
     MaxEnsemble,
@@ -119,7 +119,9 @@ class SingleViewConfig(Checked):
         simulated views); where the classifier keeps nothing, the quadric detector's
         :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm neighborhoods, the plate test
         for flat tabs; chosen on the tune osd-learn pots). Since 7 December 2026 kept candidates
-        on the view's body wall are dropped (:mod:`simgrasp.handles.body_wall`).
+        on the view's body wall are dropped (:mod:`simgrasp.handles.body_wall`), and where
+        none forms a handle on a mug-sized wall, the candidates off it at probability 0.5 are
+        taken before the fallback (``body_wall.retry_threshold``).
         ``narrow_width_spacings=0`` reproduces the runs before 4 December, and
         ``body_wall=BodyWallConfig()`` (off) those before 7 December."""
         return cls(
@@ -127,9 +129,14 @@ class SingleViewConfig(Checked):
             classifier_threshold=0.7,
             min_width_spacings=2.0,
             narrow_width_spacings=1.0,
-            body_wall=BodyWallConfig(enabled=True),
+            body_wall=BodyWallConfig(enabled=True, retry_threshold=0.5),
             fallback=QuadricDetectorConfig.real_depth(),
         )
+
+    def with_body_wall(self, enabled: bool) -> SingleViewConfig:
+        """These settings with their body-wall test on or off, its other values kept (the
+        scripts' ``--body-wall`` and ``--also-body-wall``)."""
+        return replace(self, body_wall=replace(self.body_wall, enabled=enabled))
 
     def classifier_path(self) -> Path:
         """The classifier file these settings read with ``classifier``: ``classifier_file``,
@@ -202,10 +209,11 @@ def _keep(
     eye: NDArray[np.float64],
     spacing: float,
     config: SingleViewConfig,
+    threshold: float | None = None,
 ) -> NDArray[np.bool_]:
-    """Which candidates pass: the standoff test, or with ``classifier`` the shipped model
-    (on fits at least ``min_width_spacings`` wide, or ``narrow_width_spacings`` wide with
-    their axes near their surface)."""
+    """Which candidates pass: the standoff test, or with ``classifier`` the shipped model at
+    ``threshold`` (None: ``classifier_threshold``) on fits at least ``min_width_spacings``
+    wide, or ``narrow_width_spacings`` wide with their axes near their surface."""
     floor = _floor(config, config.min_width_spacings, spacing)
     standoff = replace(config.standoff, min_width=floor)
     opening = config.quadric.gripper_max_opening
@@ -220,7 +228,8 @@ def _keep(
         narrow = widths >= _floor(config, config.narrow_width_spacings, spacing)
         wide |= narrow & (offsets <= config.narrow_axis_offset)
     fits = wide & (widths <= opening - 2 * standoff.gap)
-    return fits & (model.probability(features) >= config.classifier_threshold)
+    least = config.classifier_threshold if threshold is None else threshold
+    return fits & (model.probability(features) >= least)
 
 
 def _floor(config: SingleViewConfig, spacings: float, spacing: float) -> float:
@@ -233,16 +242,47 @@ def detect_single_view(
     points: ArrayLike, config: SingleViewConfig, seed: int, viewpoint: ArrayLike
 ) -> Detection:
     """Handles in one object's single-view ``points`` (N, 3, m) seen from ``viewpoint``."""
-    quadric = config.quadric
     eye = np.asarray(viewpoint, dtype=float)
     raw, cloud, spacing = single_view_candidates(points, config, seed, eye)
     raw = replace(raw, detector=SINGLE_VIEW_DETECTOR)
     if not raw.candidates:
         return raw
     keep = _keep(raw.candidates, cloud, eye, spacing, config)
-    if config.body_wall.enabled and keep.any():
-        surface = np.stack([c.center for c in raw.candidates])
-        keep &= off_body_wall(surface, cloud, config.body_wall, seed)
+    walls = config.body_wall
+    retry = walls.retry_threshold if config.classifier else None
+    wall = (
+        fit_body_wall(cloud, walls, seed)
+        if walls.enabled and (keep.any() or retry is not None)
+        else None
+    )
+    off_wall = _off_wall(raw.candidates, wall, walls)
+    detection = _clustered(raw, keep & off_wall, cloud, spacing, config)
+    if detection.handles or wall is None or retry is None or wall.radius > walls.retry_max_radius:
+        return detection
+    keep = _keep(raw.candidates, cloud, eye, spacing, config, threshold=retry)
+    return _clustered(raw, keep & off_wall, cloud, spacing, config)
+
+
+def _off_wall(
+    candidates: tuple[Candidate, ...], wall: BodyWall | None, config: BodyWallConfig
+) -> NDArray[np.bool_]:
+    """(M,) True for the candidates whose seen surface points lie off ``wall`` by at least
+    ``config.drop_distance``; all True without a wall."""
+    if wall is None:
+        return np.ones(len(candidates), dtype=bool)
+    return wall.distance(np.stack([c.center for c in candidates])) >= config.drop_distance
+
+
+def _clustered(
+    raw: Detection,
+    keep: NDArray[np.bool_],
+    cloud: NDArray[np.float64],
+    spacing: float,
+    config: SingleViewConfig,
+) -> Detection:
+    """``raw`` with its candidates where ``keep`` clustered into ranked handles; only the
+    candidates that support a handle are kept."""
+    quadric = config.quadric
     kept = tuple(c for c, k in zip(raw.candidates, keep, strict=True) if k)
     if not kept:
         return replace(raw, candidates=(), handles=())
