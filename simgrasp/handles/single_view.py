@@ -209,16 +209,29 @@ def _keep(
     eye: NDArray[np.float64],
     spacing: float,
     config: SingleViewConfig,
-    threshold: float | None = None,
 ) -> NDArray[np.bool_]:
     """Which candidates pass: the standoff test, or with ``classifier`` the shipped model at
-    ``threshold`` (None: ``classifier_threshold``) on fits at least ``min_width_spacings``
-    wide, or ``narrow_width_spacings`` wide with their axes near their surface."""
+    ``classifier_threshold`` on the fits :func:`_scored` lets through."""
+    fits, probability = _scored(candidates, cloud, eye, spacing, config)
+    return _passing(fits, probability, config.classifier_threshold)
+
+
+def _scored(
+    candidates: tuple[Candidate, ...],
+    cloud: NDArray[np.float64],
+    eye: NDArray[np.float64],
+    spacing: float,
+    config: SingleViewConfig,
+) -> tuple[NDArray[np.bool_], NDArray[np.float64] | None]:
+    """Without ``classifier``: the standoff test's verdicts and None. With it: which fits
+    are at least ``min_width_spacings`` wide, or ``narrow_width_spacings`` wide with their
+    axes near their surface (and fit the gripper), and each candidate's probability of being
+    on a handle by the shipped model, so that several thresholds need one model pass."""
     floor = _floor(config, config.min_width_spacings, spacing)
     standoff = replace(config.standoff, min_width=floor)
     opening = config.quadric.gripper_max_opening
     if not config.classifier:
-        return standoff_mask(candidates, cloud, eye, opening, standoff)
+        return standoff_mask(candidates, cloud, eye, opening, standoff), None
     model = _classifier(str(config.classifier_path()))
     features = candidate_features(candidates, cloud, eye, spacing, standoff)
     widths = np.array([c.width for c in candidates])
@@ -228,8 +241,14 @@ def _keep(
         narrow = widths >= _floor(config, config.narrow_width_spacings, spacing)
         wide |= narrow & (offsets <= config.narrow_axis_offset)
     fits = wide & (widths <= opening - 2 * standoff.gap)
-    least = config.classifier_threshold if threshold is None else threshold
-    return fits & (model.probability(features) >= least)
+    return fits, model.probability(features)
+
+
+def _passing(
+    fits: NDArray[np.bool_], probability: NDArray[np.float64] | None, threshold: float
+) -> NDArray[np.bool_]:
+    """``fits`` where ``probability`` (None: no classifier) reaches ``threshold``."""
+    return fits if probability is None else fits & (probability >= threshold)
 
 
 def _floor(config: SingleViewConfig, spacings: float, spacing: float) -> float:
@@ -247,9 +266,10 @@ def detect_single_view(
     raw = replace(raw, detector=SINGLE_VIEW_DETECTOR)
     if not raw.candidates:
         return raw
-    keep = _keep(raw.candidates, cloud, eye, spacing, config)
+    fits, probability = _scored(raw.candidates, cloud, eye, spacing, config)
+    keep = _passing(fits, probability, config.classifier_threshold)
     walls = config.body_wall
-    retry = walls.retry_threshold if config.classifier else None
+    retry = walls.retry_threshold if probability is not None else None
     wall = (
         fit_body_wall(cloud, walls, seed)
         if walls.enabled and (keep.any() or retry is not None)
@@ -259,8 +279,7 @@ def detect_single_view(
     detection = _clustered(raw, keep & off_wall, cloud, spacing, config)
     if detection.handles or wall is None or retry is None or wall.radius > walls.retry_max_radius:
         return detection
-    keep = _keep(raw.candidates, cloud, eye, spacing, config, threshold=retry)
-    return _clustered(raw, keep & off_wall, cloud, spacing, config)
+    return _clustered(raw, _passing(fits, probability, retry) & off_wall, cloud, spacing, config)
 
 
 def _off_wall(
