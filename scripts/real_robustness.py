@@ -25,7 +25,7 @@ is tuned on these runs. Rows go to ``rows.jsonl`` as they finish, so a rerun kee
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +35,12 @@ from numpy.typing import NDArray
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
-from simgrasp.evaluation.real_detect import score_cloud, setting_record
+from simgrasp.evaluation.real_detect import (
+    RealDetectRow,
+    pooled_score,
+    score_cloud,
+    setting_record,
+)
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, SimView, score_view
 from simgrasp.handles import SingleViewConfig
@@ -102,7 +107,8 @@ def identity(options: Options) -> dict[str, Any]:
 
 
 def run(options: Options) -> str:
-    """Measure every (cloud, degradation, seed) not yet in ``rows.jsonl``; the table."""
+    """Measure every (cloud, degradation, seed) not yet in ``rows.jsonl``; the table. A cloud
+    whose rows are all there is not read again."""
     clouds = read_manifest(options.manifest, options.real_dir)
     settings = options.single_view()
     claim_identity(options.out / "run.json", identity(options), what="rows of another setting")
@@ -112,12 +118,18 @@ def run(options: Options) -> str:
     names = []
     with rows_file.open("a") as log:
         for cloud in clouds:
-            points = load_real_cloud(cloud)
             views = REAL_CAPTURE_VIEWS.get(cloud.name, ()) if options.sim else ()
             names += [cloud.name, *(view.name for view in views)]
+            missing = [
+                (kind, seed)
+                for kind in DEGRADATIONS
+                for seed in range(options.seeds)
+                if (cloud.name, kind, seed) not in done
+            ]
+            points = load_real_cloud(cloud) if missing else None
             for kind in DEGRADATIONS:
                 for seed in range(options.seeds):
-                    if (cloud.name, kind, seed) not in done:
+                    if points is not None and (kind, seed) in missing:
                         rows.append(measure(cloud, points, kind, seed, settings))
                         log.write(json.dumps(rows[-1]) + "\n")
                     for view in views:
@@ -131,8 +143,9 @@ def run(options: Options) -> str:
 
 
 def table(rows: list[dict[str, Any]], names: list[str], seeds: int) -> str:
-    """Per cloud (split in brackets) and degradation: pooled candidate accuracy and the
-    seeds whose top handle is on the handle."""
+    """Per cloud (split in brackets) and degradation: candidate accuracy pooled over the seeds
+    (:func:`~simgrasp.evaluation.real_detect.pooled_score`; "-" where no run kept a
+    candidate) and the seeds whose top handle is on the handle."""
     head = "| cloud | " + " | ".join(DEGRADATIONS) + " |\n"
     head += "|---|" + "---|" * len(DEGRADATIONS) + "\n"
     lines = []
@@ -140,11 +153,10 @@ def table(rows: list[dict[str, Any]], names: list[str], seeds: int) -> str:
         mine = [r for r in rows if r["cloud"] == name and r["seed"] < seeds]
         cells = []
         for kind in DEGRADATIONS:
-            these = [r for r in mine if r["degradation"] == kind]
-            found = sum(r["candidates"] for r in these)
-            accuracy = f"{sum(r['on_handle'] for r in these) / found:.2f}" if found else "-"
-            tops = sum(r["top_on_handle"] for r in these)
-            cells.append(f"{accuracy}, {tops} of {len(these)}")
+            these = [detect_row(r) for r in mine if r["degradation"] == kind]
+            accuracy, tops, runs = pooled_score(these)
+            found = any(r.candidates for r in these)
+            cells.append(f"{accuracy:.2f}, {tops} of {runs}" if found else f"-, {tops} of {runs}")
         split = mine[0]["split"] if mine else "?"
         lines.append(f"| {name} ({split}) | " + " | ".join(cells) + " |")
     legend = (
@@ -152,6 +164,12 @@ def table(rows: list[dict[str, Any]], names: list[str], seeds: int) -> str:
         "lies on the labeled handle.\n\n"
     )
     return legend + head + "\n".join(lines) + "\n"
+
+
+def detect_row(row: dict[str, Any]) -> RealDetectRow:
+    """A ``rows.jsonl`` row as the :class:`~simgrasp.evaluation.real_detect.RealDetectRow` it
+    was written from (its ``degradation`` left out)."""
+    return RealDetectRow(**{f.name: row[f.name] for f in fields(RealDetectRow)})
 
 
 def main() -> int:

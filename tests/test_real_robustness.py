@@ -71,17 +71,22 @@ def test_a_simulated_view_is_scored_degraded() -> None:
 
 
 def test_run_on_the_real_manifest_keeps_its_rows(
-    script: ModuleType, real_dir: Path, tmp_path: Path
+    script: ModuleType, real_dir: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """One seed over the manifest's clouds: a row per cloud and degradation, and a rerun
-    measures nothing again."""
+    measures nothing again and reads no cloud."""
     options = script.Options(real_dir=real_dir, seeds=1, out=tmp_path, sim=False)
     text = script.run(options)
     rows = (tmp_path / "rows.jsonl").read_text().splitlines()
     clouds = {json.loads(row)["cloud"] for row in rows}
     assert len(rows) == len(clouds) * len(DEGRADATIONS) and "gpd_table_mug" in clouds
     assert "| gpd_table_mug (holdout) |" in text
-    script.run(options)
+
+    def unread(cloud: object) -> None:
+        raise AssertionError(f"{cloud} read again")
+
+    monkeypatch.setattr(script, "load_real_cloud", unread)
+    assert script.run(options) == text
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
     with pytest.raises(SimgraspError, match="body_wall"):  # one setting's rows a folder
         script.run(replace(options, body_wall=False))
