@@ -204,13 +204,13 @@ def _first_circle(
     if not fine.any():
         return None
     centers, radii = centers[fine], radii[fine]
-    offsets = seen[None] - centers[:, None]  # (draws, points, 2)
-    distances = np.linalg.norm(offsets, axis=2)
-    cosines = np.abs(np.einsum("dnk,nk->dn", offsets, directions)) / np.maximum(distances, 1e-12)
-    on_circle = (np.abs(distances - radii[:, None]) < config.wall_tolerance) & (
-        cosines >= config.radial_cos
-    )
-    counts = on_circle.sum(axis=1)
+    dx = seen[None, :, 0] - centers[:, 0, None]  # (draws, points)
+    dy = seen[None, :, 1] - centers[:, 1, None]
+    distances = np.sqrt(dx * dx + dy * dy)
+    draw, point = np.nonzero(np.abs(distances - radii[:, None]) < config.wall_tolerance)
+    along = np.abs(dx[draw, point] * directions[point, 0] + dy[draw, point] * directions[point, 1])
+    radial = along / np.maximum(distances[draw, point], 1e-12) >= config.radial_cos
+    counts = np.bincount(draw[radial], minlength=len(radii))
     best = int(np.argmax(counts))
     if counts[best] < MIN_WALL_POINTS:
         return None
