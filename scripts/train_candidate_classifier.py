@@ -14,7 +14,9 @@ with every view weighted alike and written as JSON. Needs scikit-learn and ``SIM
 (``candidate_classifier_bars.json``; that file, of 3 December 2026, is not reproduced byte for
 byte: today's candidate detector gives 26,769 training candidates where it had 26,850),
 ``--with-drills`` adds ten generated drills (a model
-tried and not shipped); ``--leave-one-out`` prints, per object, how a model trained on the
+tried and not shipped); ``--degradations half quarter noise1mm noise2mm holes`` adds every
+view made worse as ``scripts/real_robustness.py`` makes captures worse (a model tried on 7
+December 2026 and not shipped: docs/results/real-detect/README.md); ``--leave-one-out`` prints, per object, how a model trained on the
 others does on its views (``--ensemble-leave-one-out``: with and without the drills and the
 two as one ensemble); ``--combine A.json:0.7 B.json:0.6 --out E.json`` writes an ensemble
 that keeps a candidate where any of its models keeps it (docs/results/real-detect).
@@ -35,9 +37,11 @@ from simgrasp.config import Checked, setting
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import MinLength, NonNegativeInt, Positive, PositiveInt, Range
 from simgrasp.errors import SimgraspError
+from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
 from simgrasp.evaluation.sim_views import Pose, SimView, capture
 from simgrasp.handles.candidate_features import FEATURES, candidate_features
 from simgrasp.handles.single_view import SingleViewConfig, single_view_candidates
+from simgrasp.seeding import rng_for
 
 OBJECTS = (
     "gen_hammer",
@@ -71,13 +75,19 @@ VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
 0.5 m."""
 
 
-def view_rows(view: SimView, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """Features and on-handle labels of one rendered view's candidates."""
+def view_rows(
+    view: SimView, seed: int, degradation: str = "as captured"
+) -> tuple[np.ndarray, np.ndarray]:
+    """Features and on-handle labels of one rendered view's candidates, the view made worse by
+    ``degradation`` first (:func:`~simgrasp.evaluation.capture_degradations.degraded`, drawn
+    from ``seed``)."""
     shot = capture(view, seed)
-    if len(shot.points_cam) < 50:
+    rng = rng_for(seed, "train_candidate_classifier", degradation, view.name)
+    points, eye = degraded(np.asarray(shot.points_cam, np.float64), np.zeros(3), degradation, rng)
+    if len(points) < 50:
         return np.zeros((0, len(FEATURES))), np.zeros(0, dtype=bool)
-    config, eye = SingleViewConfig(), np.zeros(3)
-    raw, cloud, spacing = single_view_candidates(shot.points_cam, config, seed, eye)
+    config = SingleViewConfig()
+    raw, cloud, spacing = single_view_candidates(points, config, seed, eye)
     if not raw.candidates:
         return np.zeros((0, len(FEATURES))), np.zeros(0, dtype=bool)
     features = candidate_features(raw.candidates, cloud, eye, spacing, config.standoff)
@@ -212,6 +222,10 @@ class Options(Checked):
     """Add the generated drills."""
     strap_mugs: NonNegativeInt = 10
     """Train on the flat-strap mugs of seeds 0..N-1 (the shipped model: 10)."""
+    degradations: tuple[str, ...] = setting((), many=True, metavar="KIND")
+    """Also train on every view made worse by each of these (``half``, ``quarter``,
+    ``noise1mm``, ``noise2mm``, ``holes``, ``viewpoint10cm``; drawn from the view's seed), each
+    copy weighted as a view of its own."""
     strap_family_weight: Positive | None = None
     """The strap mugs' views together weigh as many objects' views as this (default: each strap
     mug as one object)."""
@@ -236,6 +250,12 @@ class Options(Checked):
             raise SimgraspError(
                 "--out is required unless --leave-one-out or --ensemble-leave-one-out"
             )
+        unknown = sorted(set(self.degradations) - set(DEGRADATIONS[1:]))
+        if unknown:
+            raise SimgraspError(
+                f"--degradations: unknown {', '.join(unknown)}; "
+                f"choose from {', '.join(DEGRADATIONS[1:])}"
+            )
         if self.ensemble_leave_one_out and not self.with_drills:
             raise SimgraspError("--ensemble-leave-one-out needs --with-drills")
 
@@ -254,30 +274,37 @@ def run(options: Options) -> None:
     objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
     objects += list(DRILLS) if options.with_drills else []
     azimuths = list(options.azimuths)
+    kinds = ["as captured", *options.degradations]
     jobs = [
-        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed)
-        for obj, (pose, distance, elevation, sensor), azimuth, seed in itertools.product(
-            objects, VIEWS, azimuths, range(options.seeds)
+        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed, kind)
+        for obj, (pose, distance, elevation, sensor), azimuth, seed, kind in itertools.product(
+            objects, VIEWS, azimuths, range(options.seeds), kinds
         )
     ]
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         results = pool.starmap(view_rows, jobs, chunksize=4)
     rows = [features for features, _ in results]
     labels = [on_handle for _, on_handle in results]
-    for (sim, seed), on_handle in zip(jobs, labels, strict=True):
-        print(f"{sim.name} seed {seed}: {len(on_handle)} candidates, {on_handle.sum()} on handle")
+    for (sim, seed, kind), on_handle in zip(jobs, labels, strict=True):
+        print(
+            f"{sim.name} seed {seed} {kind}: {len(on_handle)} candidates, "
+            f"{on_handle.sum()} on handle"
+        )
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
     if options.leave_one_out or options.ensemble_leave_one_out:
         objects_of_rows = np.concatenate(
-            [np.full(len(label), sim.object) for (sim, _), label in zip(jobs, labels, strict=True)]
+            [
+                np.full(len(label), sim.object)
+                for (sim, _, _), label in zip(jobs, labels, strict=True)
+            ]
         )
         check = ensemble_leave_one_out if options.ensemble_leave_one_out else leave_one_out
         check(x, y, views, objects_of_rows)
         return
     view_weight = None
     if options.strap_family_weight is not None and strap_mugs:
-        strap = [sim.object.startswith("gen_strap_mug") for sim, _ in jobs]
+        strap = [sim.object.startswith("gen_strap_mug") for sim, _, _ in jobs]
         view_weight = np.where(strap, options.strap_family_weight / strap_mugs, 1.0)
     model = fit(x, y, views, view_weight)
     model["trained_on"] = {
@@ -285,6 +312,7 @@ def run(options: Options) -> None:
         "views": [list(v) for v in VIEWS],
         "azimuths_deg": azimuths,
         "seeds": options.seeds,
+        "degradations": list(options.degradations),
         "candidates": int(len(y)),
         "on_handle": int(y.sum()),
     }

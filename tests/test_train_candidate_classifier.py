@@ -1,0 +1,45 @@
+"""``scripts/train_candidate_classifier.py``'s training rows: a view's candidates, also with
+the view made worse first (``--degradations``), and the option's bad values."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+import pytest
+
+from simgrasp.errors import SimgraspError
+from simgrasp.evaluation.sim_views import SimView
+from simgrasp.handles.candidate_features import FEATURES
+
+SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "train_candidate_classifier.py"
+
+
+@pytest.fixture(scope="module")
+def script() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("train_candidate_classifier", SCRIPT)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_a_degraded_copy_of_a_view_gives_rows_of_its_own(script: ModuleType) -> None:
+    """The generated hammer seen by the kinect model: rows of every feature, some on the
+    handle; with a quarter of its points fewer candidates, the same ones from the same seed."""
+    view = SimView("gen_hammer", "upright", 0.6, 45.0, "kinect")
+    x, y = script.view_rows(view, 0)
+    quarter_x, quarter_y = script.view_rows(view, 0, "quarter")
+    assert x.shape[1] == quarter_x.shape[1] == len(FEATURES)
+    assert y.any() and 0 < len(quarter_y) < len(y)
+    again_x, _ = script.view_rows(view, 0, "quarter")
+    np.testing.assert_array_equal(again_x, quarter_x)
+
+
+def test_an_unknown_degradation_is_refused_in_one_line(script: ModuleType, tmp_path: Path) -> None:
+    with pytest.raises(SimgraspError, match="--degradations: unknown blur; choose from half"):
+        script.Options(degradations=("half", "blur"), out=tmp_path / "model.json")
