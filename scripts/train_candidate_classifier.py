@@ -13,13 +13,14 @@ with every view weighted alike and written as JSON. Needs scikit-learn and ``SIM
 ``--first-objects`` trains on the 13 objects of the first classifier
 (``candidate_classifier_bars.json``; that file, of 3 December 2026, is not reproduced byte for
 byte: today's candidate detector gives 26,769 training candidates where it had 26,850),
-``--with-drills`` adds ten generated drills (a model
-tried and not shipped); ``--degradations half quarter noise1mm noise2mm holes`` adds every
-view made worse as ``scripts/real_robustness.py`` makes captures worse (a model tried on 7
-December 2026 and not shipped: docs/results/real-detect/README.md); ``--leave-one-out`` prints, per object, how a model trained on the
-others does on its views (``--ensemble-leave-one-out``: with and without the drills and the
-two as one ensemble); ``--combine A.json:0.7 B.json:0.6 --out E.json`` writes an ensemble
-that keeps a candidate where any of its models keeps it (docs/results/real-detect).
+``--with-drills`` adds ten generated drills (a model tried and not shipped);
+``--degradations half quarter noise1mm noise2mm holes`` adds every view made worse as
+``scripts/real_robustness.py`` makes captures worse (a model tried on 7 December 2026 and not
+shipped: docs/results/real-detect/README.md); ``--leave-one-out`` prints, per object, how a
+model trained on the others does on its views (``--ensemble-leave-one-out``: with and without
+the drills and the two as one ensemble); ``--combine A.json:0.7 B.json:0.6 --out E.json``
+writes an ensemble that keeps a candidate where any of its models keeps it
+(docs/results/real-detect).
 """
 
 from __future__ import annotations
