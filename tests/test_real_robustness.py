@@ -3,31 +3,23 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 from dataclasses import replace
 from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 import pytest
+from script_modules import load_script
 
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
 from simgrasp.evaluation.sim_views import SimView, score_view
 
-SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "real_robustness.py"
-
 
 @pytest.fixture(scope="module")
 def script() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("real_robustness", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_script("real_robustness")
 
 
 def test_each_degradation_does_what_it_says() -> None:

@@ -3,29 +3,21 @@ the view made worse first (``--degradations``), and the option's bad values."""
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 import pytest
+from script_modules import load_script
 
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView
 from simgrasp.handles.candidate_features import FEATURES
 
-SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "train_candidate_classifier.py"
-
 
 @pytest.fixture(scope="module")
 def script() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("train_candidate_classifier", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_script("train_candidate_classifier")
 
 
 def test_a_degraded_copy_of_a_view_gives_rows_of_its_own(script: ModuleType) -> None:
