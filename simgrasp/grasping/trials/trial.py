@@ -133,9 +133,10 @@ def run_trial(
     are independent and identical for identical inputs: this is the one trial code path of
     ``trial``, ``evaluate``, the env and ``label-grasps``. ``on_phase`` is called at the key
     moments (pre-grasp, closed, lifted, perturbed), e.g. to render frames; it must not change
-    the simulation state. With ``starts``, a free-floating trial restores its start from it
-    (recorded by the first trial of its width): the same record, ``steps`` included (the
-    physics steps the trial stands for), from fewer physics steps.
+    the simulation state. With ``starts``, a free-floating trial restores its start (the scene
+    settled, the jaws opened to ``grasp.width``) as recorded by the first trial of the same
+    config and the same opening width (m): the same record, ``steps`` included (the physics
+    steps the trial stands for), from fewer physics steps.
     """
     config = config or TrialConfig()
     _start(scene, config)
