@@ -261,6 +261,20 @@ class Options(Checked):
             raise SimgraspError("--ensemble-leave-one-out needs --with-drills")
 
 
+def training_views(
+    objects: list[str], azimuths: list[float], seeds: int, degradations: tuple[str, ...]
+) -> list[tuple[SimView, int, str]]:
+    """Every (view, seed, degradation) trained on: each object in each of :data:`VIEWS` from
+    each azimuth and seed, as captured and made worse by each of ``degradations``."""
+    kinds = ["as captured", *degradations]
+    return [
+        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed, kind)
+        for obj, (pose, distance, elevation, sensor), azimuth, seed, kind in itertools.product(
+            objects, VIEWS, azimuths, range(seeds), kinds
+        )
+    ]
+
+
 def run(options: Options) -> None:
     """Write the ensemble (``--combine``), print the leave-one-out figures, or train and write
     the model."""
@@ -275,13 +289,7 @@ def run(options: Options) -> None:
     objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
     objects += list(DRILLS) if options.with_drills else []
     azimuths = list(options.azimuths)
-    kinds = ["as captured", *options.degradations]
-    jobs = [
-        (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed, kind)
-        for obj, (pose, distance, elevation, sensor), azimuth, seed, kind in itertools.product(
-            objects, VIEWS, azimuths, range(options.seeds), kinds
-        )
-    ]
+    jobs = training_views(objects, azimuths, options.seeds, options.degradations)
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         results = pool.starmap(view_rows, jobs, chunksize=4)
     rows = [features for features, _ in results]

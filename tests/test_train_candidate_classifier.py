@@ -35,3 +35,11 @@ def test_a_degraded_copy_of_a_view_gives_rows_of_its_own(script: ModuleType) -> 
 def test_an_unknown_degradation_is_refused_in_one_line(script: ModuleType, tmp_path: Path) -> None:
     with pytest.raises(SimgraspError, match="--degradations: unknown blur; choose from half"):
         script.Options(degradations=("half", "blur"), out=tmp_path / "model.json")
+
+
+def test_every_view_is_trained_on_as_captured_and_degraded(script: ModuleType) -> None:
+    """Each object, view, azimuth and seed once as captured and once per degradation."""
+    views = script.training_views(["gen_hammer"], [0.0, 120.0], 2, ("half", "holes"))
+    assert len(views) == len(script.VIEWS) * 2 * 2 * 3
+    assert [kind for _, _, kind in views[:3]] == ["as captured", "half", "holes"]
+    assert len({(view.name, seed, kind) for view, seed, kind in views}) == len(views)
