@@ -81,3 +81,31 @@ def test_write_refuses_bad_arrays(tmp_path: Path) -> None:
         write_cloud(tmp_path / "c.npy", points, normals[:10])
     with pytest.raises(ValueError, match="unknown"):
         write_cloud(tmp_path / "c.txt", points)
+
+
+def _ascii_pcd(rows: list[str], fields: str = "x y z", width: int = 2) -> str:
+    """An organized ASCII PCD of ``rows`` (one point each), ``width`` points a row."""
+    count = len(fields.split())
+    return (
+        f"VERSION 0.7\nFIELDS {fields}\nSIZE {' '.join(['4'] * count)}\n"
+        f"TYPE {' '.join(['F'] * count)}\nCOUNT {' '.join(['1'] * count)}\nWIDTH {width}\n"
+        f"HEIGHT {len(rows) // width}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {len(rows)}\n"
+        "DATA ascii\n" + "".join(row + "\n" for row in rows)
+    )
+
+
+def test_a_pcd_pixel_with_no_return_is_left_out(tmp_path: Path) -> None:
+    """An organized PCD as PCL writes it, its empty pixels all NaN: the other points are read,
+    their normals with them; a point with only some coordinates NaN is still refused."""
+    path = tmp_path / "view.pcd"
+    rows = ["0 0 1 0 0 -1", "nan nan nan nan nan nan", "0.1 0 1 0 0 -1", "0 0.1 1 1 0 0"]
+    path.write_text(_ascii_pcd(rows, "x y z normal_x normal_y normal_z"))
+    points, normals = read_cloud(path)
+    np.testing.assert_allclose(points, [[0, 0, 1], [0.1, 0, 1], [0, 0.1, 1]], atol=1e-7)
+    np.testing.assert_array_equal(normals, [[0, 0, -1], [0, 0, -1], [1, 0, 0]])
+    path.write_text(_ascii_pcd(["0 0 1", "nan 0 1", "0.1 0 1", "nan nan nan"]))
+    with pytest.raises(ValueError, match="1 of 3 points have NaN or inf"):
+        read_cloud(path)
+    path.write_text(_ascii_pcd(["nan nan nan", "nan nan nan"]))
+    with pytest.raises(ValueError, match="the point cloud is empty"):
+        read_cloud(path)

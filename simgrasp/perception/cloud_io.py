@@ -6,13 +6,15 @@
 Policy for bad data: reading refuses (``ValueError`` naming the file) an unknown extension, a
 missing or unreadable file, a wrong column count, an empty cloud, and any non-finite value,
 reporting how many points have NaN or inf: silently dropping points would change what a
-detector sees. Normals are rescaled to unit length; zero-length normals are refused. A cut or
-corrupted file is refused rather than read with points that are not in it: ``.ply`` and
-``.pcd`` by the strict readers of :mod:`simgrasp.perception.cloud_formats` (point counts must
-match the header, every value must parse), ``.npy`` when its size does not match its header or
-it is not a little-endian float32 / float64 array (as ``np.save`` writes one), and text
-(``.xyz``, ASCII PLY / PCD) whose last line has no newline (it may have been cut inside a
-number).
+detector sees. The one exception is the PCD format's own mark of a pixel with no return: a
+``.pcd`` point whose x, y and z are all NaN (as PCL writes the empty pixels of an organized
+cloud, cropped or not) is no point and is left out, as a depth image's zero pixels are.
+Normals are rescaled to unit length; zero-length normals are refused. A cut or corrupted file
+is refused rather than read with points that are not in it: ``.ply`` and ``.pcd`` by the
+strict readers of :mod:`simgrasp.perception.cloud_formats` (point counts must match the
+header, every value must parse), ``.npy`` when its size does not match its header or it is
+not a little-endian float32 / float64 array (as ``np.save`` writes one), and text (``.xyz``,
+ASCII PLY / PCD) whose last line has no newline (it may have been cut inside a number).
 """
 
 from __future__ import annotations
@@ -42,16 +44,28 @@ def _format(path: Path) -> str:
 
 
 def read_cloud(path: str | Path) -> Cloud:
-    """Read a cloud file; returns (N, 3) points and (N, 3) unit normals or None (meters)."""
+    """Read a cloud file; returns (N, 3) points and (N, 3) unit normals or None (meters). A
+    PCD's points with no return (x, y and z all NaN) are left out."""
     path = Path(path)
     suffix = _format(path)
     if not path.is_file():
         raise SimgraspError(f"{path}: no such point-cloud file")
     if suffix in (".ply", ".pcd"):
         points, normals = _read_structured(path, suffix)
+        if suffix == ".pcd":
+            points, normals = _returns_only(points, normals)
     else:
         points, normals = _split_columns(path, _read_table(path, suffix))
     return _checked(path, points, normals)
+
+
+def _returns_only(points: NDArray[np.float64], normals: NDArray[np.float64] | None) -> Cloud:
+    """``points`` (N, 3) and their ``normals`` without the points whose three coordinates are
+    all NaN: a PCD's pixels with no return."""
+    returned = ~np.isnan(points).all(axis=1)
+    if returned.all():
+        return points, normals
+    return points[returned], None if normals is None else normals[returned]
 
 
 def write_cloud(path: str | Path, points: ArrayLike, normals: ArrayLike | None = None) -> None:
