@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 import sys
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 if __name__ == "__main__":  # run, not imported (a test reading the options)
     for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
@@ -33,7 +33,6 @@ from simgrasp.errors import DataNotFoundError  # noqa: E402
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest  # noqa: E402
 from simgrasp.evaluation.sim_views import SimView, capture  # noqa: E402
 from simgrasp.handles import SingleViewConfig  # noqa: E402
-from simgrasp.handles.body_wall import BodyWallConfig  # noqa: E402
 from simgrasp.handles.single_view import detect_single_view  # noqa: E402
 
 SIM_VIEWS = (
@@ -71,7 +70,7 @@ def clouds() -> list[Cloud]:
 def run(options: Options) -> None:
     """Print one row per cloud: its points, median ms without and with the body wall, ratio."""
     walled = SingleViewConfig.learned()
-    settings = {"without": replace(walled, body_wall=BodyWallConfig(enabled=False))}
+    settings = {"without": walled.with_body_wall(False)}
     settings["with"] = walled
     print(f"median of {options.runs} runs each, interleaved, one core")
     print("| cloud | points | without (ms) | with (ms) | with / without |\n|---|---|---|---|---|")

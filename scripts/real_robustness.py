@@ -120,12 +120,12 @@ def run(options: Options) -> str:
         for cloud in clouds:
             views = REAL_CAPTURE_VIEWS.get(cloud.name, ()) if options.sim else ()
             names += [cloud.name, *(view.name for view in views)]
-            missing = [
+            missing = {
                 (kind, seed)
                 for kind in DEGRADATIONS
                 for seed in range(options.seeds)
                 if (cloud.name, kind, seed) not in done
-            ]
+            }
             points = load_real_cloud(cloud) if missing else None
             for kind in DEGRADATIONS:
                 for seed in range(options.seeds):

@@ -25,6 +25,7 @@ writes an ensemble that keeps a candidate where any of its models keeps it
 
 from __future__ import annotations
 
+import functools
 import itertools
 import json
 import multiprocessing
@@ -39,7 +40,7 @@ from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import MinLength, NonNegativeInt, Positive, PositiveInt, Range
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
-from simgrasp.evaluation.sim_views import Pose, SimView, capture
+from simgrasp.evaluation.sim_views import Pose, SimCapture, SimView, capture
 from simgrasp.handles.candidate_features import FEATURES, candidate_features
 from simgrasp.handles.single_view import SingleViewConfig, single_view_candidates
 from simgrasp.seeding import rng_for
@@ -76,13 +77,20 @@ VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
 0.5 m."""
 
 
+@functools.lru_cache(maxsize=1)
+def _rendered(view: SimView, seed: int) -> SimCapture:
+    """``view`` rendered with ``seed``, kept for its degraded copies: :func:`run` hands a
+    worker each view's copies together, one after another."""
+    return capture(view, seed)
+
+
 def view_rows(
     view: SimView, seed: int, degradation: str = "as captured"
 ) -> tuple[np.ndarray, np.ndarray]:
     """Features and on-handle labels of one rendered view's candidates, the view made worse by
     ``degradation`` first (:func:`~simgrasp.evaluation.capture_degradations.degraded`, drawn
     from ``seed``)."""
-    shot = capture(view, seed)
+    shot = _rendered(view, seed)
     rng = rng_for(seed, "train_candidate_classifier", degradation, view.name)
     points, eye = degraded(np.asarray(shot.points_cam, np.float64), np.zeros(3), degradation, rng)
     if len(points) < 50:
@@ -291,7 +299,8 @@ def run(options: Options) -> None:
     azimuths = list(options.azimuths)
     jobs = training_views(objects, azimuths, options.seeds, options.degradations)
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
-        results = pool.starmap(view_rows, jobs, chunksize=4)
+        copies = 1 + len(options.degradations)  # a view's copies in one chunk: one render
+        results = pool.starmap(view_rows, jobs, chunksize=4 * copies)
     rows = [features for features, _ in results]
     labels = [on_handle for _, on_handle in results]
     for (sim, seed, kind), on_handle in zip(jobs, labels, strict=True):

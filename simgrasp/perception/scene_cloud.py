@@ -1,9 +1,10 @@
 """Read a whole sensor scene cloud, keeping every point in the file's order.
 
-Unlike :func:`simgrasp.perception.cloud_io.read_cloud` (an object cloud: invalid points are
-refused), a scene cloud keeps its invalid (NaN) points, so per-point results (segmentation
-labels) line up with the file, and an organized cloud keeps its image grid (``width`` x
-``height``, row-major: point ``r * width + c`` is pixel row ``r``, column ``c``).
+Unlike :func:`simgrasp.perception.cloud_io.read_cloud` (an object cloud: a PCD's pixels with
+no return are left out, any other invalid point refused), a scene cloud keeps its invalid
+(NaN) points, so per-point results (segmentation labels) line up with the file, and an
+organized cloud keeps its image grid (``width`` x ``height``, row-major: point
+``r * width + c`` is pixel row ``r``, column ``c``).
 
 Formats: ``.pcd`` (ascii, binary, binary_compressed; organized or not; a ``label`` field and
 the ``VIEWPOINT`` are kept), ``.ply`` (unorganized), ``.npy`` ((N, 3) points, or (H, W, 3) an
