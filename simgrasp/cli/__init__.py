@@ -43,6 +43,7 @@ COMMANDS: dict[str, str] = {
     "compare-labels": "confusion matrix of two label-grasps runs",
     "label-handles": "find the handle regions of any mesh, as a label file",
     "view": "interactive 3D view of a label-grasps folder (served or exported as HTML)",
+    "bench": "the handle-grasping benchmark: list suites, run or score a method",
 }
 
 
