@@ -32,6 +32,8 @@ class Options(Checked):
     """The suite (see bench list)."""
     path: Path | None = setting(None, positional=True, metavar="DIR")
     """export: the folder to write; score: the folder of grasp files (SCENE.json)."""
+    scenes: tuple[int, ...] = setting((), many=True, metavar="INDEX")
+    """Only these scenes of the suite (their indices): a part, with its own digest."""
     method: str | None = None
     """run: quadric, tenpas, centroid, random (registered proposers) or MODULE:FUNCTION."""
     attempts: PositiveInt = 1
@@ -69,6 +71,8 @@ def run(options: Options) -> int:
             print(f"{name:14} {len(suite.scenes()):4d} scenes  {suite.summary}")
         return 0
     suite = suite_by_name(options.suite or "")
+    if options.scenes:
+        suite = suite.part(options.scenes)
     if options.action == "export":
         return _export(options, suite)
     return _score(options, suite)
