@@ -8,8 +8,10 @@ contacts (the TCP +- half the contact width along the jaws) both lie on the labe
 (grown by ``HANDLE_CONTACT_MARGIN``) is a handle grasp. Up to ``handle_trials`` handle grasps
 are executed (the suite's protocol), stopping at the first that lifts and holds the object
 by its handle: the scene is ``solvable``. Unless one lifted it already, up to
-``lift_trials`` of the other grasps are executed for ``liftable`` (held anyhow). Every draw
-comes from the scene's seed, so the oracle is computed once per suite and kept in the cache
+``lift_trials`` of the other grasps are executed for ``liftable`` (held anyhow). The oracle
+sees no camera, so its record is one per world (:attr:`~simgrasp.bench.suites.BenchScene.world`:
+the scenes that differ only in their sensor share it). Every draw comes from the scene's
+seed, so the oracle is computed once per suite and kept in the cache
 (``$SIMGRASP_CACHE_DIR/bench/SUITE-DIGEST/oracle.jsonl``), resumable as any run.
 """
 
@@ -44,7 +46,7 @@ NEIGHBOR_POINTS = 1500
 
 def oracle_record(suite: SuiteDefinition, scene: BenchScene) -> dict[str, Any]:
     """The oracle's record of ``scene`` (module docstring)."""
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     built = build_bench_scene(suite, scene)
     config = chain_config(suite, scene).trial
     budget = suite.oracle
@@ -67,7 +69,7 @@ def oracle_record(suite: SuiteDefinition, scene: BenchScene) -> dict[str, Any]:
         "solvable": solved is not None,
         "liftable": lifted,
         "solving_grasp": None if solved is None else solved.to_pose7().tolist(),
-        "timings_s": {"total": time.perf_counter() - start},
+        "timings_s": {"total": time.perf_counter() - start, "cpu": time.process_time() - cpu},
     }
 
 

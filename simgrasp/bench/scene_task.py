@@ -3,8 +3,9 @@ method's in process, or the answer file), execute it.
 
 The record holds the scene's id and axes, the suite's name and digest, where the grasps came
 from and the execution's fields (:mod:`simgrasp.bench.execution`); ``timings_s`` (wall-clock
-seconds of the build, the observation, the method and the trials) is the only field that
-differs between two runs of the same scenes. A method that raises is the scene's
+seconds of the build, the observation, the method and the trials, and ``cpu``: the process's
+CPU seconds for the scene, all its threads) is the only field that differs between two runs
+of the same scenes. A method that raises is the scene's
 ``method_error`` failure, named in the record, not the run's end.
 """
 
@@ -57,7 +58,7 @@ def scene_record(scene_id: str, suite: SuiteDefinition, source: AnswerSource) ->
     """The record of scene ``scene_id`` of ``suite`` with the grasps of ``source``."""
     scene = suite.scene(scene_id)
     timings: dict[str, float] = {}
-    clock = time.perf_counter()
+    clock, cpu = time.perf_counter(), time.process_time()
 
     def lap(name: str) -> None:
         nonlocal clock
@@ -78,6 +79,7 @@ def scene_record(scene_id: str, suite: SuiteDefinition, source: AnswerSource) ->
     fields = execute_answer(built, answer, chain_config(suite, scene).trial, source.attempts)
     fields.pop("timings_s", None)
     lap("trials")
+    timings["cpu"] = time.process_time() - cpu
     return {
         "scene": scene.id,
         "world": scene.world,
