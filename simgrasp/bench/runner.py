@@ -13,6 +13,7 @@ suite, into the cache.
 from __future__ import annotations
 
 from collections.abc import Hashable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -69,18 +70,21 @@ def score_suite(
 
 
 def oracle_folder(suite: SuiteDefinition) -> Path:
-    """Where the oracle of ``suite`` is kept: ``$SIMGRASP_CACHE_DIR/bench/NAME-DIGEST``."""
+    """Where the oracle of ``suite`` is kept: ``$SIMGRASP_CACHE_DIR/bench/NAME-DIGEST``, the
+    digest of the whole suite (a part of it shares the whole's oracle)."""
     from simgrasp.assets.cache import cache_dir
 
-    return cache_dir("bench") / f"{suite.name}-{suite.digest()[:16]}"
+    whole = replace(suite, only=())
+    return cache_dir("bench") / f"{whole.name}-{whole.digest()[:16]}"
 
 
 def oracle_records(suite: SuiteDefinition, run: RunConfig) -> dict[str, dict[str, Any]]:
     """The oracle's record of every world of ``suite`` (:attr:`BenchScene.world`), computed
-    where the cache lacks it."""
+    where the cache of the whole suite lacks it."""
     from simgrasp.bench.oracle import oracle_task
 
     check_suite_data(suite)
+    whole = replace(suite, only=())
     worlds: dict[str, BenchScene] = {}
     for scene in suite.scenes():
         worlds.setdefault(scene.world, scene)
@@ -88,10 +92,10 @@ def oracle_records(suite: SuiteDefinition, run: RunConfig) -> dict[str, dict[str
     with claim_out_dir(folder, ["simgrasp", "bench", "oracle", suite.name]):
         claim_identity(
             folder / "suite.json",
-            {"suite": suite.name, "suite_sha256": suite.digest()},
+            {"suite": whole.name, "suite_sha256": whole.digest()},
             what="the oracle of another suite",
         )
-        work = Work(oracle_task, (suite,))
+        work = Work(oracle_task, (whole,))
         finished = run_resumable(
             list(worlds.values()),
             lambda scene: scene.world,
