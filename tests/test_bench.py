@@ -150,3 +150,20 @@ def test_valid_answer_reads_best_first() -> None:
     assert not isinstance(grasps, AnswerProblem)
     assert [g.width for g in grasps] == [0.085, 0.04]
     assert np.allclose(grasps[0].world_T_tcp, pose)
+
+
+def test_scores_read_against_the_oracle() -> None:
+    from simgrasp.bench.summary import report_text, summarize
+
+    def row(obj: str, success: bool, on_handle: bool, solvable: bool) -> dict:
+        axes = {"object": obj, "placement": "stable", "clutter": 0, "sensor": "ideal"}
+        verdict = {"solvable": solvable, "liftable": solvable or success}
+        return {**axes, "success": success, "on_handle": on_handle, **verdict, "failure": None}
+
+    rows = [row("a", True, True, True), row("a", False, False, True), row("b", True, True, False)]
+    summary = summarize(rows)
+    assert summary["scenes"] == 3 and summary["solvable"] == round(2 / 3, 4)
+    assert summary["on_handle_of_solvable"] == 0.5
+    assert summary["counts"]["beyond_oracle"] == 1
+    assert summary["by"]["object"]["b"]["on_handle_of_solvable"] is None
+    assert "| b | 1 | 1.00 | 1.00 | 0.00 | - |" in report_text(summary, "t")

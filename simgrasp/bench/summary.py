@@ -5,7 +5,9 @@ Each scene's record is joined with the oracle's record of its world
 (some grasp held there). The scores are shares of the scenes: ``success`` (the object lifted
 and held), ``on_handle`` (held by its handle), ``solvable``, and ``on_handle_of_solvable``
 (held by the handle among the solvable scenes: the method's score against what was
-possible; None without a solvable scene). ``report.md`` shows them per object, placement,
+possible; None without a solvable scene). ``counts.beyond_oracle`` counts the scenes held by
+the handle where the oracle found no handle grasp: the oracle samples, so it is a lower
+bound of what was possible. ``report.md`` shows them per object, placement,
 clutter and sensor, with the failures named in the records.
 """
 
@@ -32,6 +34,7 @@ def scores(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "solvable": len(solvable),
         "liftable": sum(bool(r["liftable"]) for r in rows),
         "on_handle_in_solvable": sum(bool(r["on_handle"]) for r in solvable),
+        "beyond_oracle": sum(bool(r["on_handle"]) and not r["solvable"] for r in rows),
     }
     return {
         "scenes": len(rows),
@@ -95,6 +98,8 @@ def report_text(summary: dict[str, Any], title: str) -> str:
         for value, scored in summary["by"][axis].items():
             cells = " | ".join(_cell(scored, k) for k in keys)
             lines.append(f"| {value} | {scored['scenes']} | {cells} |")
+    beyond = summary["counts"]["beyond_oracle"]
+    lines += ["", f"Held by the handle where the oracle found no handle grasp: {beyond}."]
     lines += ["", "| failure | scenes |", "|---|---:|"]
     lines += [f"| {name} | {count} |" for name, count in summary["failures"].items()]
     return "\n".join(lines) + "\n"
