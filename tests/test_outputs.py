@@ -36,6 +36,8 @@ READ_OR_CLAIMED = {
     ("label-grasps", "out"),
     # a file (show) or a folder (export) by the action: checked in its run
     ("object", "out"),
+    # read (score's grasp files) or a run folder (export's, claimed by claim_out_dir)
+    ("bench", "path"),
 }
 """Path settings that are read, or written under a run's own check."""
 
