@@ -35,7 +35,8 @@ class Options(Checked):
     scenes: tuple[int, ...] = setting((), many=True, metavar="INDEX")
     """Only these scenes of the suite (their indices): a part, with its own digest."""
     method: str | None = None
-    """run: quadric, tenpas, centroid, random (registered proposers) or MODULE:FUNCTION."""
+    """run: quadric, tenpas, centroid, random (registered proposers), antipodal (random pairs
+    until 8 grasps: best of N with --attempts N) or MODULE:FUNCTION."""
     attempts: PositiveInt = 1
     """Grasps of each answer executed at most, best first, until one holds."""
     out: Path | None = setting(None, output="dir")
