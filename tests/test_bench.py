@@ -97,13 +97,14 @@ def test_method_outside_simgrasp_is_scored(exported: Path, tmp_path: Path) -> No
 def test_repeated_run_same_records_and_changed_definition_refused(tmp_path: Path) -> None:
     first, second = tmp_path / "first", tmp_path / "second"
     for out in (first, second, first):  # the third resumes a finished run: nothing redone
-        command = ["bench", "run", "handles-mini", "--method", "centroid", "--out", str(out)]
-        assert main([*command, "--no-progress", "--scenes", "2"]) == 0
+        command = ["bench", "run", "handles-mini", "--method", "antipodal", "--out", str(out)]
+        assert main([*command, "--attempts", "3", "--no-progress", "--scenes", "2"]) == 0
     assert _records(first) == _records(second)
     assert len(_records(first)) == 1
+    assert 1 <= _records(first)[0]["attempts"] <= 3
     changed = replace(suite_by_name("handles-mini").part((2,)), protocol="fast")
     with pytest.raises(SimgraspError, match="suite_sha256") as refused:
-        score_suite(changed, first, AnswerSource("centroid"), RunConfig(progress=False), [])
+        score_suite(changed, first, AnswerSource("antipodal"), RunConfig(progress=False), [])
     assert "\n" not in str(refused.value)
 
 
