@@ -92,6 +92,11 @@ def test_method_outside_simgrasp_is_scored(exported: Path, tmp_path: Path) -> No
     for key in ("on_handle", "solvable", "on_handle_of_solvable"):
         assert key in summary
     assert "| placement |" in (out / "report.md").read_text()
+    in_process = tmp_path / "in-process"
+    command = ["bench", "run", "handles-mini", "--method", "bench_method:propose"]
+    assert main([*command, "--out", str(in_process), "--no-progress", "--scenes", PART[0]]) == 0
+    same = {**_records(in_process)[0], "method": "files", "grasp_source": "file"}
+    assert same == {**records[0], "suite_sha256": same["suite_sha256"]}  # the same outcome
 
 
 def test_repeated_run_same_records_and_changed_definition_refused(tmp_path: Path) -> None:
