@@ -8,6 +8,7 @@ it. Units are meters; frames are named as in the README (``world_T_tcp``, ``poin
 from __future__ import annotations
 
 import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
@@ -27,9 +28,11 @@ if TYPE_CHECKING:
     from simgrasp.handles.detection import Detection
     from simgrasp.handles.detector_config import DetectorConfig
     from simgrasp.handles.tenpas_config import TenPasConfig
+    from simgrasp.perception.cloud_file import MeshReadConfig
     from simgrasp.perception.depth_image import DepthImageConfig
     from simgrasp.perception.segmentation.segment import Segmentation
     from simgrasp.perception.segmentation.segment_config import SegmentConfig
+    from simgrasp.perception.units import Units
 
 
 def load_object(
@@ -46,27 +49,36 @@ def load_object(
 
 
 def detect_handles(
-    points: ArrayLike,
+    points: ArrayLike | str | os.PathLike[str],
     normals: ArrayLike | None = None,
     *,
     config: DetectorConfig | QuadricDetectorConfig | TenPasConfig | None = None,
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
     single_view: bool = True,
+    units: Units = "m",
+    mesh: MeshReadConfig | None = None,
 ) -> Detection:
-    """Handles in one object's cloud: ``points`` (N, 3) in meters, any frame; ``normals``
+    """Handles in one object's cloud: ``points`` (N, 3) in ``units``, any frame, or a file
+    ``simgrasp detect`` reads (a cloud, whose normals it leaves out are estimated with a
+    :class:`~simgrasp.perception.cloud_io.ReadNote` warning; a mesh, read as ``mesh`` says:
+    a scan's by its vertices, a model's by its surface sampled by ``seed``); ``normals``
     (N, 3) pointing out of the object, estimated when omitted (toward ``viewpoint``, the
-    camera position in the cloud's frame, for a single view). ``config`` picks the detector
-    (a :class:`DetectorConfig`, or one detector's own settings); the default is the one
-    ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one camera's
-    view from ``viewpoint`` (none given: from the origin, a sensor's own frame) goes to the
-    single-view detector (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`).
-    Results are in the cloud's frame."""
+    camera position in the cloud's frame and units, for a single view). A cloud whose size
+    only other units explain is refused, naming the ``units`` to pass. ``config`` picks the
+    detector (a :class:`DetectorConfig`, or one detector's own settings); the default is the
+    one ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one
+    camera's view from ``viewpoint`` (none given: from the origin, a sensor's own frame) goes
+    to the single-view detector
+    (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`). Results are in the
+    cloud's frame, in meters."""
     from simgrasp.handles import detect
     from simgrasp.handles.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig
     from simgrasp.handles.single_view import SingleViewConfig
     from simgrasp.handles.tenpas_config import TenPasConfig
+
+    points, normals, viewpoint = _cloud_in_meters(points, normals, viewpoint, units, mesh, seed)
 
     chosen = config if config is not None else DetectorConfig()
     _check_type(chosen, "config", DetectorConfig, QuadricDetectorConfig, TenPasConfig)
@@ -85,6 +97,31 @@ def detect_handles(
         viewpoint=viewpoint,
         single_view=chosen_view,
     )
+
+
+def _cloud_in_meters(
+    points: ArrayLike | str | os.PathLike[str],
+    normals: ArrayLike | None,
+    viewpoint: ArrayLike | None,
+    units: Units,
+    mesh: MeshReadConfig | None,
+    seed: int,
+) -> tuple[NDArray[np.float64], ArrayLike | None, ArrayLike | None]:
+    """:func:`detect_handles`' points (read from the file they name), normals and viewpoint,
+    in meters."""
+    from simgrasp.perception._arrays import as_points
+    from simgrasp.perception.cloud_file import read_object_cloud
+    from simgrasp.perception.units import UNIT_SCALE, cloud_in_meters
+
+    if isinstance(points, str | os.PathLike):
+        if normals is not None:
+            raise SimgraspError("normals come from the file when points is a file; pass neither")
+        path_points, normals = read_object_cloud(Path(points), units, mesh=mesh, seed=seed)
+    else:
+        path_points = cloud_in_meters(as_points(points), units, "points")
+    if viewpoint is not None and units != "m":
+        viewpoint = np.asarray(viewpoint, dtype=np.float64) * UNIT_SCALE[units]
+    return path_points, normals, viewpoint
 
 
 def _check_type(value: object, name: str, *kinds: type) -> None:

@@ -23,7 +23,7 @@ from simgrasp.config.arguments import (
     effective_config_text,
     settings_from_args,
 )
-from simgrasp.errors import SimgraspError
+from simgrasp.errors import SimgraspError, command_line_caller
 from simgrasp.runs.out_dir import check_outputs, remove_empty
 
 # name -> one-line help; the module is simgrasp.cli.<name with - as _>
@@ -96,7 +96,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         options = settings_from_args(module.Options, args)
         made = check_outputs(options)  # a run never works for minutes, then fails to save
-        code = int(module.run(options) or 0)
+        with command_line_caller():  # errors suggest flags, not Python arguments
+            code = int(module.run(options) or 0)
         sys.stdout.flush()  # a closed pipe shows here, inside the handler below
         return code
     except SimgraspError as exc:

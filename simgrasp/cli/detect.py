@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import sys
+import warnings
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -31,6 +32,7 @@ from simgrasp.handles.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.handles.single_view import SingleViewConfig
 from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.perception.cloud_file import MeshReadConfig, is_mesh_file
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
@@ -39,9 +41,13 @@ from simgrasp.perception.units import Units
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     cloud: Path = setting(positional=True, metavar="CLOUD")
-    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units), or a depth image .png / .tif
-    (one sensor frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else
-    its valid pixels as the object, with a note when they hold a table)."""
+    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units; normals it leaves out, NaN or
+    zero, are estimated, said in a note); a mesh file, .obj .stl .off .glb .gltf or a .ply with
+    faces (a scanner's reconstruction: read by its vertices; a model's large triangles: by its
+    surface, sampled by the seed; --mesh.points); or a
+    depth image .png / .tif (one sensor frame: --depth.intrinsics, --depth.scale; the whole
+    scene with --segment, else its valid pixels as the object, with a note when they hold a
+    table)."""
     units: Units = "m"
     """Units of the file's coordinates and of --viewpoint (results are in meters)."""
     json: bool = False
@@ -75,6 +81,7 @@ class Options(Checked):
     part, a pot's tab, stands for its object)."""
     segmentation: SegmentConfig = field(default_factory=SegmentConfig)
     depth: DepthImageConfig = field(default_factory=DepthImageConfig)
+    mesh: MeshReadConfig = field(default_factory=MeshReadConfig)
 
 
 def run(options: Options) -> int:
@@ -88,9 +95,10 @@ def run(options: Options) -> int:
         raise SimgraspError("--object needs --segment")
 
     with stdout_to_stderr():  # library warnings must not mix with the output (--json)
-        detection = _detect(options)
+        detection, notes = _detect(options)
     if options.json:
-        json.dump({**detection.to_json(), "input": _input_record(options)}, sys.stdout)
+        record = {**_input_record(options), "notes": notes}
+        json.dump({**detection.to_json(), "input": record}, sys.stdout)
         sys.stdout.write("\n")
         return 0
     print(
@@ -161,6 +169,8 @@ def _input_record(options: Options) -> dict[str, Any]:
         record["segmentation"] = asdict(options.segmentation)
     if options.cloud.suffix.lower() in DEPTH_IMAGE_FORMATS:
         record["depth"] = asdict(options.depth)
+    if not options.segment and is_mesh_file(options.cloud):
+        record["mesh"] = asdict(options.mesh)
     return record
 
 
@@ -207,13 +217,31 @@ def _note_a_scene(cloud: Path, points: Any) -> None:
         )
 
 
-def _detect(options: Options) -> Detection:
+def _read(options: Options) -> tuple[Any, Any, list[str]]:
+    """The cloud's points (m) and normals or None, and the notes reading made (normals
+    estimated), each printed on stderr as a line ``note: ...``."""
+    from simgrasp.perception.cloud_file import read_object_cloud
+    from simgrasp.perception.cloud_io import ReadNote
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ReadNote)
+        points, normals = read_object_cloud(
+            options.cloud, options.units, options.depth, options.mesh, options.seed
+        )
+    notes = [str(w.message) for w in caught if issubclass(w.category, ReadNote)]
+    for note in notes:
+        print(f"note: {note}", file=sys.stderr)
+    for other in (w for w in caught if not issubclass(w.category, ReadNote)):
+        warnings.warn_explicit(other.message, other.category, other.filename, other.lineno)
+    return points, normals, notes
+
+
+def _detect(options: Options) -> tuple[Detection, list[str]]:
     from simgrasp.handles import detect
-    from simgrasp.perception.depth_image import read_points
     from simgrasp.perception.units import UNIT_SCALE
 
     config = _detector_config(options)
-    points, normals = read_points(options.cloud, options.units, options.depth)
+    points, normals, notes = _read(options)
     scale = UNIT_SCALE[options.units]
     viewpoint = None if options.viewpoint is None else [v * scale for v in options.viewpoint]
     kind = options.detector.kind
@@ -238,4 +266,4 @@ def _detect(options: Options) -> Detection:
         from simgrasp.plots.detection import plot_detection
 
         plot_detection(detection, options.plot, title=f"{options.cloud} ({detection.detector})")
-    return detection
+    return detection, notes

@@ -24,7 +24,6 @@ from numpy.typing import NDArray
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked, Positive
 from simgrasp.errors import SimgraspError
-from simgrasp.perception.units import Units
 
 if TYPE_CHECKING:
     from simgrasp.perception.scene_cloud import SceneCloud
@@ -99,24 +98,6 @@ def read_depth_image(path: Path, config: DepthImageConfig | None = None) -> Scen
     depth[~(depth > 0)] = np.nan  # no return: 0, negative or not finite
     _check_depths(path, depth)
     return scene_from_array(back_project(depth, intrinsics), source=str(path))
-
-
-def read_points(
-    path: Path, units: Units = "m", depth: DepthImageConfig | None = None
-) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
-    """(N, 3) points (m) and normals or None of an object cloud file in ``units``
-    (:func:`simgrasp.perception.cloud_io.read_cloud`), or the valid pixels of a depth image
-    (an object cut from its frame by another segmenter: other pixels 0)."""
-    from simgrasp.perception.cloud_io import read_cloud
-    from simgrasp.perception.units import cloud_in_meters
-
-    if Path(path).suffix.lower() not in DEPTH_IMAGE_FORMATS:
-        points, normals = read_cloud(path)
-        return cloud_in_meters(points, units, str(path)), normals
-    if units != "m":
-        raise SimgraspError(f"{path}: a depth image's units are set by --depth.scale, not --units")
-    scene = read_depth_image(Path(path), depth)
-    return scene.points[scene.valid].astype(np.float64), None
 
 
 def _camera(path: Path, config: DepthImageConfig) -> tuple[Intrinsics, float]:

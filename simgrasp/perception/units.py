@@ -1,6 +1,7 @@
 """Cloud units: files are read as meters unless told otherwise, and a cloud whose size only
 other units explain (millimetres read as meters, or meters read as millimetres) is refused
-before any detection work.
+before any detection work, with the fix spelled for the caller (``--units mm`` on the command
+line, ``units="mm"`` in Python).
 
 Meshes are checked the same way when loaded (:mod:`simgrasp.assets.mesh_check`). For a point
 cloud the check is its bounding-box diagonal, an O(N) test made before voxelizing or normal
@@ -16,7 +17,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.errors import SimgraspError
+from simgrasp.errors import SimgraspError, fix_for_caller
 
 Units = Literal["m", "mm"]
 UNIT_SCALE: dict[str, float] = {"m": 1.0, "mm": 1e-3}
@@ -52,7 +53,11 @@ def cloud_in_meters(
     scaled = points * UNIT_SCALE[units] if units != "m" else points
     extent = float(np.linalg.norm(scaled.max(axis=0) - scaled.min(axis=0))) if len(scaled) else 0.0
     if extent > config.max_extent:
-        guess = "is it in millimetres? pass --units mm" if units == "m" else "check its units"
+        guess = (
+            "is it in millimetres? " + fix_for_caller("pass --units mm", 'pass units="mm"')
+            if units == "m"
+            else "check its units"
+        )
         raise SimgraspError(
             f"{source}: the cloud spans {extent:.0f} m (bounding-box diagonal) read as "
             f"{units}, more than the {config.max_extent:g} m any object or tabletop scene "
@@ -62,6 +67,6 @@ def cloud_in_meters(
         raise SimgraspError(
             f"{source}: the cloud spans {extent * 1000:.2g} mm (bounding-box diagonal) read as "
             f"{units}, less than the {config.min_extent * 100:g} cm any object to grasp spans: "
-            "is it in meters? drop --units"
+            "is it in meters? " + fix_for_caller("drop --units", 'pass units="m"')
         )
     return scaled
