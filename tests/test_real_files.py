@@ -248,3 +248,16 @@ def test_detect_finds_the_hammer_scans_handle_as_given(real_dir: Path, capsys) -
     assert "note: " in captured.err and "2853 of 5465 normals" in captured.err
     report = json.loads(captured.out)
     assert report["handles"] and label.contains(np.array([report["handles"][0]["center"]])).all()
+
+
+def test_a_cloud_too_large_for_meters_names_the_units_that_explain_it() -> None:
+    """As for meshes, the hint names the first units (millimetres, then centimetres) that make
+    the cloud an object: a 15 cm tool in centimetres would be 1.5 cm in millimetres."""
+    from simgrasp.perception.units import cloud_in_meters
+
+    tool_cm = np.array([[0.0, 0.0, 0.0], [12.0, 9.0, 0.0]])  # 15 units across
+    with pytest.raises(SimgraspError, match=r'in centimetres\? pass units="cm"'):
+        cloud_in_meters(tool_cm, "m", "tool")
+    np.testing.assert_allclose(cloud_in_meters(tool_cm, "cm", "tool"), tool_cm / 100.0)
+    with pytest.raises(SimgraspError, match=r'in millimetres\? pass units="mm"'):
+        cloud_in_meters(tool_cm * 10.0, "m", "tool")

@@ -44,10 +44,9 @@ class Options(Checked):
     """Point cloud file: .ply, .pcd, .xyz or .npy (in --units; normals it leaves out, NaN or
     zero, are estimated, said in a note); a mesh file, .obj .stl .off .glb .gltf or a .ply with
     faces (a scanner's reconstruction: read by its vertices; a model's large triangles: by its
-    surface, sampled by the seed; --mesh.points); or a
-    depth image .png / .tif (one sensor frame: --depth.intrinsics, --depth.scale; the whole
-    scene with --segment, else its valid pixels as the object, with a note when they hold a
-    table)."""
+    surface, sampled by the seed; --mesh.points); or a depth image .png / .tif (one sensor
+    frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else its valid
+    pixels as the object, with a note when they hold a table)."""
     units: Units = "m"
     """Units of the file's coordinates and of --viewpoint (results are in meters)."""
     json: bool = False
