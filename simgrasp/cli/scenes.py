@@ -34,14 +34,18 @@ from simgrasp.perception.sensors.settings import SensorSettings
 TARGET_LABEL, FIRST_DISTRACTOR_LABEL, TABLE_LABEL = 20, 30, 1
 
 
+EXAMPLES = ("simgrasp scenes export --clutter 5 --seeds 10 --sensor kinect --out out/scenes",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
     action: Literal["export"] = setting(positional=True, metavar="ACTION")
     """export: write the scenes' views as labeled PCD files."""
-    object: str = "gen_hammer"
+    object: str = setting("gen_hammer", main=True)
     """The target object (YCB id, generated tool or mesh file, read with
     --scale/--units/--mass/...)."""
-    seeds: int = 3
+    seeds: int = setting(3, main=True)
     """Scenes of seeds 0..N-1."""
     out: Path = setting(output="dir")
     """Output directory."""

@@ -28,6 +28,12 @@ from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.protocol import Protocol
 
+EXAMPLES = (
+    "simgrasp trial gen_mug --seed 3 --placement upright --json",
+    "simgrasp trial mug.obj --units mm --detector tenpas --render trial.mp4",
+)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
@@ -46,12 +52,12 @@ class Options(YcbSource, MeshObjectOptions):
     protocol: Protocol | None = None
     """Trial protocol of --grasp, as label-grasps' (full, fast, acronym, acronym-fast), instead
     of the --trial.* settings (default: those, whose defaults are the full protocol)."""
-    seed: int = 0
+    seed: int = setting(0, main=True)
     """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
     in an evaluate record: the same object and seed rerun that trial."""
-    json: bool = False
+    json: bool = setting(False, main=True)
     """Print the trial record as JSON."""
-    render: Path | None = setting(None, output="file")
+    render: Path | None = setting(None, output="file", main=True)
     """Write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4."""
     record: bool = False
     """Add the states a replay needs to the record (``replay``: object and TCP poses, jaw

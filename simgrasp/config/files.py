@@ -74,20 +74,21 @@ def _table_lines(table: Mapping[str, Any], prefix: tuple[str, ...]) -> list[str]
     scalars = [(k, v) for k, v in table.items() if not isinstance(v, Mapping)]
     lines = [f"[{'.'.join(prefix)}]"] if prefix and scalars else []
     for key, value in scalars:
-        lines.append(f"# {key} = none" if value is None else f"{key} = {_toml_value(value)}")
+        lines.append(f"# {key} = none" if value is None else f"{key} = {toml_value(value)}")
     for key, value in table.items():
         if isinstance(value, Mapping):
             lines += ["", *_table_lines(value, (*prefix, key))]
     return lines
 
 
-def _toml_value(value: Any) -> str:
+def toml_value(value: Any) -> str:
+    """A plain value (:func:`~simgrasp.config.values.to_plain`) as TOML text."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, list):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
     if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
+        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
     if isinstance(value, float):
         return repr(value) if value == value and abs(value) != float("inf") else str(value)
     return json.dumps(value)
