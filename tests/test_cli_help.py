@@ -189,6 +189,22 @@ def test_every_setting_is_a_config_file_key(command: str, tmp_path: Path) -> Non
 
 
 @pytest.mark.parametrize("command", COMMAND_LIST)
+def test_print_config_reads_back(
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """What ``--print-config`` prints, given back with ``--config``, is the same settings (also
+    for ``evaluate``, whose ``detector`` list sits beside ``detector.quadric.*``)."""
+    cls = command_module(command).Options
+    tree, values = expected_tree(command)
+    required = [f"--set={leaf.key}={values[leaf.key]}" for leaf in leaves(cls) if leaf.required]
+    assert main([command, *required, "--print-config"]) == 0
+    path = tmp_path / "printed.toml"
+    path.write_text(capsys.readouterr().out)
+    args = command_parser(command).parse_args(["--config", str(path), *required])
+    assert settings_from_args(cls, args) == tree
+
+
+@pytest.mark.parametrize("command", COMMAND_LIST)
 def test_the_examples_parse(command: str) -> None:
     """Each example of ``--help`` (up to a shell redirection) names only flags the command has
     and values its settings allow."""
@@ -234,5 +250,5 @@ def test_the_short_texts() -> None:
         headline("Every parameter (SI units: m, s): all. More.")
         == "Every parameter (SI units: m, s)"
     )
-    assert fitted("one two three four", 9, 1) == "one two…"
+    assert fitted("one two three four", 10, 1) == "one two..."
     assert fitted("one two", 20, 1, suffix=" (default: 1)") == "one two (default: 1)"

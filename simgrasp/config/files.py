@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -66,8 +66,20 @@ def parse_set_items(items: Sequence[str]) -> dict[str, str]:
 
 def dumps_toml(flat: Mapping[str, Any]) -> str:
     """A flat ``dotted key -> plain value`` config as TOML text (``None`` values as comments,
-    since TOML has no null)."""
-    return "\n".join(_table_lines(nest(flat), ())).strip() + "\n"
+    since TOML has no null). A key under another setting (``evaluate``'s ``detector`` list
+    beside ``detector.quadric.*``) is written quoted at the top, where no table can hold it."""
+    table = nest({key: value for key, value in flat.items() if toml_key(key, flat) == key})
+    table.update({toml_key(key, flat): value for key, value in flat.items()
+                  if toml_key(key, flat) != key})  # fmt: skip
+    return "\n".join(_table_lines(table, ())).strip() + "\n"
+
+
+def toml_key(key: str, keys: Collection[str]) -> str:
+    """``key`` as a TOML key: dotted, or quoted (one key holding dots) when a prefix of it is
+    a setting too."""
+    parts = key.split(".")
+    under_a_setting = any(".".join(parts[:i]) in keys for i in range(1, len(parts)))
+    return f'"{key}"' if under_a_setting else key
 
 
 def _table_lines(table: Mapping[str, Any], prefix: tuple[str, ...]) -> list[str]:

@@ -4,7 +4,7 @@
 ``--help`` lists the command's main settings (:attr:`~simgrasp.config.fields.FieldSpec.main`,
 positionals and required ones) each with the first sentence of its docstring and its default,
 names the command's other top-level flags, sums up each nested settings tree in one line
-(``--detector.*  (70 settings) The grasp proposer: ...``), then the settings-file flags, an
+(``--detector.*  70 settings: The handle detector ...``), then the settings-file flags, an
 example and how to see every setting. Both are built from the same argparse actions that parse
 the command line, so neither can name a flag that does not exist.
 """
@@ -88,7 +88,8 @@ def short_help(parser: argparse.ArgumentParser, plan: HelpPlan) -> str:
     formatter.add_usage(parser.usage, [], [])
     formatter.add_text(textwrap.fill(first_paragraph(parser.description or ""), width))
     given = list(leaves(plan.cls))
-    main = sorted((leaf for leaf in given if leaf.main), key=lambda leaf: not leaf.spec.positional)
+    first = lambda leaf: (not leaf.spec.positional, not leaf.required)  # noqa: E731
+    main = sorted((leaf for leaf in given if leaf.main), key=first)
     shorts = [_short_action(plan.actions[leaf.key], leaf, text_width) for leaf in main]
     _section(formatter, "main options", shorts)
     others = [flag_of(plan.actions[leaf.key]) for leaf in given if _other(leaf)]
@@ -148,7 +149,7 @@ def _file_action(action: argparse.Action) -> argparse.Action:
 
 
 def _tree_actions(cls: type, given: list[Leaf], width: int) -> list[argparse.Action]:
-    """One entry per settings tree: ``--detector.*  70 settings: The grasp proposer...``."""
+    """One entry per settings tree: ``--detector.*  70 settings: The handle detector ...``."""
     lines = []
     for key, tree in trees(cls).items():
         count = sum(leaf.key.startswith(key + ".") for leaf in given)
@@ -227,13 +228,15 @@ def headline(text: str) -> str:
 def fitted(text: str, width: int, lines: int, suffix: str = "") -> str:
     """``text`` then ``suffix`` in at most ``lines`` lines of ``width`` characters (as
     argparse wraps them): ``text`` cut at a word, with an ellipsis, if they do not fit."""
+    if len(textwrap.wrap(text + suffix, width)) <= lines:
+        return text + suffix
     words = text.split()
-    while words and len(textwrap.wrap(" ".join(words) + suffix, width)) > lines:
+    while len(words) > 1:
         words.pop()
-        text = " ".join(words).rstrip(",;:(") + "…"
-        if len(textwrap.wrap(text + suffix, width)) <= lines:
-            break
-    return text + suffix
+        cut = " ".join(words).rstrip(",;:(") + "..."
+        if len(textwrap.wrap(cut + suffix, width)) <= lines:
+            return cut + suffix
+    return "..." + suffix
 
 
 def shown(value: Any) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import inspect
 
-from simgrasp.config.files import toml_value
+from simgrasp.config.files import toml_key, toml_value
 from simgrasp.config.help import first_sentence, headline
 from simgrasp.config.schema import Leaf, flag_name, leaves, trees
 from simgrasp.config.values import to_plain, type_name
@@ -47,17 +47,10 @@ def setting_line(leaf: Leaf, keys: set[str]) -> str:
     """``key = default  # (type: allowed) First sentence.`` (the setting commented out when it
     has no default or its default is none)."""
     kind = type_name(leaf.annotation) + (f": {leaf.allowed}" if leaf.allowed else "")
-    key = _toml_key(leaf.key, keys)
+    key = toml_key(leaf.key, keys)
     if leaf.required:
         assignment, kind = f"# {key} = ...", f"{kind}; required"
     else:
         plain = to_plain(leaf.default)
         assignment = f"# {key} = none" if plain is None else f"{key} = {toml_value(plain)}"
     return f"{assignment}  # ({kind}) {first_sentence(leaf.doc)}"
-
-
-def _toml_key(key: str, keys: set[str]) -> str:
-    """``key`` as a TOML key: dotted, or quoted when a prefix of it is a setting too."""
-    parts = key.split(".")
-    clash = any(".".join(parts[:i]) in keys for i in range(1, len(parts)))
-    return f'"{key}"' if clash else key
