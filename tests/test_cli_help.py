@@ -94,7 +94,7 @@ def test_help_fits_a_screen_and_names_the_full_listing(
             shown = action.option_strings[-1] if action.option_strings else action.metavar
             assert f"  {shown}" in text, f"{command}: main setting {leaf.key} not in --help"
     for key in trees(cls):
-        assert f"{flag_name(key)}.*" in text, f"{command}: tree {key} not in --help"
+        assert f"\n  {flag_name(key)}.* (" in text, f"{command}: tree {key} not in --help"
     assert printed([command, "-h"], capsys) == text
 
 

@@ -4,7 +4,7 @@
 ``--help`` lists the command's main settings (:attr:`~simgrasp.config.fields.FieldSpec.main`,
 positionals and required ones) each with the first sentence of its docstring and its default,
 names the command's other top-level flags, sums up each nested settings tree in one line
-(``--detector.*  70 settings: The handle detector ...``), then the settings-file flags, an
+(``--detector.* (70)  The handle detector ...``), then the settings-file flags, an
 example and how to see every setting. Both are built from the same argparse actions that parse
 the command line, so neither can name a flag that does not exist.
 """
@@ -97,8 +97,11 @@ def short_help(parser: argparse.ArgumentParser, plan: HelpPlan) -> str:
         formatter.start_section("other options")
         formatter.add_text(textwrap.fill(", ".join(others), width - 2, break_on_hyphens=False))
         formatter.end_section()
-    trees_title = "settings trees (every setting in them is a flag: --TREE.KEY VALUE)"
-    _section(formatter, trees_title, _tree_actions(plan.cls, given, text_width))
+    tree_lines = _tree_lines(plan.cls, given, width - 2)
+    if tree_lines:
+        formatter.start_section("settings trees (how many settings; each is a flag --TREE.KEY)")
+        formatter.add_text("\n".join(tree_lines))
+        formatter.end_section()
     files_title = "settings files (defaults < --config < --set < flags)"
     _section(formatter, files_title, [_file_action(action) for action in plan.files])
     examples = plan.examples or (example_of(parser, given),)
@@ -148,19 +151,24 @@ def _file_action(action: argparse.Action) -> argparse.Action:
     return short
 
 
-def _tree_actions(cls: type, given: list[Leaf], width: int) -> list[argparse.Action]:
-    """One entry per settings tree: ``--detector.*  70 settings: The handle detector ...``."""
-    lines = []
-    for key, tree in trees(cls).items():
+def _tree_lines(cls: type, given: list[Leaf], width: int) -> list[str]:
+    """One line per settings tree: ``--detector.* (70)  The handle detector and ...``."""
+    counted = {}
+    for key in trees(cls):
         count = sum(leaf.key.startswith(key + ".") for leaf in given)
         if count:
-            about = headline(inspect.getdoc(tree) or "")
-            text = fitted(f"{count} settings: {about}", width, 2)
-            flag = flag_name(key) + ".*"
-            lines.append(
-                argparse.Action([flag], argparse.SUPPRESS, 0, help=text.replace("%", "%%"))
-            )
-    return lines
+            counted[f"{flag_name(key)}.* ({count})"] = inspect.getdoc(trees(cls)[key]) or ""
+    column = max(map(len, counted), default=0) + 2
+    return [f"{name:<{column}}{_gist(doc, width - column)}" for name, doc in counted.items()]
+
+
+def _gist(doc: str, width: int) -> str:
+    """A docstring's headline in one line of ``width``: without its parentheses if it is
+    longer, then cut at a word."""
+    text = headline(doc)
+    if len(text) > width:
+        text = re.sub(r"\s*\([^()]*\)", "", text)
+    return fitted(text, width, 1)
 
 
 def example_of(parser: argparse.ArgumentParser, all_leaves: list[Leaf]) -> str:
