@@ -68,9 +68,9 @@ def dumps_toml(flat: Mapping[str, Any]) -> str:
     """A flat ``dotted key -> plain value`` config as TOML text (``None`` values as comments,
     since TOML has no null). A key under another setting (``evaluate``'s ``detector`` list
     beside ``detector.quadric.*``) is written quoted at the top, where no table can hold it."""
-    table = nest({key: value for key, value in flat.items() if toml_key(key, flat) == key})
-    table.update({toml_key(key, flat): value for key, value in flat.items()
-                  if toml_key(key, flat) != key})  # fmt: skip
+    named = {key: toml_key(key, flat) for key in flat}
+    table = nest({key: value for key, value in flat.items() if named[key] == key})
+    table.update({named[key]: value for key, value in flat.items() if named[key] != key})
     return "\n".join(_table_lines(table, ())).strip() + "\n"
 
 
