@@ -252,3 +252,11 @@ def test_the_short_texts() -> None:
     )
     assert fitted("one two three four", 10, 1) == "one two..."
     assert fitted("one two", 20, 1, suffix=" (default: 1)") == "one two (default: 1)"
+
+
+def test_the_root_help_names_every_command_and_the_two_helps(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    text = printed(["--help"], capsys)
+    assert all(f"    {command}" in text for command in COMMANDS)
+    assert "COMMAND --help-all" in " ".join(text.split())

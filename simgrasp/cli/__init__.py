@@ -66,7 +66,13 @@ class _Parser(argparse.ArgumentParser):
 def build_parser(command: str | None) -> argparse.ArgumentParser:
     """The parser of every command, with the flags of ``command`` (only its module is
     imported)."""
-    parser = _Parser(prog="simgrasp", description=__doc__.splitlines()[0], allow_abbrev=False)
+    parser = _Parser(
+        prog="simgrasp",
+        description=__doc__.splitlines()[0],
+        epilog="simgrasp COMMAND --help: a command's main options and an example; "
+        "simgrasp COMMAND --help-all: every setting.",
+        allow_abbrev=False,
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, help_text in COMMANDS.items():
         # no abbreviations: `--detector` on a command without it would match every
