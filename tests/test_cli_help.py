@@ -62,7 +62,9 @@ def sample(leaf: Leaf) -> Any:
         return choices[0]
     if typing.get_origin(leaf.annotation) is typing.Literal:
         return typing.get_args(leaf.annotation)[0]
-    return {int: 1, Path: Path("x")}.get(leaf.annotation, "x")
+    if typing.get_origin(leaf.annotation) is tuple:
+        return ("x",)
+    return {int: 1, float: 1.0, bool: False, Path: Path("x")}.get(leaf.annotation, "x")
 
 
 def expected_tree(command: str) -> tuple[Any, dict[str, Any]]:
