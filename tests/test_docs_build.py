@@ -10,6 +10,7 @@ import os
 import re
 import subprocess
 import sys
+import typing
 from pathlib import Path
 
 import pytest
@@ -107,3 +108,49 @@ def test_the_readme_python_tour_runs(tmp_path: Path) -> None:
     )
     assert done.returncode == 0, done.stderr
     assert re.search(r"\d+ of 20 held, \d+ by the handle", done.stdout), done.stdout
+
+
+def test_every_page_outside_the_runs_is_in_the_nav() -> None:
+    """A page under docs/ is reached from the navigation (the per-run result pages under
+    docs/results/NAME/ are reached from the results index instead)."""
+    nav = set(_nav_pages(yaml.safe_load(CONFIG.read_text())["nav"]))
+    docs = ROOT / "docs"
+    pages = {p.relative_to(docs).as_posix() for p in docs.rglob("*.md")}
+    unlisted = sorted(p for p in pages - nav if not re.match(r"results/[^/]+/", p))
+    assert not unlisted, f"pages missing from the nav of mkdocs.yml: {unlisted}"
+
+
+def _allowed(build: typing.Callable[[str], object]) -> list[str]:
+    """The names a checked setting allows, read from the one-line error that ``build`` (a
+    settings tree made with the setting at a bad value) raises: ``... is not one of a, b``."""
+    with pytest.raises(simgrasp.SimgraspError) as refused:
+        build("no-such-name")
+    return str(refused.value).split("is not one of ")[1].split(", ")
+
+
+def test_the_concept_pages_name_every_choice() -> None:
+    """The concept pages name every failure mode a trial record can hold and every protocol,
+    gripper, proposer and sensor the command line offers."""
+    failure = typing.get_type_hints(simgrasp.TrialResult)["failure"]
+    failures = [a for arg in typing.get_args(failure) for a in typing.get_args(arg)]
+    chain = simgrasp.ChainConfig.of
+
+    def label(protocol: typing.Any) -> object:
+        return simgrasp.LabelConfig("gen_mug", protocol=protocol)
+
+    pages = {
+        "trials.md": failures + _allowed(label),
+        "grippers.md": _allowed(lambda n: chain(gripper=n)),
+        "perception.md": _allowed(lambda n: chain(sensor__kind=n)),
+    }
+    assert len(failures) >= 7 and all(pages.values())
+    missing = [
+        f"{page}: {name}"
+        for page, names in pages.items()
+        for name in names
+        if f"`{name}`" not in (ROOT / "docs" / "concepts" / page).read_text()
+    ]
+    proposers = (ROOT / "docs" / "extending" / "proposer.md").read_text()
+    kinds = _allowed(lambda n: chain(detector__kind=n))
+    missing += [f"proposer.md: {n}" for n in kinds if f"`{n}`" not in proposers]
+    assert not missing, missing
