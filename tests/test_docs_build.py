@@ -22,6 +22,8 @@ from simgrasp.cli import COMMANDS
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "mkdocs.yml"
 
+pytestmark = pytest.mark.xdist_group("docs_build")  # one worker builds the site once
+
 
 def _nav_pages(entry: object) -> list[str]:
     """Every page file the ``nav`` entry lists, depth first."""
