@@ -37,6 +37,12 @@ from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfi
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
 
+EXAMPLES = (
+    "simgrasp detect mug.ply --units mm --json",
+    "simgrasp detect view.pcd --viewpoint 0 0 0 --detector tenpas",
+)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
@@ -47,16 +53,16 @@ class Options(Checked):
     surface, sampled by the seed; --mesh.points); or a depth image .png / .tif (one sensor
     frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else its valid
     pixels as the object, with a note when they hold a table)."""
-    units: Units = "m"
+    units: Units = setting("m", main=True)
     """Units of the file's coordinates and of --viewpoint (results are in meters)."""
-    json: bool = False
+    json: bool = setting(False, main=True)
     """Print one JSON object instead of a table."""
-    seed: int = 0
-    """Seed of the neighborhood sampling."""
+    seed: int = setting(0, main=True)
+    """Seed of the neighborhood sampling (and of the points drawn over a mesh's surface)."""
     detector: DetectorConfig = field(default_factory=DetectorConfig)
     gripper_width: float | None = None
     """Maximum gripper opening (m); sets the chosen detector's gripper_max_opening."""
-    viewpoint: tuple[float, float, float] | None = setting(None, metavar=("X", "Y", "Z"))
+    viewpoint: tuple[float, float, float] | None = setting(None, metavar=("X", "Y", "Z"), main=True)
     """Camera position for a single-view cloud (m, the cloud's frame): normals are turned
     toward it."""
     single_view: bool = True
@@ -70,9 +76,9 @@ class Options(Checked):
     )
     """Where the classifier keeps nothing, the fallback is
     `QuadricDetectorConfig.real_depth()` (not a flag)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot", main=True)
     """Write a picture of the detection."""
-    segment: bool = False
+    segment: bool = setting(False, main=True)
     """CLOUD is a whole scene: segment it (as `simgrasp segment`) and detect on each object;
     normals face the file's VIEWPOINT unless --viewpoint is given."""
     object: str = setting("all", metavar="K|all")

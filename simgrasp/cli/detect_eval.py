@@ -35,19 +35,23 @@ REAL_ONLY = ("real_configs", "real_dir")
 """Settings of ``--real`` only."""
 
 
+EXAMPLES = ("simgrasp detect-eval --objects paper --noise 0:0.1:0.01 --seeds 10 --workers 2",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
-    objects: tuple[str, ...] = ("paper",)
+    objects: tuple[str, ...] = setting(("paper",), main=True)
     """Object names and/or the sets paper, ycb, generated, all."""
-    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
+    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS", main=True)
     """Multiplicative noise sigmas: START:STOP:STEP (e.g. 0:0.1:0.01) or a comma list."""
-    seeds: PositiveInt = 10
+    seeds: PositiveInt = setting(10, main=True)
     """Seeds 0..N-1 per object and sigma."""
-    detector: tuple[DetectorName, ...] = DETECTORS
+    detector: tuple[DetectorName, ...] = setting(DETECTORS, main=True)
     """Detectors to compare."""
     gripper_width: Positive | None = setting(None, metavar="M")
     """Maximum gripper opening (m; default the detectors' 0.085)."""
-    workers: PositiveInt = 1
+    workers: PositiveInt = setting(1, main=True)
     """Parallel worker processes (or Ray CPUs)."""
     backend: Literal["local", "ray"] = "local"
     """Run detections in local worker processes or as Ray tasks."""
@@ -55,7 +59,7 @@ class Options(YcbSource):
     """Ray cluster to join with --backend ray (auto or HOST:PORT)."""
     no_progress: bool = False
     """Hide the progress bar."""
-    out: Path = Path("out/detect-eval")
+    out: Path = setting(Path("out/detect-eval"), main=True)
     """Output directory (detections.jsonl, resumed by the same command; run.json, the CSV,
     tables and plot)."""
     real: Path | None = setting(None, metavar="MANIFEST")

@@ -28,6 +28,10 @@ MeshUnits = Literal["m", "cm", "mm"]
 METERS_PER_UNIT: dict[str, float] = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
 
+EXAMPLES = ("simgrasp label-handles wrench.stl --units mm --out handles.json",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options:
     object: str = setting(positional=True, metavar="OBJECT")
@@ -35,13 +39,13 @@ class Options:
     name (a YCB id, gen_<kind>_s<N>, a catalog name), in meters."""
     scale: float = 1.0
     """Multiply a mesh file by this (e.g. an ACRONYM file's object/scale) ..."""
-    units: MeshUnits = "m"
+    units: MeshUnits = setting("m", main=True)
     """... and by the meters per unit of these units."""
     name: str | None = None
     """Object name in the output file (default: the mesh file's stem, or the object name)."""
-    out: Path = setting(Path("handles.json"), output="file", suffixes=(".json",))
+    out: Path = setting(Path("handles.json"), output="file", suffixes=(".json",), main=True)
     """Output label file (the format of models/handles/ycb_handles.json)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot", main=True)
     """Also write a picture of the label on the scanned surface."""
     label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
 

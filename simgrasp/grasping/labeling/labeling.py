@@ -64,10 +64,10 @@ class LabelConfig(Checked):
     """
 
     object: str = setting("", positional=True, metavar="OBJECT")
-    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
-    protocol: Protocol = DEFAULT_PROTOCOL
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names, main=True)
+    protocol: Protocol = setting(DEFAULT_PROTOCOL, main=True)
     seed: NonNegativeInt = 0
-    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
+    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement", main=True)
     free_floating: bool = False
 
     @property

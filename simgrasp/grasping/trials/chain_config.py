@@ -41,7 +41,7 @@ class ChainDetectorConfig(DetectorConfig):
     default would change."""
 
     kind: str = setting(  # type: ignore[assignment]
-        DEFAULT_PROPOSER, flag="--detector", choices=proposer_names
+        DEFAULT_PROPOSER, flag="--detector", choices=proposer_names, main=True
     )
     """The grasp proposer (:mod:`simgrasp.grasping.proposers`): quadric: quadric fits with the
     paper's criteria; tenpas: ten Pas & Platt 2013's shells; centroid: top-down grasps at the
@@ -62,7 +62,7 @@ class ChainConfig(Checked):
         exclude=("quadric.gripper_max_opening", "tenpas.gripper_max_opening"),
     )
     """The detectors' gripper opening is the chain gripper's."""
-    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names, main=True)
     """The parallel-jaw gripper that executes the grasp."""
     noise: NoiseSigma = 0.0
     """The paper's multiplicative noise sigma on the observed cloud about its centroid
