@@ -33,7 +33,7 @@ from simgrasp.errors import DataNotFoundError  # noqa: E402
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest  # noqa: E402
 from simgrasp.evaluation.sim_views import SimView, capture  # noqa: E402
 from simgrasp.handles import SingleViewConfig  # noqa: E402
-from simgrasp.handles.single_view import detect_single_view  # noqa: E402
+from simgrasp.handles.single_view.detector import detect_single_view  # noqa: E402
 
 SIM_VIEWS = (
     SimView("gen_mug", "upright", 0.78, 32.0, "stereo"),

@@ -63,8 +63,8 @@ class Options(Checked):
     """Narrowest fit kept when its axis is near its surface, in spacings (default: the learned
     setting's)."""
     body_wall: bool = True
-    """The default's body-wall test (:mod:`simgrasp.handles.body_wall`): on since 7 December
-    2026; false scores the default before that day."""
+    """The default's body-wall test (:mod:`simgrasp.handles.single_view.body_wall`): on since 7
+    December 2026; false scores the default before that day."""
 
 
 def cell(rows: list[RealDetectRow] | list[PotResult]) -> str:

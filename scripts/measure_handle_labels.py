@@ -34,6 +34,8 @@ from pathlib import Path
 from typing import Literal
 
 from simgrasp.assets.auto_handles import LABELER_VERSION
+from simgrasp.autolabel.auto_label import auto_handle_label
+from simgrasp.autolabel.config import AutoLabelConfig
 from simgrasp.config.arguments import script_main
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
@@ -44,7 +46,6 @@ from simgrasp.evaluation.acronym_handles import (
     trial_labels,
     trial_subset_shares,
 )
-from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 
 GOAL_ON, GOAL_OFF = 0.90, 0.95
 HANDLE_SUBSETS = {

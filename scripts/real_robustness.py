@@ -62,8 +62,8 @@ class Options(Checked):
     """Also degrade and score the simulated views posed like the real mug captures (needs
     $SIMGRASP_YCB_DIR for the YCB mug)."""
     body_wall: bool = True
-    """The default's body-wall test (:mod:`simgrasp.handles.body_wall`): on, as ``detect``
-    runs it since 7 December 2026; false scores the default before that day."""
+    """The default's body-wall test (:mod:`simgrasp.handles.single_view.body_wall`): on, as
+    ``detect`` runs it since 7 December 2026; false scores the default before that day."""
 
     def single_view(self) -> SingleViewConfig | None:
         """The single-view settings to score (None: ``detect``'s default)."""

@@ -117,7 +117,8 @@ class Options(Checked):
     classifier: Path | None = None
     """Also score the default with this classifier file (train_candidate_classifier.py)."""
     body_wall: bool = True
-    """The default's body-wall test (simgrasp.handles.body_wall): on since 7 December 2026."""
+    """The default's body-wall test (simgrasp.handles.single_view.body_wall): on since 7 December
+    2026."""
     also_body_wall: bool | None = None
     """Also score the default with the body-wall test on (column "body wall") or off ("no body
     wall"); none: no such column."""

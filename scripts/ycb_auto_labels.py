@@ -27,10 +27,11 @@ import numpy as np
 from generated_labels import add_row, kept_rows, settings_key
 
 from simgrasp.assets.registry import load_object
+from simgrasp.autolabel.auto_label import auto_handle_label
+from simgrasp.autolabel.config import AutoLabelConfig
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 from simgrasp.labels import load_label_file
 from simgrasp.perception import sample_surface
 

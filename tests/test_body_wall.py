@@ -1,5 +1,5 @@
-"""The body-wall test of the single-view detector (simgrasp.handles.body_wall): a half wall
-seen from one side is found with its radius and axis, a flat face or blade, a thin round
+"""The body-wall test of the single-view detector (simgrasp.handles.single_view.body_wall): a
+half wall seen from one side is found with its radius and axis, a flat face or blade, a thin round
 handle or a long one is no body, a seed gives one wall, the settings refuse an empty radius
 range, and on rendered mug views the wall is found and the detector with the test on keeps no
 candidate on it."""
@@ -13,8 +13,8 @@ import pytest
 
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
-from simgrasp.handles.body_wall import BodyWallConfig, fit_body_wall
-from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
+from simgrasp.handles.single_view.body_wall import BodyWallConfig, fit_body_wall
+from simgrasp.handles.single_view.detector import SingleViewConfig, detect_single_view
 
 
 def _seen_half_cylinder(

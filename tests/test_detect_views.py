@@ -16,9 +16,13 @@ from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.cli import main
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
-from simgrasp.handles.candidate_features import FEATURES, candidate_features, read_classifier
-from simgrasp.handles.detection import Candidate
-from simgrasp.handles.single_view import (
+from simgrasp.handles.core.detection import Candidate
+from simgrasp.handles.single_view.candidate_features import (
+    FEATURES,
+    candidate_features,
+    read_classifier,
+)
+from simgrasp.handles.single_view.detector import (
     FALLBACK_DETECTOR,
     SINGLE_VIEW_DETECTOR,
     SingleViewConfig,

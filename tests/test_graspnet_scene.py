@@ -19,7 +19,7 @@ from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.evaluation.frame_objects import read_frame_objects, truth_labels
 from simgrasp.evaluation.segment_eval import part_ious
 from simgrasp.handles.scene_detect import detect_in_scene
-from simgrasp.handles.single_view import SINGLE_VIEW_DETECTOR, SingleViewConfig
+from simgrasp.handles.single_view.detector import SINGLE_VIEW_DETECTOR, SingleViewConfig
 from simgrasp.labels import load_label_file
 from simgrasp.perception.scene_cloud import read_scene, scene_from_array
 from simgrasp.perception.segmentation.segment import segment_scene

@@ -104,7 +104,7 @@ def test_open3d_is_imported_before_the_first_timed_step() -> None:
     """A fresh process's first detection must not charge Open3D's one-time import (about a
     second) to its voxelize step: the detectors import it before their timers start."""
     script = (
-        "import sys; from simgrasp.handles.step_timer import new_timings\n"
+        "import sys; from simgrasp.handles.core.step_timer import new_timings\n"
         "assert 'open3d' not in sys.modules, 'imported with simgrasp already'\n"
         "assert new_timings() == {} and 'open3d' in sys.modules\n"
     )

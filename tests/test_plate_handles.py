@@ -13,7 +13,7 @@ from simgrasp.assets.real import default_real_dir, osd_scene_file, read_labeled_
 from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.evaluation.real_pots import labeled_pot, score_pot
 from simgrasp.handles import QuadricDetectorConfig, detect
-from simgrasp.handles.plate import plate_handles
+from simgrasp.handles.core.plate import plate_handles
 from simgrasp.perception.segmentation.segment import segment_scene
 
 TABLE = np.array([0.0, 0.0, 1.0, 0.0])  # z = 0, up +z

@@ -13,8 +13,8 @@ import pytest
 from simgrasp.evaluation.real_detect import detect_named, score_cloud
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import SimView, score_view
-from simgrasp.handles.detection import Candidate
-from simgrasp.handles.standoff import standoff_mask
+from simgrasp.handles.core.detection import Candidate
+from simgrasp.handles.single_view.standoff import standoff_mask
 from simgrasp.quadric.quadric import Quadric
 
 EYE = np.array([0.0, 0.0, 0.0])

@@ -1,4 +1,4 @@
-"""One default for every cloud: the single-view test (:mod:`simgrasp.handles.view_kind`)
+"""One default for every cloud: the single-view test (:mod:`simgrasp.handles.single_view.view_kind`)
 tells a camera's view from a cloud seen all around, and ``detect`` with single-view settings
 sends each to its detector. Simulated kinect views of the generated mug (no data needed), the
 real GPD table mug through ``simgrasp detect`` (needs the real clouds)."""
@@ -17,10 +17,10 @@ from simgrasp.cli import main
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
 from simgrasp.handles import SingleViewConfig, detect
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.quadric_detector import detect_quadric_handles
-from simgrasp.handles.single_view import FALLBACK_DETECTOR, SINGLE_VIEW_DETECTOR
-from simgrasp.handles.view_kind import (
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.quadric_detector import detect_quadric_handles
+from simgrasp.handles.single_view.detector import FALLBACK_DETECTOR, SINGLE_VIEW_DETECTOR
+from simgrasp.handles.single_view.view_kind import (
     ViewKindConfig,
     hidden_share,
     is_single_view,
@@ -196,7 +196,7 @@ def test_another_classifier_file_is_used_and_a_missing_one_is_one_line(
     from dataclasses import replace
 
     from simgrasp.errors import SimgraspError
-    from simgrasp.handles.single_view import detect_single_view
+    from simgrasp.handles.single_view.detector import detect_single_view
     from simgrasp.resources import model_path
 
     copy = tmp_path / "copy.json"

@@ -26,11 +26,11 @@ from typing import Any
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
-from simgrasp.handles.single_view import SingleViewConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
@@ -57,7 +57,7 @@ class Options(Checked):
     single_view: bool = True
     """A cloud measured to be one camera's view from the viewpoint (--viewpoint, with
     --segment the file's VIEWPOINT, else the origin: a sensor's own frame;
-    `simgrasp.handles.view_kind`) is detected with the
+    `simgrasp.handles.single_view.view_kind`) is detected with the
     single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
     quadric detector only); false: the quadric settings below on every cloud."""
     single_view_detector: SingleViewConfig = setting(
@@ -183,7 +183,7 @@ def _single_view(options: Options) -> SingleViewConfig | None:
 def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection) -> bool:
     """Whether the quadric detector ran on a cloud, given no viewpoint, that may be one
     camera's view from elsewhere than the origin (`view_kind.one_view_from_somewhere`)."""
-    from simgrasp.handles.view_kind import one_view_from_somewhere
+    from simgrasp.handles.single_view.view_kind import one_view_from_somewhere
 
     if not options.single_view or options.viewpoint is not None:
         return False

@@ -26,11 +26,11 @@ from simgrasp.config.values import to_plain
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, require_file
 from simgrasp.handles import detect
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Detection
 from simgrasp.handles.detector_config import DetectorName
-from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.single_view.detector import SingleViewConfig, detect_single_view
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS
 from simgrasp.runs.identity import claim_entries, claim_identity, file_digest
 

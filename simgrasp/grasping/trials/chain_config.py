@@ -16,7 +16,7 @@ from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grasping.proposers import DEFAULT_PROPOSER, proposer_names
 from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
-from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.sensors.settings import SensorSettings

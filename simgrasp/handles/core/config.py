@@ -23,7 +23,7 @@ CentralityMeasure = Literal["center", "stretch", "grasps"]
 
 @dataclass(frozen=True)
 class QuadricDetectorConfig(Checked):
-    """Parameters of :func:`simgrasp.handles.quadric_detector.detect_quadric_handles`.
+    """Parameters of :func:`simgrasp.handles.core.quadric_detector.detect_quadric_handles`.
 
     Lengths are meters. The paper's criteria are (a) the fitted kind is a real ellipsoid,
     a hyperboloid of one sheet or a real elliptic cylinder, (b) the quadric center (the axis,
@@ -151,7 +151,7 @@ class QuadricDetectorConfig(Checked):
     puts the axis centimeters behind the part; the seen surface is within half the
     part's thickness of its middle."""
     plate_test: bool = False
-    """Also accept flat-plate handles (:mod:`simgrasp.handles.plate`): a thin horizontal
+    """Also accept flat-plate handles (:mod:`simgrasp.handles.core.plate`): a thin horizontal
     plate standing off the body (a pot's side tab seen face-on, which no quadric fits),
     grasped across its thickness. Needs the table plane (``detect(..., table=...)``; also
     ``scene=``, everything seen; ``detect --segment`` gives both) and a viewpoint; without

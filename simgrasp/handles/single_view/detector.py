@@ -1,6 +1,6 @@
 """Handle detection on a single-view cloud with the standoff test
-(:mod:`simgrasp.handles.standoff`): the quadric detector's candidates, those without free
-space for the fingers on both sides (as the sensor sees them) dropped, the rest clustered and
+(:mod:`simgrasp.handles.single_view.standoff`): the quadric detector's candidates, those without
+free space for the fingers on both sides (as the sensor sees them) dropped, the rest clustered and
 ranked as the detector does (support, centrality, jaw clearance).
 
 What differs between captures is measured from the cloud, not chosen: the point spacing
@@ -20,20 +20,20 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
-from simgrasp.handles.body_wall import BodyWall, BodyWallConfig, fit_body_wall
-from simgrasp.handles.candidate_features import (
+from simgrasp.handles.core.cluster import cluster_handles
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Candidate, Detection
+from simgrasp.handles.core.quadric_detector import detect_quadric_handles
+from simgrasp.handles.single_view.body_wall import BodyWall, BodyWallConfig, fit_body_wall
+from simgrasp.handles.single_view.candidate_features import (
     FEATURES,
     MaxEnsemble,
     TreeClassifier,
     candidate_features,
     read_classifier,
 )
-from simgrasp.handles.cluster import cluster_handles
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Candidate, Detection
-from simgrasp.handles.quadric_detector import detect_quadric_handles
-from simgrasp.handles.standoff import StandoffConfig, standoff_mask
-from simgrasp.handles.view_kind import ViewKindConfig
+from simgrasp.handles.single_view.standoff import StandoffConfig, standoff_mask
+from simgrasp.handles.single_view.view_kind import ViewKindConfig
 from simgrasp.resources import model_path
 
 SINGLE_VIEW_DETECTOR = "quadric-single-view"
@@ -87,8 +87,9 @@ class SingleViewConfig(Checked):
     fit's axis from its seen surface point."""
     classifier: bool = False
     """Replace the standoff test by the shipped classifier over candidate features
-    (:mod:`simgrasp.handles.candidate_features`, ``models/handles/candidate_classifier.json``,
-    trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
+    (:mod:`simgrasp.handles.single_view.candidate_features`,
+    ``models/handles/candidate_classifier.json``, trained on simulated views by
+    ``scripts/train_candidate_classifier.py``)."""
     classifier_threshold: Fraction = 0.5
     """With ``classifier``: the least probability of being on a handle a candidate needs."""
     classifier_file: str = ""
@@ -96,7 +97,8 @@ class SingleViewConfig(Checked):
     use instead of the shipped one (a path; empty: the shipped one)."""
     body_wall: BodyWallConfig = field(default_factory=BodyWallConfig)
     """With ``body_wall.enabled``: kept candidates on the view's body wall are dropped
-    (:mod:`simgrasp.handles.body_wall`; on in :meth:`learned`, docs/results/real-detect)."""
+    (:mod:`simgrasp.handles.single_view.body_wall`; on in :meth:`learned`,
+    docs/results/real-detect)."""
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
@@ -119,8 +121,8 @@ class SingleViewConfig(Checked):
         simulated views); where the classifier keeps nothing, the quadric detector's
         :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm neighborhoods, the plate test
         for flat tabs; chosen on the tune osd-learn pots). Since 7 December 2026 kept candidates
-        on the view's body wall are dropped (:mod:`simgrasp.handles.body_wall`), and where
-        none forms a handle on a mug-sized wall, the candidates off it at probability 0.5 are
+        on the view's body wall are dropped (:mod:`simgrasp.handles.single_view.body_wall`), and
+        where none forms a handle on a mug-sized wall, the candidates off it at probability 0.5 are
         taken before the fallback (``body_wall.retry_threshold``).
         ``narrow_width_spacings=0`` reproduces the runs before 4 December, and
         ``body_wall=BodyWallConfig()`` (off) those before 7 December."""
