@@ -27,4 +27,4 @@ def read_graspnet_frame(folder: str | Path) -> NDArray[np.float32]:
             raise DataNotFoundError(
                 f"{folder}: no {path.name} (a GraspNet frame has depth.png and meta.mat)"
             )
-    return read_depth_image(depth_file).grid()
+    return read_depth_image(depth_file)
