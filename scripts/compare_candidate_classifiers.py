@@ -29,6 +29,7 @@ from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_m
 from simgrasp.evaluation.real_pots import POT_SEGMENTATION, PotResult, evaluate_real_pots
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
+from simgrasp.handles.presets import single_view_preset
 
 SIM_VIEWS = (
     SimView(pose="upright", distance=0.78, elevation_deg=32.0, sensor="kinect"),
@@ -110,7 +111,7 @@ def rows_for(settings: SingleViewConfig) -> Iterator[tuple[str, Callable[[], str
 
 def run(options: Options) -> None:
     """Print the table: a row per tune item, a column per model."""
-    settings = SingleViewConfig.learned().with_body_wall(options.body_wall)
+    settings = single_view_preset().with_body_wall(options.body_wall)
     if options.threshold is not None:
         settings = replace(settings, classifier_threshold=options.threshold)
     if options.min_width_spacings is not None:

@@ -25,15 +25,16 @@ from simgrasp.assets.real import default_real_dir
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig
+from simgrasp.handles.presets import quadric_preset, single_view_preset
 from simgrasp.handles.scene_detect import detect_in_scene
 from simgrasp.labels import HandleLabel, load_label_file
 from simgrasp.resources import model_path
 
 SETTINGS: dict[str, tuple[QuadricDetectorConfig, SingleViewConfig | None]] = {
-    "default": (QuadricDetectorConfig(), SingleViewConfig.learned()),
+    "default": (QuadricDetectorConfig(), single_view_preset()),
     "multi_view (former default, --single-view false)": (QuadricDetectorConfig(), None),
     "real_depth (the pots' preset, --single-view false)": (
-        QuadricDetectorConfig.real_depth(),
+        quadric_preset("real_depth"),
         None,
     ),
 }

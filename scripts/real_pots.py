@@ -24,15 +24,16 @@ from simgrasp.evaluation.real_pots import (
 )
 from simgrasp.handles import QuadricDetectorConfig, SingleViewConfig, TenPasConfig
 from simgrasp.handles.detector_config import DetectorName
+from simgrasp.handles.presets import quadric_preset, single_view_preset
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
 Setting = tuple[DetectorName, QuadricDetectorConfig | TenPasConfig, SingleViewConfig | None]
 """A detector, its settings and the single-view settings ``detect`` is given (or none)."""
 SETTINGS: dict[str, Setting] = {
-    "quadric real_depth": ("quadric", QuadricDetectorConfig.real_depth(), None),
+    "quadric real_depth": ("quadric", quadric_preset("real_depth"), None),
     "quadric real_depth without plate test": (
         "quadric",
-        QuadricDetectorConfig.real_depth(plate_test=False),
+        quadric_preset("real_depth", plate_test=False),
         None,
     ),
     "quadric default": ("quadric", QuadricDetectorConfig(), None),
@@ -40,12 +41,12 @@ SETTINGS: dict[str, Setting] = {
     "detect default (single view)": (
         "quadric",
         QuadricDetectorConfig(),
-        SingleViewConfig.learned(),
+        single_view_preset(),
     ),
 }
 """``detect default (single view)`` is what ``simgrasp detect --segment`` runs since 3
 December 2026: the quadric defaults, and on an object measured to be one view the
-single-view detector (:meth:`SingleViewConfig.learned`); ``quadric default`` is the quadric
+single-view detector (the preset ``learned``); ``quadric default`` is the quadric
 defaults on every object (``--single-view false``)."""
 CUTS = ("segment", "labels")
 """The pot cut by the scene segmentation (simgrasp segment), or by the ground-truth labels."""

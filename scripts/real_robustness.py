@@ -44,6 +44,7 @@ from simgrasp.evaluation.real_detect import (
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import REAL_CAPTURE_VIEWS, SimView, score_view
 from simgrasp.handles import SingleViewConfig
+from simgrasp.handles.presets import single_view_preset
 from simgrasp.runs.identity import claim_identity
 from simgrasp.seeding import rng_for
 
@@ -69,7 +70,7 @@ class Options(Checked):
         """The single-view settings to score (None: ``detect``'s default)."""
         if self.body_wall:
             return None
-        return SingleViewConfig.learned().with_body_wall(False)
+        return single_view_preset().with_body_wall(False)
 
 
 def measure(

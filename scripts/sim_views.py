@@ -26,10 +26,7 @@ CONFIGS = (
     "noisy_camera_cloud",
     "real_depth",
     "standoff",
-    "standoff_axis",
-    "standoff_measured",
     "learned",
-    "learned_bars",
 )
 
 

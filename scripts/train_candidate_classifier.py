@@ -10,9 +10,8 @@ with every view weighted alike and written as JSON. Needs scikit-learn and ``SIM
     python scripts/train_candidate_classifier.py --seeds 2 --workers 2 \
         --out models/handles/candidate_classifier.json
 
-``--first-objects`` trains on the 13 objects of the first classifier
-(``candidate_classifier_bars.json``; that file, of 3 December 2026, is not reproduced byte for
-byte: today's candidate detector gives 26,769 training candidates where it had 26,850),
+``--first-objects`` trains on the 13 objects of the first classifier (its runs:
+docs/results/real-detect/README.md),
 ``--with-drills`` adds ten generated drills (a model tried and not shipped);
 ``--degradations half quarter noise1mm noise2mm holes`` adds every view made worse as
 ``scripts/real_robustness.py`` makes captures worse (a model tried on 7 December 2026 and not

@@ -34,6 +34,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_detect import RealDetectRow, pooled_score
 from simgrasp.evaluation.sim_views import SimView, score_view
 from simgrasp.handles import SingleViewConfig
+from simgrasp.handles.presets import single_view_preset
 
 VIEWS = (  # (pose, distance m, elevation deg, sensor)
     ("upright", 0.78, 32.0, "kinect"),
@@ -130,7 +131,7 @@ class Options(Checked):
 
 def run(options: Options) -> str:
     """Score every mug, view and setting; the table."""
-    default = SingleViewConfig.learned().with_body_wall(options.body_wall)
+    default = single_view_preset().with_body_wall(options.body_wall)
     settings = {
         "default": default,
         f"narrow {options.narrow_width_spacings:g}": replace(

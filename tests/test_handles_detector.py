@@ -12,6 +12,7 @@ import pytest
 from simgrasp.assets.registry import load_object
 from simgrasp.handles import QuadricDetectorConfig, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
+from simgrasp.handles.presets import quadric_preset
 from simgrasp.perception import sample_surface
 from simgrasp.seeding import rng_for
 
@@ -132,7 +133,7 @@ def test_a_fine_pass_handle_counts_only_where_the_first_pass_found_none(make) ->
     (their scores now shares of both passes' candidates)."""
     cloud = make()
     first = detect(cloud.points, seed=1)
-    fine = QuadricDetectorConfig.two_scales()
+    fine = quadric_preset("two_scales")
     fine_alone = QuadricDetectorConfig(
         neighborhood_half_size=fine.fine_half_size,
         voxels_per_neighborhood=fine.fine_voxels_per_neighborhood,

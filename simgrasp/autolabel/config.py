@@ -15,12 +15,13 @@ from simgrasp.autolabel.revolution import RevolutionConfig
 from simgrasp.autolabel.virtual_scan import ScanConfig
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt
 from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.presets import quadric_preset
 
 
 def _label_detector() -> QuadricDetectorConfig:
     """The detector for labeling: both passes, a Franka-class 8 cm opening, every handle
     hypothesis kept (the choice between parts is made across views, not per view)."""
-    return QuadricDetectorConfig.two_scales(gripper_max_opening=0.08, min_relative_score=0.0)
+    return quadric_preset("two_scales", gripper_max_opening=0.08, min_relative_score=0.0)
 
 
 @dataclass(frozen=True)
@@ -114,24 +115,23 @@ class AutoLabelConfig(Checked):
     """Boxes per part: its surface split into this many pieces ..."""
     pieces: Literal["slabs", "kmeans"] = "kmeans"
     """... k-means clusters of its points, started from the slabs' centroids (they follow a
-    curved strap instead of spanning its opening: generated mugs' IoU 0.77 -> 0.86,
-    docs/results/generated-labels/README.md), or slabs of equal point count along its main
-    axis (the labels before 6 December 2026)."""
+    curved strap instead of spanning its opening; docs/results/generated-labels/README.md),
+    or slabs of equal point count along its main axis."""
     margin: NonNegative = 0.002
     """Each box is grown by this much."""
     cross_section: CrossSectionConfig = field(default_factory=CrossSectionConfig)
     """On a long tool, a part's region leaves out the slabs much thinner than where the part
     was found (:mod:`simgrasp.autolabel.cross_section`: a knife's blade, a spatula's plate) and
     takes the slabs whose section stays like the part's (the rest of a flat handle).
-    Chosen on the tune half of the ACRONYM knives: their blade grasps on the label 10 -> 1 of 46
-    held (docs/results/handle-labels/README.md). ``cross_section.min_ratio`` 0: off."""
+    Chosen on the tune half of the ACRONYM knives, where it keeps their blade grasps off the
+    label (docs/results/handle-labels/README.md). ``cross_section.min_ratio`` 0: off."""
     revolution: RevolutionConfig = field(default_factory=RevolutionConfig)
     """On a body of revolution (a mug, a jug, a pot), the scanned surface standing off the
     body (:mod:`simgrasp.autolabel.revolution`) joins the label where it touches a part's
     surface, and is the label when no part was found (a flat strap, a solid fin). Chosen on
     the tune half of the ACRONYM affordance files (docs/results/handle-labels/README.md):
-    tune mugs 0.860 -> 0.918 of handle grasps on the label, other grasps off it unchanged;
-    knives are refused by the test. ``revolution.margin`` 0: off."""
+    more of a mug's handle grasps on the label, its other grasps still off it; knives are
+    refused by the test. ``revolution.margin`` 0: off."""
     seed: int = 0
     """Seeds the detector's neighborhood sampling (view k uses seed + k)."""
 

@@ -9,7 +9,7 @@ Detector defaults: the quadric detector's plain defaults (one pass), the same as
 that the data show to be one camera's view from the viewpoint goes to the single-view
 detector instead (``--single-view``, docs/results/real-detect). ``trial``
 and ``evaluate`` add a fine pass for the fused clouds of rendered depth views
-(``--detector.quadric.fine-half-size 0.012``, ``QuadricDetectorConfig.two_scales``), on which
+(``--detector.quadric.fine-half-size 0.012``, the preset ``two_scales``), on which
 thin handles (a lying mug's strap) are seen from two sides; give that flag here to detect on a
 cloud file as ``trial`` does. The defaults stay apart so that both commands' committed
 results stay as they are.
@@ -30,6 +30,7 @@ from simgrasp.handles.baselines.tenpas_config import TenPasConfig
 from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.core.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.handles.presets import single_view_preset
 from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
@@ -58,13 +59,13 @@ class Options(Checked):
     """A cloud measured to be one camera's view from the viewpoint (--viewpoint, with
     --segment the file's VIEWPOINT, else the origin: a sensor's own frame;
     `simgrasp.handles.single_view.view_kind`) is detected with the
-    single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
+    single-view detector (the preset `learned`: the shipped candidate classifier;
     quadric detector only); false: the quadric settings below on every cloud."""
     single_view_detector: SingleViewConfig = setting(
-        default_factory=SingleViewConfig.learned, exclude=("fallback",)
+        default_factory=single_view_preset, exclude=("fallback",)
     )
     """Where the classifier keeps nothing, the fallback is
-    `QuadricDetectorConfig.real_depth()` (not a flag)."""
+    the preset `real_depth` (not a flag)."""
     plot: Path | None = setting(None, metavar="OUT.png", output="plot")
     """Write a picture of the detection."""
     segment: bool = False

@@ -1,7 +1,10 @@
 """Handle detection: from one object's point cloud to handle hypotheses.
 
-``detect`` runs either the quadric detector (the paper's method, default) or the ten Pas &
-Platt 2013 style detector behind the same interface, so the harness can compare them.
+``detect`` runs either the quadric detector (the paper's method, default; :mod:`.core`), on
+one camera's view the single-view detector (:mod:`.single_view`), or the ten Pas & Platt 2013
+style detector (:mod:`.baselines`) behind the same interface, so the harness can compare them.
+:mod:`.presets` names whole settings of each; :mod:`.scene_detect` detects on every object of
+a segmented scene; :mod:`.accuracy` scores a detection against labeled handles.
 """
 
 from __future__ import annotations

@@ -50,10 +50,10 @@ NORMAL_REACH = 0.05
 
 @dataclass(frozen=True)
 class BodyWallConfig(Checked):
-    """When and how a single view's body wall drops candidates: on in
-    :meth:`~simgrasp.handles.single_view.detector.SingleViewConfig.learned`, the single-view default
-    since 7 December 2026; off in a bare ``SingleViewConfig()`` and the presets kept for old
-    runs (docs/results/real-detect/README.md for its figures and how it was chosen)."""
+    """When and how a single view's body wall drops candidates: on in the single-view default
+    (the preset ``learned``, :mod:`simgrasp.handles.presets`), off in a bare
+    ``SingleViewConfig()`` (docs/results/real-detect/README.md for its figures and how it was
+    chosen)."""
 
     enabled: bool = False
     """Drop kept candidates whose seen surface point lies on the view's body wall."""
