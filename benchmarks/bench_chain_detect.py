@@ -1,5 +1,5 @@
 """Seconds to detect handles in the full chain's fused camera clouds: the chain's default
-``QuadricDetectorConfig.two_scales()`` against the paper's single pass, in one run (medians).
+``quadric_preset("two_scales")`` against the paper's single pass, in one run (medians).
 
 The clouds are the chain's own (stable placement, 4 views, the given sensor) for the paper's
 objects, one scene per seed; each is detected with both settings in turn, ``--runs`` times.
@@ -29,6 +29,7 @@ from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.grasping.trials.chain_config import ChainConfig  # noqa: E402
 from simgrasp.grippers import make_gripper  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, detect  # noqa: E402
+from simgrasp.handles.presets import quadric_preset  # noqa: E402
 from simgrasp.perception.sensors.settings import SensorSettings  # noqa: E402
 from simgrasp.scenes.kept_renderer import RendererKeeper  # noqa: E402
 from simgrasp.scenes.observe import observe, viewpoint_normals  # noqa: E402
@@ -36,7 +37,7 @@ from simgrasp.scenes.scene import build_scene  # noqa: E402
 
 SETTINGS = {
     "single pass": QuadricDetectorConfig(),
-    "two_scales()": QuadricDetectorConfig.two_scales(),
+    "two_scales()": quadric_preset("two_scales"),
 }
 
 

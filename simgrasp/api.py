@@ -25,10 +25,10 @@ if TYPE_CHECKING:
     from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.result import TrialResult
-    from simgrasp.handles.config import QuadricDetectorConfig
-    from simgrasp.handles.detection import Detection
+    from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+    from simgrasp.handles.core.config import QuadricDetectorConfig
+    from simgrasp.handles.core.detection import Detection
     from simgrasp.handles.detector_config import DetectorConfig
-    from simgrasp.handles.tenpas_config import TenPasConfig
     from simgrasp.perception.cloud_file import MeshReadConfig
     from simgrasp.perception.depth_image import DepthImageConfig
     from simgrasp.perception.segmentation.segment import Segmentation
@@ -70,14 +70,13 @@ def detect_handles(
     detector (a :class:`DetectorConfig`, or one detector's own settings); the default is the
     one ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one
     camera's view from ``viewpoint`` (none given: from the origin, a sensor's own frame) goes
-    to the single-view detector
-    (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`). Results are in the
-    cloud's frame, in meters."""
+    to the single-view detector (the preset ``learned``, :mod:`simgrasp.handles.presets`).
+    Results are in the cloud's frame, in meters."""
     from simgrasp.handles import detect
-    from simgrasp.handles.config import QuadricDetectorConfig
+    from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+    from simgrasp.handles.core.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig
-    from simgrasp.handles.single_view import SingleViewConfig
-    from simgrasp.handles.tenpas_config import TenPasConfig
+    from simgrasp.handles.presets import single_view_preset
 
     points, normals, viewpoint = _cloud_in_meters(points, normals, viewpoint, units, mesh, seed)
 
@@ -88,7 +87,7 @@ def detect_handles(
     else:
         kind = "quadric" if isinstance(chosen, QuadricDetectorConfig) else "tenpas"
         settings = chosen
-    chosen_view = SingleViewConfig.learned() if single_view else None
+    chosen_view = single_view_preset() if single_view else None
     return detect(
         points,
         normals,

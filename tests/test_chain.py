@@ -17,7 +17,7 @@ from simgrasp.grasping.planning.planner import (
 from simgrasp.grasping.trials.chain import run_chain
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers.geometry import GripperGeometry
-from simgrasp.handles.detection import Handle
+from simgrasp.handles.core.detection import Handle
 
 GEOMETRY = GripperGeometry(max_opening=0.085)
 

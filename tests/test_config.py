@@ -18,8 +18,8 @@ from simgrasp.config.schema import leaves
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 
 
 def effective(argv: list[str], capsys: pytest.CaptureFixture[str]) -> dict:

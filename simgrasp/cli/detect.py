@@ -9,7 +9,7 @@ Detector defaults: the quadric detector's plain defaults (one pass), the same as
 that the data show to be one camera's view from the viewpoint goes to the single-view
 detector instead (``--single-view``, docs/results/real-detect). ``trial``
 and ``evaluate`` add a fine pass for the fused clouds of rendered depth views
-(``--detector.quadric.fine-half-size 0.012``, ``QuadricDetectorConfig.two_scales``), on which
+(``--detector.quadric.fine-half-size 0.012``, the preset ``two_scales``), on which
 thin handles (a lying mug's strap) are seen from two sides; give that flag here to detect on a
 cloud file as ``trial`` does. The defaults stay apart so that both commands' committed
 results stay as they are.
@@ -27,11 +27,12 @@ from typing import Any
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
-from simgrasp.handles.single_view import SingleViewConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.presets import single_view_preset
+from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.perception.cloud_file import MeshReadConfig, is_mesh_file
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
@@ -68,14 +69,14 @@ class Options(Checked):
     single_view: bool = True
     """A cloud measured to be one camera's view from the viewpoint (--viewpoint, with
     --segment the file's VIEWPOINT, else the origin: a sensor's own frame;
-    `simgrasp.handles.view_kind`) is detected with the
-    single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
+    `simgrasp.handles.single_view.view_kind`) is detected with the
+    single-view detector (the preset `learned`: the shipped candidate classifier;
     quadric detector only); false: the quadric settings below on every cloud."""
     single_view_detector: SingleViewConfig = setting(
-        default_factory=SingleViewConfig.learned, exclude=("fallback",)
+        default_factory=single_view_preset, exclude=("fallback",)
     )
     """Where the classifier keeps nothing, the fallback is
-    `QuadricDetectorConfig.real_depth()` (not a flag)."""
+    the preset `real_depth` (not a flag)."""
     plot: Path | None = setting(None, metavar="OUT.png", output="plot", main=True)
     """Write a picture of the detection."""
     segment: bool = setting(False, main=True)
@@ -198,7 +199,7 @@ def _single_view(options: Options) -> SingleViewConfig | None:
 def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection) -> bool:
     """Whether the quadric detector ran on a cloud, given no viewpoint, that may be one
     camera's view from elsewhere than the origin (`view_kind.one_view_from_somewhere`)."""
-    from simgrasp.handles.view_kind import one_view_from_somewhere
+    from simgrasp.handles.single_view.view_kind import one_view_from_somewhere
 
     if not options.single_view or options.viewpoint is not None:
         return False

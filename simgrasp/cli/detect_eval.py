@@ -22,6 +22,7 @@ from simgrasp.config.checks import Positive, PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import NoiseSigma
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
+from simgrasp.handles.presets import preset_names
 
 if TYPE_CHECKING:
     from simgrasp.evaluation.detection_run import DetectionItem
@@ -65,11 +66,9 @@ class Options(YcbSource):
     real: Path | None = setting(None, metavar="MANIFEST")
     """Score the real clouds of this manifest instead (TOML, see
     simgrasp/evaluation/real_manifest.py; the shipped one: models/handles/real_detect.toml)."""
-    real_configs: tuple[str, ...] = ("default",)
-    """With --real: the named detector settings to compare (default: what `simgrasp detect`
-    runs; multi_view: the quadric defaults on every cloud, the default before 3 December
-    2026; paper, two_scales, camera_cloud, noisy_camera_cloud, real_depth, tenpas, standoff,
-    standoff_axis, standoff_measured, learned)."""
+    real_configs: tuple[str, ...] = setting(("default",), choices=preset_names, metavar="PRESET")
+    """With --real: the detector presets to compare (simgrasp.handles.presets, each with what
+    it is for and its results page; default: what `simgrasp detect` runs)."""
     real_dir: Path | None = None
     """With --real: folder the manifest's cloud paths are relative to (default:
     $SIMGRASP_REAL_DIR, else ../shared/real)."""

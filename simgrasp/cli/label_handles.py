@@ -5,7 +5,7 @@ OBJECT is a mesh file (.obj .stl .ply .off .glb ...), scaled to meters (``--scal
 a catalog name; in its own frame, as :func:`simgrasp.assets.registry.load_object_mesh` loads
 it: to compare the automatic label with a shipped or exact one). It is scanned from many
 directions, our quadric detector runs on every scan and its candidates are clustered into the
-oriented boxes of ``models/handles/ycb_handles.json`` (:mod:`simgrasp.handles.auto_label`), in
+oriented boxes of ``models/handles/ycb_handles.json`` (:mod:`simgrasp.autolabel.auto_label`), in
 the scaled mesh's own frame. ``--plot`` draws the label on the scanned surface for review.
 Read the result with ``simgrasp.labels.load_handle_label``.
 """
@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
 from simgrasp.assets.mesh_object import MESH_SUFFIXES
+from simgrasp.autolabel.config import AutoLabelConfig
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.auto_label import AutoLabelConfig
 
 if TYPE_CHECKING:
     import trimesh
@@ -51,7 +51,7 @@ class Options:
 
 
 def run(options: Options) -> int:
-    from simgrasp.handles.auto_label import auto_handle_label
+    from simgrasp.autolabel.auto_label import auto_handle_label
     from simgrasp.labels import write_label_file
     from simgrasp.stdout_guard import stdout_to_stderr
 

@@ -5,7 +5,7 @@ the best grasp. Every chain setting is a flag (``--detector.quadric.shell-test f
 ``--trial.hold-time 2``) or comes from ``--config FILE``; ``--print-config`` shows them.
 
 The quadric detector's chain default adds a fine pass (``--detector.quadric.fine-half-size``
-0.012, ``QuadricDetectorConfig.two_scales``) to the plain defaults that ``detect`` and
+0.012, the preset ``two_scales``) to the plain defaults that ``detect`` and
 ``detect-eval`` use: the chain's clouds are fused rendered depth views, where a thin handle (a
 lying mug's strap) is seen from two sides and the one-pass fits come out too wide. Give
 ``--detector.quadric.fine-half-size 0`` to detect as ``detect`` does.

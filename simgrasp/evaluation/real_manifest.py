@@ -199,12 +199,11 @@ def load_real_cloud(cloud: RealCloud) -> NDArray[np.float64]:
     cropped and cut as the manifest says; one line naming the cloud when the file is missing,
     the units are wrong or its label lies outside it."""
     from simgrasp.perception.cloud_io import read_cloud
-    from simgrasp.perception.depth_image import read_depth_image
+    from simgrasp.perception.depth_image import read_depth_image, returned_points
 
     require_file(cloud)
     if cloud.path.suffix.lower() in DEPTH_IMAGE_FORMATS:
-        frame = read_depth_image(cloud.path, cloud.depth)
-        points = frame.points[frame.valid].astype(np.float64)
+        points = returned_points(read_depth_image(cloud.path, cloud.depth))
     else:
         points, _ = read_cloud(cloud.path)
         points = cloud_in_meters(points, cloud.units, f"cloud {cloud.name} ({cloud.path})")

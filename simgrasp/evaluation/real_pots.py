@@ -19,10 +19,10 @@ from numpy.typing import NDArray
 from simgrasp.assets.real import LabeledScene
 from simgrasp.assets.scene_labels import SceneHandleLabel, load_scene_labels
 from simgrasp.handles import detect
-from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorName
-from simgrasp.handles.single_view import SingleViewConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 

@@ -8,8 +8,8 @@ from typing import Literal
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 
 DetectorName = Literal["quadric", "tenpas"]
 DETECTORS: tuple[DetectorName, ...] = ("quadric", "tenpas")

@@ -87,12 +87,11 @@ def read_object_cloud(
 
 def _depth_pixels(path: Path, units: Units, depth: DepthImageConfig | None) -> NDArray[np.float64]:
     """The valid pixels of a depth image (an object cut from its frame: other pixels 0)."""
-    from simgrasp.perception.depth_image import read_depth_image
+    from simgrasp.perception.depth_image import read_depth_image, returned_points
 
     if units != "m":
         raise SimgraspError(f"{path}: a depth image's units are set by --depth.scale, not --units")
-    scene = read_depth_image(path, depth)
-    return scene.points[scene.valid].astype(np.float64)
+    return returned_points(read_depth_image(path, depth))
 
 
 def read_mesh_cloud(path: Path, units: Units, config: MeshReadConfig, seed: int = 0) -> Cloud:

@@ -27,7 +27,7 @@ from simgrasp.grasping.trials.trial import run_trial
 from simgrasp.grippers import make_gripper
 from simgrasp.grippers.base import Gripper
 from simgrasp.handles.accuracy import score_detection
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.core.detection import Detection
 from simgrasp.scenes.observe import ObjectCloud, observe, viewpoint_normals
 from simgrasp.scenes.perceive import perceive_target
 from simgrasp.scenes.scene import Scene, build_scene

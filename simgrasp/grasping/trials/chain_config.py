@@ -16,8 +16,9 @@ from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grasping.proposers import DEFAULT_PROPOSER, proposer_names
 from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
-from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.handles.presets import chain_quadric
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
@@ -33,7 +34,7 @@ PERCEPTIONS: tuple[Perception, ...] = ("auto", "segment", "mask")
 class ChainDetectorConfig(DetectorConfig):
     """The grasp proposer: a handle detector, or a baseline planner that ignores handles.
 
-    The quadric detector's chain default is :meth:`QuadricDetectorConfig.two_scales` (the
+    The quadric detector's chain default is the preset ``two_scales`` (the
     defaults plus a fine Taubin pass for thin handles seen in fused depth views: a lying
     mug's strap); ``detect`` and ``detect-eval`` keep the plain defaults (one pass). They
     differ on purpose and say so in their ``--help``: each default produced its command's
@@ -46,7 +47,7 @@ class ChainDetectorConfig(DetectorConfig):
     """The grasp proposer (:mod:`simgrasp.grasping.proposers`): quadric: quadric fits with the
     paper's criteria; tenpas: ten Pas & Platt 2013's shells; centroid: top-down grasps at the
     cloud centroid; random: random antipodal point pairs."""
-    quadric: QuadricDetectorConfig = field(default_factory=QuadricDetectorConfig.two_scales)
+    quadric: QuadricDetectorConfig = field(default_factory=chain_quadric)
 
 
 def _chain_scene() -> SceneConfig:

@@ -9,8 +9,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.cluster.hierarchy import fcluster, linkage
 
-from simgrasp.handles.config import CentralityMeasure
-from simgrasp.handles.detection import Handle
+from simgrasp.handles.core.config import CentralityMeasure
+from simgrasp.handles.core.detection import Handle
 
 
 @dataclass(frozen=True)

@@ -12,8 +12,8 @@ as thick as the slabs a handle part was found in, so a handle's label ends where
 begins instead of running past the guard; and (:func:`section_run`) the label also runs on
 over the slabs whose section stays like the part's (thickness and width, the spread along
 the slab's major axis), so it reaches the end of a handle the detector found only in part.
-Settings chosen on the tune half of the ACRONYM knives (docs/results/handle-labels/README.md,
-fifth and sixth rounds). Meters, the frame of the points.
+Settings chosen on the tune half of the ACRONYM knives (docs/results/handle-labels/README.md).
+Meters, the frame of the points.
 """
 
 from __future__ import annotations
@@ -39,9 +39,8 @@ class CrossSectionConfig(Checked):
     along the slab's major axis) as the median of the slabs its candidates lie in, and at
     least ``head_thickness_ratio`` times as thick: a head beyond a bar (a wrench's ring, a
     hammer's head) grows both ways, a spatula's plate only widens (0: off). Chosen on
-    generated long tools (wrenches' median IoU 0.67 -> 0.75, hammers' 0.92 -> 0.97, knives,
-    spatulas and screwdrivers within +0.01; 1.5 gave less), with the ACRONYM tune half
-    unchanged (docs/results/handle-labels/README.md, ninth round)."""
+    generated long tools, with the ACRONYM tune half unchanged
+    (docs/results/handle-labels/README.md)."""
     head_thickness_ratio: NonNegative = 1.0
     """... the thickness factor of that test."""
     min_elongation: Positive = 3.0
@@ -57,21 +56,15 @@ class CrossSectionConfig(Checked):
     stay within this factor of the part's median slab, either way: the rest of a handle the
     detector found in part (a flat handle's flat end), up to a blade (thinner) or a head
     (wider). A part on a blade or a shaft does not grow: one beside an unbroken run of slabs
-    at least ``1 / min_ratio`` times as thick and ``min_run`` long (a handle; since the
-    twelfth round, docs/results/handle-labels/README.md: before, a part thinner than the
-    tool's median slab, which decided by noise on a tool whose handle section is its most
-    common one) (0: off).
-    Chosen on the tune half of the ACRONYM knives (flat-handled 89e8: 33 -> 48 of 48 held
-    handle grasps on the label; 1.33-2.0 alike) with the generated long tools unchanged
-    (docs/results/handle-labels/README.md, sixth round)."""
+    at least ``1 / min_ratio`` times as thick and ``min_run`` long (a handle) (0: off).
+    Chosen on the tune half of the ACRONYM knives with the generated long tools unchanged
+    (docs/results/handle-labels/README.md)."""
     min_run: NonNegative = 0.03
     """A part whose run (the slabs of :func:`section_run`, by the ``grow_ratio`` test alone:
     no thinness guard) is shorter than this is dropped when another part's run is at least
     this long: a handle is a stretch of even section a pad can hold along (a 20 mm pad and
     5 mm either side, fixed before any run), while a blade's tapering tip or a wrench's head
-    runs a few millimetres (0: off). Generated long tools: only ``gen_wrench_s6`` changes,
-    0.41 -> 0.54; ACRONYM tune half unchanged (docs/results/handle-labels/README.md, eleventh
-    round)."""
+    runs a few millimetres (0: off; docs/results/handle-labels/README.md)."""
 
 
 @dataclass(frozen=True)

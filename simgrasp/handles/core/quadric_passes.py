@@ -1,6 +1,6 @@
 """The quadric detector's passes and their clustering: the accepted neighborhoods of a pass
 (:class:`Accepted`, :class:`Pass`) and the handles clustered from every pass's candidates
-(:func:`cluster_passes`), for :func:`simgrasp.handles.quadric_detector.detect_quadric_handles`.
+(:func:`cluster_passes`), for :func:`simgrasp.handles.core.quadric_detector.detect_quadric_handles`.
 """
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.handles.cluster import Ranked, best_first, cluster_handles
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Candidate, Handle
+from simgrasp.handles.core.cluster import Ranked, best_first, cluster_handles
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Candidate, Handle
 from simgrasp.quadric import Quadric, QuadricAnalysis, QuadricFit
 
 

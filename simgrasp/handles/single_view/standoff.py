@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
-from simgrasp.handles.detection import Candidate
+from simgrasp.handles.core.detection import Candidate
 
 
 @dataclass(frozen=True)

@@ -20,12 +20,16 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-import simgrasp.handles.criteria as criteria
-from simgrasp.handles.cloud_input import validate_cloud
-from simgrasp.handles.cylinder_fit import fit_circles, minimal_curvature_axes, project_to_surface
-from simgrasp.handles.detection import TIMING_STEPS, Candidate, Detection, Handle
-from simgrasp.handles.step_timer import new_timings, timed
-from simgrasp.handles.tenpas_config import TenPasConfig
+import simgrasp.handles.core.criteria as criteria
+from simgrasp.handles.baselines.cylinder_fit import (
+    fit_circles,
+    minimal_curvature_axes,
+    project_to_surface,
+)
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.cloud_input import validate_cloud
+from simgrasp.handles.core.detection import TIMING_STEPS, Candidate, Detection, Handle
+from simgrasp.handles.core.step_timer import new_timings, timed
 from simgrasp.perception import gather_neighborhoods, sample_centers, voxel_downsample
 from simgrasp.quadric import Quadric, QuadricFit, fit_quadrics
 from simgrasp.seeding import rng_for

@@ -14,7 +14,7 @@ a wall must pass the radius and share tests both before and after, be no longer 
 axis than ``max_length_radii`` radii (a mug's wall is about 3; a hammer's round handle, which
 RANSAC can take for a narrow wall, about 13) and cover ``min_arc_deg`` of arc (a flat blade
 seen along its length lies within millimetres of a large circle, on a short arc). A half wall
-seen from one side is enough, where :func:`simgrasp.handles.revolution.fit_revolution` (for
+seen from one side is enough, where :func:`simgrasp.autolabel.revolution.fit_revolution` (for
 meshes) asks for normals from every side. A knife or a spatula, flat, or a screwdriver, round
 about a handle thinner than ``min_radius``, has no wall.
 
@@ -50,10 +50,10 @@ NORMAL_REACH = 0.05
 
 @dataclass(frozen=True)
 class BodyWallConfig(Checked):
-    """When and how a single view's body wall drops candidates: on in
-    :meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`, the single-view default
-    since 7 December 2026; off in a bare ``SingleViewConfig()`` and the presets kept for old
-    runs (docs/results/real-detect/README.md for its figures and how it was chosen)."""
+    """When and how a single view's body wall drops candidates: on in the single-view default
+    (the preset ``learned``, :mod:`simgrasp.handles.presets`), off in a bare
+    ``SingleViewConfig()`` (docs/results/real-detect/README.md for its figures and how it was
+    chosen)."""
 
     enabled: bool = False
     """Drop kept candidates whose seen surface point lies on the view's body wall."""

@@ -5,8 +5,8 @@ it is applied with numpy alone).
 
 Every feature is measured on the cloud itself, relative to its own point spacing or the
 candidate's fitted width where a length would depend on the capture: the finger slots' shares
-of the strip's points (:mod:`simgrasp.handles.standoff`), the fitted width in meters and in
-point spacings, how far the fitted axis lies from the seen surface point (in half widths),
+of the strip's points (:mod:`simgrasp.handles.single_view.standoff`), the fitted width in meters
+and in point spacings, how far the fitted axis lies from the seen surface point (in half widths),
 how end-on the axis is seen, the surface variation of the 1 cm patch (noise and curvature),
 the patch's point count in expected points, the distance to the cloud's centroid in RMS
 radii and the quadric kind.
@@ -25,8 +25,8 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.detection import Candidate
-from simgrasp.handles.standoff import StandoffConfig, slot_shares
+from simgrasp.handles.core.detection import Candidate
+from simgrasp.handles.single_view.standoff import StandoffConfig, slot_shares
 
 FEATURES = (
     "slot_max",

@@ -1,17 +1,15 @@
 """A handle part's region on the scanned surface, and the boxes that make it a label.
 
 :func:`part_surface` takes the scanned points that belong to one part of
-:mod:`simgrasp.handles.auto_label` (near its candidates, or reached along their axes,
-:mod:`simgrasp.handles.axis_reach`); :func:`part_surfaces` keeps a strap's region off a body
-of revolution's wall (:mod:`simgrasp.handles.revolution`) and a long tool's region off its thin
-sections (:mod:`simgrasp.handles.cross_section`), and :func:`standoff_joining` adds the surface
+:mod:`simgrasp.autolabel.auto_label` (near its candidates, or reached along their axes,
+:mod:`simgrasp.autolabel.axis_reach`); :func:`part_surfaces` keeps a strap's region off a body
+of revolution's wall (:mod:`simgrasp.autolabel.revolution`) and a long tool's region off its thin
+sections (:mod:`simgrasp.autolabel.cross_section`), and :func:`standoff_joining` adds the surface
 that stands off the body; :func:`piece_boxes` turns points into oriented boxes, one per k-means
 piece (or slab along their main axis). Mesh frame, meters.
 """
 
 from __future__ import annotations
-
-from typing import TYPE_CHECKING
 
 import numpy as np
 import trimesh
@@ -19,18 +17,16 @@ from numpy.typing import NDArray
 from scipy.cluster.vq import ClusterError, kmeans2
 from scipy.spatial import cKDTree
 
-from simgrasp.handles.axis_reach import (
+from simgrasp.autolabel.axis_reach import (
     SectionStop,
     near_within_stops,
     reached_along_axes,
     section_stops,
 )
-from simgrasp.handles.cross_section import SectionProfile, off_head, section_run, thick_enough
-from simgrasp.handles.revolution import Revolution, standoff_pieces, standoff_points
+from simgrasp.autolabel.config import AutoLabelConfig, Candidates
+from simgrasp.autolabel.cross_section import SectionProfile, off_head, section_run, thick_enough
+from simgrasp.autolabel.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
-
-if TYPE_CHECKING:
-    from simgrasp.handles.auto_label import AutoLabelConfig, Candidates
 
 
 def part_surfaces(
@@ -44,13 +40,13 @@ def part_surfaces(
 ) -> tuple[NDArray[np.bool_], ...]:
     """(N,) per part, which ``surface`` points are its region (:func:`part_surface`). On a
     body of revolution (``beyond``: which ``surface`` points stand off its wall,
-    :func:`simgrasp.handles.revolution.standoff_points`), a part that stands off the body
+    :func:`simgrasp.autolabel.revolution.standoff_points`), a part that stands off the body
     (``standing``, :func:`stands_off`: a strap) keeps only its points beyond the wall: the
     wall its reach took at the strap's roots is the body's, and a grasp of the rim beside the
     strap is no handle grasp. Other parts (a hammer's round handle, itself the body) keep
     their whole region. On a long tool, a part takes the runs of slabs whose section stays like
     its own (the rest of a flat handle), keeps the slabs about as thick as where it was
-    found (:mod:`simgrasp.handles.cross_section`: not a knife's blade past its guard) and
+    found (:mod:`simgrasp.autolabel.cross_section`: not a knife's blade past its guard) and
     leaves out the slabs both wider and thicker than it (a head); ``profile`` is the
     surface's section profile (None: not a long tool)."""
     section = config.cross_section
@@ -89,7 +85,7 @@ def standoff_joining(
     config: AutoLabelConfig,
 ) -> tuple[NDArray[np.int64], ...]:
     """Indices into ``surface`` of the pieces standing off the body of revolution (``beyond``,
-    :mod:`simgrasp.handles.revolution`) that join the label: those within ``region_radius``
+    :mod:`simgrasp.autolabel.revolution`) that join the label: those within ``region_radius``
     of the region of a part that stands off the body itself (``standing_regions``: a strap,
     not a hammer's round handle under its head), or all of them when there was no part
     (``had_parts`` false)."""
@@ -173,7 +169,7 @@ def part_surface(
     config: AutoLabelConfig,
 ) -> NDArray[np.bool_]:
     """(N,) which ``surface`` points belong to one part: within ``region_radius`` of its
-    candidates, or reached along their axes (:mod:`simgrasp.handles.axis_reach`) away from
+    candidates, or reached along their axes (:mod:`simgrasp.autolabel.axis_reach`) away from
     the narrow candidates that failed the flatness test and are thinner than the part
     (``block_width_ratio``)."""
     tree = cKDTree(surface)

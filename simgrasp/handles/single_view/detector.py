@@ -1,6 +1,6 @@
 """Handle detection on a single-view cloud with the standoff test
-(:mod:`simgrasp.handles.standoff`): the quadric detector's candidates, those without free
-space for the fingers on both sides (as the sensor sees them) dropped, the rest clustered and
+(:mod:`simgrasp.handles.single_view.standoff`): the quadric detector's candidates, those without
+free space for the fingers on both sides (as the sensor sees them) dropped, the rest clustered and
 ranked as the detector does (support, centrality, jaw clearance).
 
 What differs between captures is measured from the cloud, not chosen: the point spacing
@@ -20,20 +20,20 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
-from simgrasp.handles.body_wall import BodyWall, BodyWallConfig, fit_body_wall
-from simgrasp.handles.candidate_features import (
+from simgrasp.handles.core.cluster import cluster_handles
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Candidate, Detection
+from simgrasp.handles.core.quadric_detector import detect_quadric_handles
+from simgrasp.handles.single_view.body_wall import BodyWall, BodyWallConfig, fit_body_wall
+from simgrasp.handles.single_view.candidate_features import (
     FEATURES,
     MaxEnsemble,
     TreeClassifier,
     candidate_features,
     read_classifier,
 )
-from simgrasp.handles.cluster import cluster_handles
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Candidate, Detection
-from simgrasp.handles.quadric_detector import detect_quadric_handles
-from simgrasp.handles.standoff import StandoffConfig, standoff_mask
-from simgrasp.handles.view_kind import ViewKindConfig
+from simgrasp.handles.single_view.standoff import StandoffConfig, standoff_mask
+from simgrasp.handles.single_view.view_kind import ViewKindConfig
 from simgrasp.resources import model_path
 
 SINGLE_VIEW_DETECTOR = "quadric-single-view"
@@ -43,14 +43,21 @@ FALLBACK_DETECTOR = "quadric-single-view-fallback"
 CLASSIFIER = "candidate_classifier.json"
 """The shipped classifier (``models/handles/``), written by
 ``scripts/train_candidate_classifier.py``."""
-BARS_CLASSIFIER = "candidate_classifier_bars.json"
-"""The first classifier (3 December 2026), trained without flat-strap mugs."""
 
 
 def _single_view_quadric() -> QuadricDetectorConfig:
-    """:meth:`QuadricDetectorConfig.noisy_camera_cloud` (Taubin fits of 12 mm neighborhoods,
-    own 6 mm normals, 6 mm shell) plus a fine pass of 12 mm (one center per 3 voxels)."""
-    return QuadricDetectorConfig.noisy_camera_cloud(fine_half_size=0.012)
+    """The quadric detector on one view: Taubin fits (no normals) of 12 mm neighborhoods, one
+    center per voxel, own normals over 6 mm, a 6 mm shell, and a fine pass of 12 mm (one
+    center per 3 voxels): the ``noisy_camera_cloud`` preset plus a fine pass."""
+    return QuadricDetectorConfig(
+        own_normals=True,
+        normal_radius=0.006,
+        neighborhood_half_size=0.012,
+        voxels_per_neighborhood=1.0,
+        fit_method="taubin",
+        shell_thickness=0.006,
+        fine_half_size=0.012,
+    )
 
 
 @dataclass(frozen=True)
@@ -58,7 +65,7 @@ class SingleViewConfig(Checked):
     """The single-view detector's settings: the quadric detector's, the standoff test's or the
     classifier's, and the view test that routes a cloud here (lengths in meters).
     ``simgrasp detect`` takes each as a flag (``--single-view-detector.classifier-threshold``),
-    its default :meth:`learned`."""
+    its default the preset ``learned`` (:mod:`simgrasp.handles.presets`)."""
 
     quadric: QuadricDetectorConfig = field(default_factory=_single_view_quadric)
     standoff: StandoffConfig = field(default_factory=StandoffConfig)
@@ -87,8 +94,9 @@ class SingleViewConfig(Checked):
     fit's axis from its seen surface point."""
     classifier: bool = False
     """Replace the standoff test by the shipped classifier over candidate features
-    (:mod:`simgrasp.handles.candidate_features`, ``models/handles/candidate_classifier.json``,
-    trained on simulated views by ``scripts/train_candidate_classifier.py``)."""
+    (:mod:`simgrasp.handles.single_view.candidate_features`,
+    ``models/handles/candidate_classifier.json``, trained on simulated views by
+    ``scripts/train_candidate_classifier.py``)."""
     classifier_threshold: Fraction = 0.5
     """With ``classifier``: the least probability of being on a handle a candidate needs."""
     classifier_file: str = ""
@@ -96,7 +104,7 @@ class SingleViewConfig(Checked):
     use instead of the shipped one (a path; empty: the shipped one)."""
     body_wall: BodyWallConfig = field(default_factory=BodyWallConfig)
     """With ``body_wall.enabled``: kept candidates on the view's body wall are dropped
-    (:mod:`simgrasp.handles.body_wall`; on in :meth:`learned`, docs/results/real-detect)."""
+    (:mod:`simgrasp.handles.single_view.body_wall`; on in the preset ``learned``)."""
     view_test: ViewKindConfig = field(default_factory=ViewKindConfig)
     """When :func:`simgrasp.handles.detect` is given these settings, it runs this detector
     only on clouds this test measures to be one view from the viewpoint."""
@@ -107,31 +115,6 @@ class SingleViewConfig(Checked):
     fallback: QuadricDetectorConfig | None = None
     """When :func:`simgrasp.handles.detect` runs this detector and it finds no handle: the
     quadric detector with these settings on the same view (None: no handle)."""
-
-    @classmethod
-    def learned(cls) -> SingleViewConfig:
-        """The default for single views (``detect``'s, ``detect-eval --real``'s ``default``):
-        the shipped classifier (trained with flat-strap mugs, ``gen_strap_mug``) at 0.7 on fits
-        at least two measured point spacings wide, or one with their axes within four half
-        widths of their surface (since 4 December 2026: a thin strap seen from 0.3 - 0.8 m),
-        handle centers on the seen surface (the named setting ``learned`` of
-        docs/results/real-detect, each choice made on the tune knives, the osd-learn pots and
-        simulated views); where the classifier keeps nothing, the quadric detector's
-        :meth:`~QuadricDetectorConfig.real_depth` settings (12 mm neighborhoods, the plate test
-        for flat tabs; chosen on the tune osd-learn pots). Since 7 December 2026 kept candidates
-        on the view's body wall are dropped (:mod:`simgrasp.handles.body_wall`), and where
-        none forms a handle on a mug-sized wall, the candidates off it at probability 0.5 are
-        taken before the fallback (``body_wall.retry_threshold``).
-        ``narrow_width_spacings=0`` reproduces the runs before 4 December, and
-        ``body_wall=BodyWallConfig()`` (off) those before 7 December."""
-        return cls(
-            classifier=True,
-            classifier_threshold=0.7,
-            min_width_spacings=2.0,
-            narrow_width_spacings=1.0,
-            body_wall=BodyWallConfig(enabled=True, retry_threshold=0.5),
-            fallback=QuadricDetectorConfig.real_depth(),
-        )
 
     def with_body_wall(self, enabled: bool) -> SingleViewConfig:
         """These settings with their body-wall test on or off, its other values kept (the
@@ -145,20 +128,6 @@ class SingleViewConfig(Checked):
             Path(self.classifier_file)
             if self.classifier_file
             else model_path("handles", CLASSIFIER)
-        )
-
-    @classmethod
-    def learned_bars(cls) -> SingleViewConfig:
-        """The single-view default of 3 December 2026, kept to reproduce its runs: the first
-        classifier (``candidate_classifier_bars.json``, trained on bars and loops without
-        flat-strap mugs) at 0.6, centers on the fitted axis where it is consistent with the
-        seen surface, the same fallback."""
-        return cls(
-            anchor="consistent",
-            classifier=True,
-            classifier_threshold=0.6,
-            classifier_file=str(model_path("handles", BARS_CLASSIFIER)),
-            fallback=QuadricDetectorConfig.real_depth(),
         )
 
 

@@ -1,6 +1,6 @@
 """Every threshold of the ten Pas & Platt style handle detector, in one frozen dataclass.
 
-Lengths are meters, angles radians. The detector (:mod:`simgrasp.handles.tenpas_detector`)
+Lengths are meters, angles radians. The detector (:mod:`simgrasp.handles.baselines.tenpas_detector`)
 fits a Taubin quadric per spherical neighborhood, takes the direction of minimal curvature as
 the local axis, fits a circle across it, keeps cylindrical shells that fit the gripper and have
 a clear gap around them, and chains aligned shells into handles.
@@ -20,7 +20,7 @@ BelowOne = Annotated[float, Range(gt=0, lt=1)]
 
 @dataclass(frozen=True)
 class TenPasConfig(Checked):
-    """Parameters of :func:`simgrasp.handles.tenpas_detector.detect_tenpas_handles`."""
+    """Parameters of :func:`simgrasp.handles.baselines.tenpas_detector.detect_tenpas_handles`."""
 
     gripper_max_opening: Positive = 0.085
     """Maximum jaw opening of the parallel gripper (m); shells wider than it are rejected."""

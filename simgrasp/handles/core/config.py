@@ -23,7 +23,7 @@ CentralityMeasure = Literal["center", "stretch", "grasps"]
 
 @dataclass(frozen=True)
 class QuadricDetectorConfig(Checked):
-    """Parameters of :func:`simgrasp.handles.quadric_detector.detect_quadric_handles`.
+    """Parameters of :func:`simgrasp.handles.core.quadric_detector.detect_quadric_handles`.
 
     Lengths are meters. The paper's criteria are (a) the fitted kind is a real ellipsoid,
     a hyperboloid of one sheet or a real elliptic cylinder, (b) the quadric center (the axis,
@@ -151,7 +151,7 @@ class QuadricDetectorConfig(Checked):
     puts the axis centimeters behind the part; the seen surface is within half the
     part's thickness of its middle."""
     plate_test: bool = False
-    """Also accept flat-plate handles (:mod:`simgrasp.handles.plate`): a thin horizontal
+    """Also accept flat-plate handles (:mod:`simgrasp.handles.core.plate`): a thin horizontal
     plate standing off the body (a pot's side tab seen face-on, which no quadric fits),
     grasped across its thickness. Needs the table plane (``detect(..., table=...)``; also
     ``scene=``, everything seen; ``detect --segment`` gives both) and a viewpoint; without
@@ -187,72 +187,3 @@ class QuadricDetectorConfig(Checked):
 
     def _check(self) -> None:
         self.require_below("min_points", "max_points", strict=False)
-
-    @classmethod
-    def paper(cls, **overrides: object) -> QuadricDetectorConfig:
-        """The paper's criteria (a)-(c) only, no eccentricity, width, shell or inside test: for
-        the method as published. ``detect-eval``'s committed tables (docs/results/detect-eval)
-        use the defaults, which add the extra tests."""
-        base: dict[str, object] = dict(
-            eccentricity_test=False, width_test=False, shell_test=False, inside_test=False
-        )
-        base.update(overrides)
-        return cls(**base)  # type: ignore[arg-type]
-
-    @classmethod
-    def two_scales(cls, **overrides: object) -> QuadricDetectorConfig:
-        """For fused clouds of rendered depth views, ideal or Kinect-class: the defaults plus a
-        fine pass (``fine_half_size`` 12 mm: Taubin fits of 12 mm neighborhoods, one center
-        per 3 voxels, a 6 mm shell) that keeps thin handles seen from two sides (a lying mug's
-        strap), whose one-pass fits come out twice their size. The full chain's default
-        (:class:`~simgrasp.grasping.trials.chain_config.ChainDetectorConfig`); ``detect`` and
-        ``detect-eval`` keep the single pass. Measured in docs/results/README.md,
-        ``lying-mug/`` and ``evaluate-sensor/`` (its cost: ``benchmarks/bench_chain_detect.py``)."""
-        base: dict[str, object] = dict(fine_half_size=0.012)
-        base.update(overrides)
-        return cls(**base)  # type: ignore[arg-type]
-
-    @classmethod
-    def camera_cloud(cls, **overrides: object) -> QuadricDetectorConfig:
-        """For the chain's fused cloud of rendered depth views (3 mm voxels), an alternative to
-        :meth:`two_scales`: normals of its own over 6 mm (``own_normals``) and 12 mm
-        neighborhoods sampled ten times as densely, so a strap seen from two sides gets fits
-        of its own size. Measured in docs/results/README.md, ``lying-mug/`` (its
-        ``camera_cloud.toml``)."""
-        base: dict[str, object] = dict(
-            own_normals=True,
-            normal_radius=0.006,
-            neighborhood_half_size=0.012,
-            voxels_per_neighborhood=1.0,
-        )
-        base.update(overrides)
-        return cls(**base)  # type: ignore[arg-type]
-
-    @classmethod
-    def noisy_camera_cloud(cls, **overrides: object) -> QuadricDetectorConfig:
-        """:meth:`camera_cloud` for fused clouds of a noisy depth sensor (``--sensor kinect``):
-        Taubin fits, which use no normals, and a 6 mm shell instead of 10 mm, so a thin strap's
-        fits keep its size with noisy normals and their shell stays clear of the body.
-        Measured in docs/results/README.md, ``lying-mug/`` (its ``noisy_camera_cloud.toml``)."""
-        base: dict[str, object] = dict(fit_method="taubin", shell_thickness=0.006)
-        base.update(overrides)
-        return cls.camera_cloud(**base)
-
-    @classmethod
-    def real_depth(cls, **overrides: object) -> QuadricDetectorConfig:
-        """For one object cut from a single real depth view (a Kinect-class sensor at 0.6-1.6 m):
-        smaller neighborhoods sampled five times as densely, so a small handle (a pot's side
-        tab) gathers support, handle centers on the seen surface (``handle_anchor``), no
-        centrality weighting (a pot's two side handles are equally far from its center), and
-        the flat-plate test (``plate_test``: a pot's flat side tab seen face-on, which no
-        quadric fits). Measured on the osd-learn pots in docs/results/real-pots (its
-        ``real_depth.toml``)."""
-        base: dict[str, object] = dict(
-            neighborhood_half_size=0.012,
-            voxels_per_neighborhood=2.0,
-            handle_anchor="surface",
-            prefer_central=False,
-            plate_test=True,
-        )
-        base.update(overrides)
-        return cls(**base)  # type: ignore[arg-type]

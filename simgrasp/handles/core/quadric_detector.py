@@ -7,7 +7,7 @@ shape; cluster accepted candidates into handle hypotheses. One KD-tree of the vo
 serves the normal orientation, the neighborhoods and the tests; it is built (and timed) in the
 normals step.
 The passes' accepted neighborhoods and their clustering into handles are in
-:mod:`simgrasp.handles.quadric_passes`.
+:mod:`simgrasp.handles.core.quadric_passes`.
 """
 
 from __future__ import annotations
@@ -18,13 +18,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-import simgrasp.handles.criteria as criteria
-from simgrasp.handles.cloud_input import validate_cloud
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
-from simgrasp.handles.plate import plate_handles
-from simgrasp.handles.quadric_passes import Accepted, Pass, cluster_passes, joined
-from simgrasp.handles.step_timer import new_timings, timed
+import simgrasp.handles.core.criteria as criteria
+from simgrasp.handles.core.cloud_input import validate_cloud
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Detection
+from simgrasp.handles.core.plate import plate_handles
+from simgrasp.handles.core.quadric_passes import Accepted, Pass, cluster_passes, joined
+from simgrasp.handles.core.step_timer import new_timings, timed
 from simgrasp.perception import (
     estimate_normals,
     gather_neighborhoods,

@@ -12,12 +12,12 @@ the points more than ``margin`` beyond it. A flat knife or a spatula is no body 
 revolution: its flat faces' normals are parallel, not radial, and the fit refuses it; a drill,
 round about its housing, leaves azimuth sectors nearly empty. A tool whose round handle is
 most of it (a hammer, a screwdriver) is one about its handle; the handle is then the body, and
-:mod:`simgrasp.handles.label_surface` keeps its label whole.
+:mod:`simgrasp.autolabel.label_surface` keeps its label whole.
 
 All lengths in meters, in the frame of the points (the mesh frame for
-:mod:`simgrasp.handles.auto_label`, which uses it to label handles;
+:mod:`simgrasp.autolabel.auto_label`, which uses it to label handles;
 the settings were chosen on ACRONYM mugs and knives and on generated objects:
-docs/results/handle-labels/README.md, fifth and sixth rounds).
+docs/results/handle-labels/README.md).
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ class RevolutionConfig(Checked):
     with at least ``min_sector_share`` of their number divided by the sector count."""
     min_sector_share: Fraction = 0.7
     """See ``sectors`` (mugs and pans fill 0.76 or more; a drill about its housing 0.56-0.64,
-    ACRONYM knives up to 0.69: docs/results/handle-labels/README.md, sixth round)."""
+    ACRONYM knives up to 0.69: docs/results/handle-labels/README.md)."""
     slab: Positive = 0.004
     """Height slabs (along the axis) in which the wall's radius is taken."""
     link: Positive = 0.003

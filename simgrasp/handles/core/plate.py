@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 
 RAY_STEP = 0.003
 """Spacing (m) of the sample points along a ray checked for occluders (one voxel)."""
