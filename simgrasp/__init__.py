@@ -42,6 +42,7 @@ _EXPORTS = {
     "SensorSettings": "simgrasp.perception.sensors.settings",
     "LabelConfig": "simgrasp.grasping.labeling.labeling",
     "SimgraspError": "simgrasp.errors",
+    "Session": "simgrasp.grasping.session",
     "SegmentConfig": "simgrasp.perception.segmentation.segment_config",
     "DepthImageConfig": "simgrasp.perception.depth_image",
     "Detection": "simgrasp.handles.detection",
@@ -68,6 +69,7 @@ __all__ = [
     "SegmentConfig",
     "Segmentation",
     "SensorSettings",
+    "Session",
     "SimgraspError",
     "TenPasConfig",
     "TrialConfig",
@@ -86,6 +88,7 @@ if TYPE_CHECKING:
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
     from simgrasp.grasping.labeling.labeling import LabelConfig, LabelResult, label_grasps
     from simgrasp.grasping.planning.planner_config import PlannerConfig
+    from simgrasp.grasping.session import Session
     from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.result import TrialResult

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from simgrasp.assets.object import ObjectAsset
     from simgrasp.assets.placement import Placement
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
+    from simgrasp.grasping.session import Session
     from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.result import TrialResult
@@ -95,7 +96,11 @@ def _check_type(value: object, name: str, *kinds: type) -> None:
         raise SimgraspError(f"{name} must be a {wanted}, got {type(value).__name__}")
 
 
-def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> ObjectModel:
+def _object_model(
+    obj: object, ycb_dir: str | os.PathLike[str] | None, session: Session | None = None
+) -> ObjectModel:
+    """The model of ``obj``; a name or path is looked up in ``session``'s models when given
+    one (and ``ycb_dir`` is not), else built."""
     from simgrasp.assets.model import ObjectModel, build_object_model, model_for
     from simgrasp.assets.object import ObjectAsset
 
@@ -104,6 +109,8 @@ def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> Object
     if isinstance(obj, ObjectAsset):
         return build_object_model(obj)
     if isinstance(obj, str | os.PathLike):
+        if session is not None and ycb_dir is None:
+            return session.model(os.fspath(obj))
         return model_for(os.fspath(obj), None if ycb_dir is None else os.fspath(ycb_dir))
     raise SimgraspError(
         f"obj must be a name, a path, an ObjectAsset or an ObjectModel, got {type(obj).__name__}"
@@ -150,6 +157,7 @@ def run_trial(
     width: float | None = None,
     config: ChainConfig | None = None,
     ycb_dir: str | os.PathLike[str] | None = None,
+    session: Session | None = None,
 ) -> ChainResult | TrialResult:
     """One grasp trial of ``obj`` on the table scene of ``seed`` (rest pose, yaw, noise).
 
@@ -159,6 +167,9 @@ def run_trial(
     qz]``; +z the approach, +y the jaw axis) is executed with the jaws opened to ``width`` (m,
     default the gripper's maximum) and a :class:`TrialResult` comes back. Both have
     ``success``, ``on_handle`` and ``to_json()`` (the record ``simgrasp trial --json`` prints).
+    Trials run one after another share a :class:`~simgrasp.grasping.session.Session`'s
+    renderer and object models when given one (``with simgrasp.Session() as session``);
+    without it each call makes its own.
     """
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.given_grasp import GraspFrame
@@ -175,7 +186,7 @@ def run_trial(
             raise SimgraspError("grasp_frame needs a grasp (the full chain plans its own grasp)")
         from simgrasp.grasping.trials.chain import run_chain
 
-        return run_chain(_object_model(obj, ycb_dir), config, seed)
+        return run_chain(_object_model(obj, ycb_dir, session), config, seed, session=session)
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grippers import make_gripper
 
@@ -183,7 +194,7 @@ def run_trial(
     hand = make_gripper(config.gripper)
     opening = None if width is None else _jaw_width(width, hand.max_opening)
     return trial_of_grasp(
-        _object_model(obj, ycb_dir),
+        _object_model(obj, ycb_dir, session),
         hand,
         pose7,
         frame=grasp_frame,

@@ -1,6 +1,7 @@
-"""The commands that README.md and the committed results print (``simgrasp ...``, ``python
-scripts/...``, ``python benchmarks/...``) use flags that exist today: a flag renamed or removed
-since a run was committed fails here, not in the hands of a reader who copies the command."""
+"""The commands that README.md and the pages under docs/ (the site's pages and the committed
+results) print (``simgrasp ...``, ``python scripts/...``, ``python benchmarks/...``) use flags
+that exist today: a flag renamed or removed since a page or a run was written fails here, not
+in the hands of a reader who copies the command."""
 
 from __future__ import annotations
 

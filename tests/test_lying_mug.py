@@ -20,7 +20,7 @@ from simgrasp.grippers import make_gripper
 from simgrasp.handles import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
 from simgrasp.perception.sensors.settings import SensorSettings
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import build_scene
 
@@ -101,7 +101,9 @@ def test_a_second_taubin_fit_finds_the_kinect_noisy_strap(mug) -> None:
     assert result.success and result.on_handle, result.to_json()["failure"]
 
 
-def test_flying_pixels_do_not_block_the_approaches_to_an_upright_kinect_strap(mug) -> None:
+def test_flying_pixels_do_not_block_the_approaches_to_an_upright_kinect_strap(
+    renderers: RendererKeeper, mug
+) -> None:
     """Upright, seed 0, Kinect depth: isolated points (flying pixels at the strap's depth
     edges) inside the open gripper blocked approaches into the strap's gap (with two_fits
     settings all but one, which closed at an angle across the strap and missed); as no
@@ -110,12 +112,12 @@ def test_flying_pixels_do_not_block_the_approaches_to_an_upright_kinect_strap(mu
         ChainConfig.of(scene__placement="upright"), sensor=SensorSettings(kind="kinect")
     )
     scene = build_scene(mug, make_gripper(config.gripper), config.scene, 0)
-    cloud = observe(scene, kept_renderer(scene), config.noise, 0, config.sensor).cloud
+    cloud = observe(scene, renderers.renderer_for(scene), config.noise, 0, config.sensor).cloud
     isolated = len(cloud.points_world) - len(obstacle_points(cloud.points_world, config.planner))
     assert isolated > 0.01 * len(cloud.points_world)
     strict = replace(config, planner=replace(config.planner, obstacle_radius=0.0))
     blocked, _ = propose_grasps(scene, cloud, strict, 0)
     grasps, _ = propose_grasps(scene, cloud, config, 0)
     assert len(grasps) >= len(blocked) + 3
-    ideal = observe(scene, kept_renderer(scene), 0.0, 0, SensorSettings()).cloud
+    ideal = observe(scene, renderers.renderer_for(scene), 0.0, 0, SensorSettings()).cloud
     assert len(obstacle_points(ideal.points_world, config.planner)) == len(ideal.points_world)

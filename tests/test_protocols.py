@@ -43,7 +43,7 @@ def test_every_protocol_runs_registered_phases_and_names_its_results() -> None:
 
 
 def test_the_docs_table_lists_each_protocol_with_its_phases_and_summary() -> None:
-    page = (ROOT / "docs" / "concepts" / "protocols.md").read_text(encoding="utf-8")
+    page = (ROOT / "docs" / "concepts" / "trials.md").read_text(encoding="utf-8")
     rows = re.findall(
         r"^\| `([\w-]+)` \| ([a-z]+(?: → [a-z]+)+) \| (.+?) \|", page, flags=re.MULTILINE
     )

@@ -17,7 +17,7 @@ import json
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.protocol import protocol_names
+
+if TYPE_CHECKING:
+    from simgrasp.grasping.session import Session
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -60,13 +63,18 @@ class Options(YcbSource, MeshObjectOptions):
 
 
 def run(options: Options) -> int:
+    from simgrasp.grasping.session import Session
     from simgrasp.scenes.key_frames import FrameRecorder, check_frames_target, write_frames
 
     _check_grasp_flags(options)
     if options.render is not None:
         check_frames_target(options.render)
-    frames = FrameRecorder() if options.render is not None else None
-    record = _recorded_trial(options, frames) if options.record else _trial(options, frames)
+    with Session(options.ycb_dir) as session:
+        frames = FrameRecorder(session.renderers) if options.render is not None else None
+        if options.record:
+            record = _recorded_trial(options, frames, session)
+        else:
+            record = _trial(options, frames, session)
     if options.render is not None and frames is not None:
         record["render"] = write_frames(frames.frames, options.render)
     if options.json:
@@ -94,25 +102,26 @@ def _check_grasp_flags(options: Options) -> None:
         raise SimgraspError(f"--grasp: {problem}: give a unit quaternion")
 
 
-def _trial(options: Options, on_phase: Any) -> dict[str, Any]:
+def _trial(options: Options, on_phase: Any, session: Session) -> dict[str, Any]:
     """The record of the given grasp's trial (``--grasp``) or of the full chain's."""
-    return _given_trial(options, on_phase) if options.grasp else _chain_trial(options, on_phase)
+    if options.grasp:
+        return _given_trial(options, on_phase, session)
+    return _chain_trial(options, on_phase, session)
 
 
-def _recorded_trial(options: Options, frames: Any) -> dict[str, Any]:
+def _recorded_trial(options: Options, frames: Any, session: Session) -> dict[str, Any]:
     """:func:`_trial` with the states of a replay (:mod:`simgrasp.viewer.record`)."""
     from simgrasp.viewer.record import StateRecorder
 
     recorder = StateRecorder(next_phase=frames)
     with recorder.installed():
-        record = _trial(options, recorder)
+        record = _trial(options, recorder, session)
     record["replay"] = recorder.replay()
     return record
 
 
-def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
+def _given_trial(options: Options, recorder: Any, session: Session) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
-    from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grasping.trials.protocol import get_protocol
     from simgrasp.grippers import make_gripper
@@ -123,7 +132,7 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
         protocol = get_protocol(options.protocol)
         trial_config, phases = protocol.config, protocol.phases
     result = trial_of_grasp(
-        model_for(options.object_name(options.object), options.ycb_dir),
+        session.model(options.object_name(options.object)),
         make_gripper(options.chain.gripper),
         options.grasp,
         frame=options.grasp_frame,
@@ -137,16 +146,16 @@ def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
     return result.to_json()
 
 
-def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
+def _chain_trial(options: Options, recorder: Any, session: Session) -> dict[str, Any]:
     """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`); the
     record says which renderer made the depth (``render_backend``: GL and ray-cast depth
     differ at silhouettes, so a seed's trial depends on it, as ``evaluate`` records too)."""
-    from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain import run_chain
     from simgrasp.scenes.render import select_backend
 
-    object_model = model_for(options.object_name(options.object), options.ycb_dir)
-    record = run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
+    object_model = session.model(options.object_name(options.object))
+    chain = run_chain(object_model, options.chain, options.seed, on_phase=recorder, session=session)
+    record = chain.to_json()
     return {**record, "render_backend": select_backend()}
 
 

@@ -258,12 +258,6 @@ def _scan(path: Path) -> tuple[list[RealDetectRow], int, str]:
     return rows, start, "no newline"
 
 
-def read_done(path: Path) -> list[RealDetectRow]:
-    """Rows already written to ``path`` (a run killed midway loses none) but a torn last row
-    (:func:`_scan`), which is left in the file."""
-    return _scan(path)[0]
-
-
 def _cut_torn_row(path: Path, start: int, problem: str) -> None:
     """Cut ``path`` (if there) at byte ``start``, where a torn last row begins, with a line on
     stderr saying what was cut (it runs again): the next row starts on a fresh line."""
