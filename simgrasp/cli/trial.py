@@ -26,7 +26,7 @@ from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
-from simgrasp.grasping.trials.protocol import Protocol
+from simgrasp.grasping.trials.protocol import protocol_names
 
 if TYPE_CHECKING:
     from simgrasp.grasping.session import Session
@@ -52,9 +52,9 @@ class Options(YcbSource, MeshObjectOptions):
     """Frame of --grasp: world, or the object's mesh frame (placed at its scene pose)."""
     width: float | None = None
     """Jaw opening before closing for --grasp (m; default the gripper's maximum)."""
-    protocol: Protocol | None = None
-    """Trial protocol of --grasp, as label-grasps' (full, fast, acronym, acronym-fast), instead
-    of the --trial.* settings (default: those, whose defaults are the full protocol)."""
+    protocol: str | None = setting(None, choices=protocol_names)
+    """Trial protocol of --grasp, as label-grasps' (its phases and settings), instead of the
+    --trial.* settings (default: those, whose defaults are the full protocol)."""
     seed: int = setting(0, main=True)
     """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
     in an evaluate record: the same object and seed rerun that trial."""
@@ -129,13 +129,14 @@ def _recorded_trial(options: Options, frames: Any, session: Session) -> dict[str
 def _given_trial(options: Options, recorder: Any, session: Session) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
-    from simgrasp.grasping.trials.trial_config import protocol_config
+    from simgrasp.grasping.trials.protocol import get_protocol
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
-    trial_config = options.chain.trial
+    trial_config, phases = options.chain.trial, None
     if options.protocol is not None:
-        trial_config = protocol_config(options.protocol)
+        protocol = get_protocol(options.protocol)
+        trial_config, phases = protocol.config, protocol.phases
     result = trial_of_grasp(
         session.model(options.object_name(options.object)),
         make_gripper(options.chain.gripper),
@@ -144,6 +145,7 @@ def _given_trial(options: Options, recorder: Any, session: Session) -> dict[str,
         width=options.width,
         scene_config=options.chain.scene,
         trial_config=trial_config,
+        phases=phases,
         seed=options.seed,
         on_phase=recorder,
     )

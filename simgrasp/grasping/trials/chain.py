@@ -70,6 +70,16 @@ class ChainResult:
         return False if self.trial is None else self.trial.success
 
     @property
+    def failure(self) -> str | None:
+        """Why the chain did not succeed, as its record says: a neighbor's doing in clutter
+        (``wrong_object``, ``collision``), ``no_grasp`` when the detector and planner gave no
+        grasp to execute (no handle found included), else the trial's failure
+        (:data:`~simgrasp.grasping.trials.result.Failure`); None on success."""
+        if "failure" in self.scene_fields:
+            return str(self.scene_fields["failure"])
+        return "no_grasp" if self.trial is None else self.trial.failure
+
+    @property
     def on_handle(self) -> bool:
         return self.trial is not None and self.trial.on_handle and bool(self.trial.success)
 
@@ -80,6 +90,7 @@ class ChainResult:
         record = {**trial, **chain, **self.scene_fields}
         record["timings_s"] = {**trial.get("timings_s", {}), **self.timings_s}
         record["success"] = self.success
+        record["failure"] = self.failure
         record["on_handle"] = self.on_handle
         return record
 
