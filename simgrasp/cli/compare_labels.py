@@ -1,7 +1,8 @@
 """``simgrasp compare-labels REFERENCE OTHER``: the confusion matrix of two label-grasps runs
 of one grasp set (e.g. the full and the fast protocol); ``compare-labels OURS --reference
-FILE.h5|GLOB|DIR``: our labels against a grasp file's own (FleX's), per object and overall
-(:mod:`simgrasp.grasping.labeling.reference_compare`)."""
+FILE.h5|GLOB|DIR``: our labels against a grasp file's own (FleX's), per object and overall,
+each accuracy beside the majority-class baseline and the reference's own consistency on the
+same grasps (:mod:`simgrasp.grasping.labeling.reference_compare`)."""
 
 from __future__ import annotations
 
