@@ -7,6 +7,11 @@ set (``OURS/<file stem>/labels.npz``). Grasps we could not score (``invalid``,
 metrics are :func:`simgrasp.grasping.labeling.agreement.agreement`'s, with an interval over
 resampled files for each group of several; the plot shows each object's
 accuracy and balanced accuracy and the overall ROC curve of our ``score``.
+
+Beside every accuracy, per file and per category, stand its floor and its ceiling
+(:mod:`simgrasp.grasping.labeling.reference_consistency`): the majority-class baseline, and the
+reference's own consistency (its label of the nearest other grasp of the file within 8 mm and
+15 degrees, on the grasps that have one) with our accuracy on those same grasps.
 """
 
 from __future__ import annotations
@@ -18,6 +23,12 @@ import numpy as np
 
 from simgrasp.errors import DataNotFoundError, SimgraspError
 from simgrasp.grasping.labeling.agreement import agreement, file_interval
+from simgrasp.grasping.labeling.reference_consistency import (
+    NEIGHBOUR_DEG,
+    NEIGHBOUR_MM,
+    ceiling_and_floor,
+    neighbour_agreement,
+)
 
 
 def labels_dir_of(ours: Path, reference: Path) -> Path:
@@ -39,60 +50,97 @@ def labels_dir_of(ours: Path, reference: Path) -> Path:
     raise DataNotFoundError(f"no labels of {reference.name} in {ours} (label-grasps it first)")
 
 
+def _empty_parts() -> tuple[list[np.ndarray], ...]:
+    """Empty stores of a group's per-file parts (:func:`_file_parts`)."""
+    return ([], [], [], [], [])
+
+
 def compare_with_reference(
     ours: Path, references: list[Path], draws: int = 0, seed: int = 0
 ) -> dict[str, Any]:
     """Per-file and overall agreement (also per category: the file name's part before the
-    first ``_``, as ACRONYM names files ``Category_id_scale.h5``). With ``draws``, each group
-    of two or more files also gets the 95 % ``interval`` of its accuracy and balanced accuracy
-    over ``draws`` resamples of its files, from ``seed`` (:func:`file_interval`)."""
-    from simgrasp.grasping.labeling.dataset_run import _our_labels
-    from simgrasp.grasping.labeling.grasp_files import reference_labels
-
+    first ``_``, as ACRONYM names files ``Category_id_scale.h5``), each with its ceiling and
+    floor (:func:`~simgrasp.grasping.labeling.reference_consistency.ceiling_and_floor`: the
+    reference's own consistency on the same grasps and the majority-class baseline). With
+    ``draws``, each group of two or more files also gets the 95 % ``interval`` of its accuracy
+    and balanced accuracy over ``draws`` resamples of its files, from ``seed``
+    (:func:`file_interval`)."""
     rows: list[dict[str, Any]] = []
-    pooled: dict[str, tuple[list, list, list]] = {}
+    pooled: dict[str, tuple[list[np.ndarray], ...]] = {}
     for reference in references:
-        labels = reference_labels(reference)
-        if labels is None:
-            raise SimgraspError(f"{reference} has no reference labels (object_in_gripper)")
-        success, score, scored = _our_labels(labels_dir_of(ours, reference))
-        truth = labels[0][: len(success)][scored]
-        row = {"file": reference.name, **agreement(truth, success[scored], score[scored])}
-        rows.append(row)
-        category = reference.name.split("_", 1)[0]
-        for key in (category, "overall"):
-            parts = pooled.setdefault(key, ([], [], []))
-            parts[0].append(truth)
-            parts[1].append(success[scored])
-            parts[2].append(score[scored])
+        parts = _file_parts(ours, reference)
+        beside = ceiling_and_floor(parts[0], *parts[3:])
+        rows.append({"file": reference.name, **agreement(*parts[:3]), **beside})
+        for key in (reference.name.split("_", 1)[0], "overall"):
+            for store, part in zip(pooled.setdefault(key, _empty_parts()), parts, strict=True):
+                store.append(part)
     groups = {}
-    for key, parts in pooled.items():
-        groups[key] = agreement(*(np.concatenate(p) for p in parts))
-        interval = file_interval(list(zip(parts[0], parts[1], strict=True)), draws, seed)
+    for key, stores in pooled.items():
+        joined = [np.concatenate(store) for store in stores]
+        groups[key] = {**agreement(*joined[:3]), **ceiling_and_floor(joined[0], *joined[3:])}
+        interval = file_interval(list(zip(stores[0], stores[1], strict=True)), draws, seed)
         if interval is not None:
             groups[key]["interval"] = interval
     return {"files": rows, "groups": groups}
 
 
-def comparison_text(comparison: dict[str, Any]) -> str:
-    """A table: one line per file, then per category and overall."""
+def _file_parts(ours: Path, reference: Path) -> tuple[np.ndarray, ...]:
+    """(reference labels, our success, our score) of the scored grasps of one file, then (the
+    reference's neighbour label right, ours right) on those that have a neighbour
+    (:func:`~simgrasp.grasping.labeling.reference_consistency.neighbour_agreement`)."""
+    from simgrasp.grasping.labeling.dataset_run import _our_labels
+    from simgrasp.grasping.labeling.grasp_files import reference_labels
+    from simgrasp.grasping.labeling.grasp_sets import read_grasp_set
 
-    def line(name: str, a: dict[str, Any]) -> str:
-        auroc = "  -  " if a["auroc"] is None else f"{a['auroc']:.3f}"
-        return (
-            f"{name[:44]:44s} {a['grasps']:6d} {a['accuracy']:.3f} {a['balanced_accuracy']:.3f} "
-            f"{auroc}  {a['ref_success_ours_success']:5d} {a['ref_success_ours_failure']:5d} "
-            f"{a['ref_failure_ours_success']:5d} {a['ref_failure_ours_failure']:5d}"
+    labels = reference_labels(reference)
+    if labels is None:
+        raise SimgraspError(f"{reference} has no reference labels (object_in_gripper)")
+    success, score, scored = _our_labels(labels_dir_of(ours, reference))
+    truth = labels[0][: len(success)][scored]
+    grasps = read_grasp_set(reference)
+    if len(grasps) != len(labels[0]):
+        raise SimgraspError(
+            f"{reference} has {len(grasps)} grasps but {len(labels[0])} reference labels"
         )
+    reference_right, ours_right = neighbour_agreement(
+        grasps, labels[0], np.flatnonzero(scored), success[scored]
+    )
+    return truth, success[scored], score[scored], reference_right, ours_right
 
-    head = f"{'file':44s} {'grasps':>6s} {'acc':>5s} {'bal':>5s} {'auroc':>5s}  {'SS':>5s} "
-    head += f"{'SF':>5s} {'FS':>5s} {'FF':>5s}   (reference x ours: S success, F failure)"
-    body = [line(r["file"], r) for r in comparison["files"]]
-    body += [line(f"[{k}]", a) for k, a in comparison["groups"].items()]
+
+def comparison_text(comparison: dict[str, Any]) -> str:
+    """A table: one line per file, then per category and overall; beside our accuracy the
+    majority-class baseline (its floor) and the reference's own consistency (its ceiling)."""
+    head = f"{'file':44s} {'grasps':>6s} {'acc':>5s} {'bal':>5s} {'auroc':>5s} {'major':>5s} "
+    head += f"{'self':>5s} {'on':>5s} {'ours':>5s}  {'SS':>5s} {'SF':>5s} {'FS':>5s} {'FF':>5s}"
+    body = [_line(r["file"], r) for r in comparison["files"]]
+    body += [_line(f"[{k}]", a) for k, a in comparison["groups"].items()]
     body += [
         _interval_line(k, a["interval"]) for k, a in comparison["groups"].items() if "interval" in a
     ]
-    return "\n".join([head, *body])
+    legend = (
+        "reference x ours: S success, F failure; major: the majority-class baseline; self: "
+        "the reference's own consistency (its label of the nearest other grasp of the file "
+        f"within {NEIGHBOUR_MM:g} mm and {NEIGHBOUR_DEG:g} deg agrees) on the 'on' grasps that "
+        "have one, where ours: our accuracy"
+    )
+    return "\n".join([head, *body, legend])
+
+
+def _line(name: str, a: dict[str, Any]) -> str:
+    """One row of :func:`comparison_text`."""
+
+    def figure(value: float | None) -> str:
+        return "  -  " if value is None else f"{value:.3f}"
+
+    return (
+        f"{name[:44]:44s} {a['grasps']:6d} {figure(a['accuracy'])} "
+        f"{figure(a['balanced_accuracy'])} {figure(a['auroc'])} {figure(a['majority'])} "
+        f"{figure(a['consistency'])} {a['consistency_grasps']:5d} "
+        f"{figure(a['ours_on_consistency_grasps'])}  {a['ref_success_ours_success']:5d} "
+        f"{a['ref_success_ours_failure']:5d} {a['ref_failure_ours_success']:5d} "
+        f"{a['ref_failure_ours_failure']:5d}"
+    )
 
 
 def _interval_line(group: str, interval: dict[str, Any]) -> str:
