@@ -32,16 +32,16 @@ class Options(Checked):
     """The suite (see bench list)."""
     path: Path | None = setting(None, positional=True, metavar="DIR")
     """export: the folder to write; score: the folder of grasp files (SCENE.json)."""
-    scenes: tuple[int, ...] = setting((), many=True, metavar="INDEX")
+    scenes: tuple[int, ...] = setting((), many=True, metavar="INDEX", main=True)
     """Only these scenes of the suite (their indices): a part, with its own digest."""
-    method: str | None = None
+    method: str | None = setting(None, main=True)
     """run: quadric, tenpas, centroid, random (registered proposers), antipodal (random pairs
     until 8 grasps: best of N with --attempts N) or MODULE:FUNCTION."""
-    attempts: PositiveInt = 1
+    attempts: PositiveInt = setting(1, main=True)
     """Grasps of each answer executed at most, best first, until one holds."""
-    out: Path | None = setting(None, output="dir")
+    out: Path | None = setting(None, output="dir", main=True)
     """run, score: the output folder (trials.jsonl, summary.json, report.md)."""
-    workers: PositiveInt = 1
+    workers: PositiveInt = setting(1, main=True)
     """Parallel worker processes (or Ray CPUs)."""
     backend: Literal["local", "ray"] = "local"
     """Run scenes in local worker processes or as Ray tasks."""
