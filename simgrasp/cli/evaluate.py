@@ -41,7 +41,7 @@ SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind", "perception")
 class Options(YcbSource, MeshObjectOptions):
     objects: tuple[str, ...] = ("generated",)
     """Object names, mesh files (read with --scale/--units/--mass/...) and/or the sets
-    generated, paper, ycb, all."""
+    generated, families, paper, ycb, all."""
     detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names)
     """Grasp proposers to sweep (:mod:`simgrasp.grasping.proposers`)."""
     gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names)

@@ -15,7 +15,7 @@ from simgrasp.errors import SimgraspError
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
     objects: tuple[str, ...] = ("all",)
-    """Object names and/or the sets generated, paper, ycb, all."""
+    """Object names and/or the sets generated, families, paper, ycb, all."""
     seed: int = 0
     """Sizes of generated tools named without _s<seed>."""
     out: Path = setting(Path("out/labels"), output="dir")
