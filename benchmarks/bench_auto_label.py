@@ -28,17 +28,17 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 from simgrasp.assets.generated import GENERATED_KINDS, generate_tool  # noqa: E402
-from simgrasp.config.arguments import script_main  # noqa: E402
-from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
-from simgrasp.config.fields import setting  # noqa: E402
-from simgrasp.handles.auto_label import (  # noqa: E402
+from simgrasp.autolabel.auto_label import (  # noqa: E402
     AutoLabelConfig,
     label_from_candidates,
     pooled_candidates,
 )
-from simgrasp.handles.cross_section import CrossSectionConfig  # noqa: E402
-from simgrasp.handles.revolution import RevolutionConfig  # noqa: E402
-from simgrasp.handles.virtual_scan import scan_mesh  # noqa: E402
+from simgrasp.autolabel.cross_section import CrossSectionConfig  # noqa: E402
+from simgrasp.autolabel.revolution import RevolutionConfig  # noqa: E402
+from simgrasp.autolabel.virtual_scan import scan_mesh  # noqa: E402
+from simgrasp.config.arguments import script_main  # noqa: E402
+from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
+from simgrasp.config.fields import setting  # noqa: E402
 
 
 def median_seconds(run: Callable[[], Any], repeats: int) -> tuple[float, Any]:

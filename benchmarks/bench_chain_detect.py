@@ -1,5 +1,5 @@
 """Seconds to detect handles in the full chain's fused camera clouds: the chain's default
-``QuadricDetectorConfig.two_scales()`` against the paper's single pass, in one run (medians).
+``quadric_preset("two_scales")`` against the paper's single pass, in one run (medians).
 
 The clouds are the chain's own (stable placement, 4 views, the given sensor) for the paper's
 objects, one scene per seed; each is detected with both settings in turn, ``--runs`` times.
@@ -29,14 +29,15 @@ from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.grasping.trials.chain_config import ChainConfig  # noqa: E402
 from simgrasp.grippers import make_gripper  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, detect  # noqa: E402
+from simgrasp.handles.presets import quadric_preset  # noqa: E402
 from simgrasp.perception.sensors.settings import SensorSettings  # noqa: E402
-from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer  # noqa: E402
+from simgrasp.scenes.kept_renderer import RendererKeeper  # noqa: E402
 from simgrasp.scenes.observe import observe, viewpoint_normals  # noqa: E402
 from simgrasp.scenes.scene import build_scene  # noqa: E402
 
 SETTINGS = {
     "single pass": QuadricDetectorConfig(),
-    "two_scales()": QuadricDetectorConfig.two_scales(),
+    "two_scales()": quadric_preset("two_scales"),
 }
 
 
@@ -45,13 +46,14 @@ def chain_clouds(sensor: str, seeds: int) -> list[tuple[np.ndarray, np.ndarray]]
     config = ChainConfig(sensor=SensorSettings(kind=sensor))
     gripper = make_gripper(config.gripper)
     clouds = []
-    for name in PAPER_OBJECTS:
-        model = model_for(name)
-        for seed in range(seeds):
-            scene = build_scene(model, gripper, config.scene, seed)
-            cloud = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor).cloud
-            clouds.append((cloud.points_world, viewpoint_normals(cloud)))
-    close_kept_renderer()
+    with RendererKeeper() as renderers:
+        for name in PAPER_OBJECTS:
+            model = model_for(name)
+            for seed in range(seeds):
+                scene = build_scene(model, gripper, config.scene, seed)
+                renderer = renderers.renderer_for(scene)
+                cloud = observe(scene, renderer, 0.0, seed, config.sensor).cloud
+                clouds.append((cloud.points_world, viewpoint_normals(cloud)))
     return clouds
 
 

@@ -23,7 +23,7 @@ from simgrasp.assets.registry import load_object  # noqa: E402
 from simgrasp.config.arguments import script_main  # noqa: E402
 from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.handles import QuadricDetectorConfig, TenPasConfig, detect  # noqa: E402
-from simgrasp.handles.detection import TIMING_STEPS  # noqa: E402
+from simgrasp.handles.core.detection import TIMING_STEPS  # noqa: E402
 from simgrasp.handles.detector_config import DetectorName  # noqa: E402
 from simgrasp.perception import sample_surface, voxel_downsample  # noqa: E402
 from simgrasp.seeding import rng_for  # noqa: E402

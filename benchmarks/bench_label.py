@@ -33,7 +33,6 @@ import statistics
 import sys
 import time
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 from mujoco import rollout
@@ -46,11 +45,11 @@ from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.config.fields import setting
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
 from simgrasp.grasping.planning.antipodal import Table, sample_antipodal
-from simgrasp.grasping.trials.protocol import PROTOCOLS, Protocol
+from simgrasp.grasping.trials.protocol import protocol_names
 from simgrasp.grippers import gripper_names, make_gripper
 
 
-def bench_protocol(model, obj: str, gripper: str, protocol: Protocol, grasps, raw: int) -> dict:
+def bench_protocol(model, obj: str, gripper: str, protocol: str, grasps, raw: int) -> dict:
     labeler = GraspLabeler(model, LabelConfig(obj, gripper, protocol))
     labeler.label(-1, *grasps[0])  # warm-up, not timed: first calls import and allocate
     walls, steps, held, physics = [], 0, 0, 0.0
@@ -132,7 +131,7 @@ class Options(Checked):
     """Objects (a YCB id reads ``$SIMGRASP_YCB_DIR``); the first also gives the machine
     reference and the rollout check."""
     protocols: tuple[str, ...] = setting(
-        ("fast", "full", "acronym", "acronym-fast"), choices=PROTOCOLS
+        ("fast", "full", "acronym", "acronym-fast"), choices=protocol_names
     )
     """Trial protocols, each timed on the same grasps."""
     grippers: tuple[str, ...] = setting(
@@ -146,8 +145,7 @@ class Options(Checked):
 def run(options: Options) -> None:
     """Label the grasps of every object, gripper and protocol and print the rates."""
     first = options.objects[0]
-    # checked against PROTOCOLS, the field's choices (typed str there to keep its --help)
-    protocols = cast(tuple[Protocol, ...], options.protocols)
+    protocols = options.protocols
     reference = reference_us_per_step(model_for(first), first)
     rows, notes = [], []
     for obj in options.objects:

@@ -22,7 +22,7 @@ from simgrasp.config.checks import Checked, PositiveInt
 from simgrasp.config.fields import setting
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers import gripper_names, make_gripper
-from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import render_views
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import build_scene
@@ -44,6 +44,7 @@ def run(options: Options) -> None:
     gripper = make_gripper(options.gripper)
     config = ChainConfig().scene
     times: dict[str, list[float]] = {"build": [], "fresh": [], "kept": []}
+    renderers = RendererKeeper()
     for seed in range(options.runs + 1):
         start = time.perf_counter()
         scene = build_scene(model, gripper, config, seed)
@@ -51,13 +52,13 @@ def run(options: Options) -> None:
         with SceneRenderer(scene.model) as renderer:
             render_views(scene, renderer)
         fresh = time.perf_counter()
-        render_views(scene, kept_renderer(scene))
+        render_views(scene, renderers.renderer_for(scene))
         kept = time.perf_counter()
         if seed > 0:
             times["build"].append(built - start)
             times["fresh"].append(fresh - built)
             times["kept"].append(kept - fresh)
-    close_kept_renderer()
+    renderers.close()
 
     median = {name: float(np.median(values)) for name, values in times.items()}
     print(

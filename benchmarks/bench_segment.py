@@ -70,7 +70,7 @@ def clutter_frames(scenes: int, distractors: int) -> list[Frame]:
     from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grippers import make_gripper
-    from simgrasp.scenes.kept_renderer import kept_renderer
+    from simgrasp.scenes.kept_renderer import RendererKeeper
     from simgrasp.scenes.observe import observe
     from simgrasp.scenes.perceive import organized_cloud
     from simgrasp.scenes.scene import build_scene
@@ -79,11 +79,13 @@ def clutter_frames(scenes: int, distractors: int) -> list[Frame]:
         scene__clutter=distractors, scene__clutter_objects="generated", sensor__kind="kinect"
     )
     gripper, frames = make_gripper("builtin"), []
-    for index in range(scenes):
-        target = ("gen_hammer", "gen_mug", "gen_spatula", "gen_pan")[index % 4]
-        scene = build_scene(model_for(target), gripper, config.scene, index)
-        observation = observe(scene, kept_renderer(scene), 0.0, index, config.sensor)
-        frames += [(organized_cloud(f), f.depth, f.intrinsics) for f in observation.frames]
+    with RendererKeeper() as renderers:
+        for index in range(scenes):
+            target = ("gen_hammer", "gen_mug", "gen_spatula", "gen_pan")[index % 4]
+            scene = build_scene(model_for(target), gripper, config.scene, index)
+            renderer = renderers.renderer_for(scene)
+            observation = observe(scene, renderer, 0.0, index, config.sensor)
+            frames += [(organized_cloud(f), f.depth, f.intrinsics) for f in observation.frames]
     return frames
 
 

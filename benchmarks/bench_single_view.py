@@ -1,5 +1,5 @@
 """What the body-wall test costs the single-view default: ``detect_single_view`` with
-``SingleViewConfig.learned()`` (the body wall on, as ``simgrasp detect`` runs it) against the
+``single_view_preset()`` (the body wall on, as ``simgrasp detect`` runs it) against the
 same settings with the body wall off, in CPU time, interleaved in one run on one core
 (medians, and the with / without ratio per cloud).
 
@@ -32,8 +32,8 @@ from simgrasp.config.checks import Checked, PositiveInt  # noqa: E402
 from simgrasp.errors import DataNotFoundError  # noqa: E402
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest  # noqa: E402
 from simgrasp.evaluation.sim_views import SimView, capture  # noqa: E402
-from simgrasp.handles import SingleViewConfig  # noqa: E402
-from simgrasp.handles.single_view import detect_single_view  # noqa: E402
+from simgrasp.handles.presets import single_view_preset  # noqa: E402
+from simgrasp.handles.single_view.detector import detect_single_view  # noqa: E402
 
 SIM_VIEWS = (
     SimView("gen_mug", "upright", 0.78, 32.0, "stereo"),
@@ -69,7 +69,7 @@ def clouds() -> list[Cloud]:
 
 def run(options: Options) -> None:
     """Print one row per cloud: its points, median ms without and with the body wall, ratio."""
-    walled = SingleViewConfig.learned()
+    walled = single_view_preset()
     settings = {"without": walled.with_body_wall(False)}
     settings["with"] = walled
     print(f"median of {options.runs} runs each, interleaved, one core")

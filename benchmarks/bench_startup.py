@@ -28,7 +28,8 @@ from pathlib import Path
 
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, PositiveInt
-from simgrasp.grasping.trials.protocol import Protocol
+from simgrasp.config.fields import setting
+from simgrasp.grasping.trials.protocol import protocol_names
 
 IMPORT_ONLY = "import simgrasp.grasping.labeling.label_run"
 
@@ -74,7 +75,7 @@ class Options(Checked):
     """Processes per variant (medians)."""
     object: str = "gen_hammer"
     """Object labeled (the generated hammer needs no data)."""
-    protocol: Protocol = "fast"
+    protocol: str = setting("fast", choices=protocol_names)
     """Trial protocol of ``label-grasps``."""
     json: bool = False
     """Print the result as JSON instead of the table."""

@@ -4,7 +4,8 @@
     python scripts/compare_records.py docs/results/grasp-sets/048_hammer/fast out/hammer-fast
 
 Each file the first folder holds of ``trials.jsonl``, ``labels.jsonl``, ``labels.npz``,
-``detect_eval.csv`` and ``summary.json`` is compared with the same file of the second:
+``detect_eval.csv`` and ``summary.json`` (or its gzipped copy, ``NAME.gz``, as committed runs
+keep their records) is compared with the same file of the second:
 JSONL records matched by their identity (all fields but timings), CSV rows likewise, NPZ
 arrays exactly. Timing fields (``timings_s``, ``t_*`` columns, wall-clock and rate keys) are
 dropped first. Prints one line per file and exits 1 when any differs, so a refactor that
@@ -14,6 +15,8 @@ must keep records identical can be checked after rerunning the committed command
 from __future__ import annotations
 
 import csv
+import gzip
+import io
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,22 +49,32 @@ def _canonical(rows: list[dict[str, Any]]) -> list[str]:
     return sorted(json.dumps(row, sort_keys=True) for row in rows)
 
 
+def _text(path: Path) -> str:
+    """The text of ``path``, or of ``path.gz`` decompressed when only that exists."""
+    if path.exists():
+        return path.read_text(encoding="utf-8")
+    return gzip.decompress(path.with_name(path.name + ".gz").read_bytes()).decode("utf-8")
+
+
+def _exists(folder: Path, name: str) -> bool:
+    return (folder / name).exists() or (folder / f"{name}.gz").exists()
+
+
 def _jsonl(path: Path) -> list[str]:
-    lines = path.read_text(encoding="utf-8").splitlines()
+    lines = _text(path).splitlines()
     return _canonical([_strip(json.loads(line)) for line in lines if line.strip()])
 
 
 def _csv(path: Path) -> list[str]:
-    with path.open(newline="", encoding="utf-8") as handle:
-        rows = [
-            {k: v for k, v in row.items() if not k.startswith("t_")}
-            for row in csv.DictReader(handle)
-        ]
+    rows = [
+        {k: v for k, v in row.items() if not k.startswith("t_")}
+        for row in csv.DictReader(io.StringIO(_text(path), newline=""))
+    ]
     return _canonical(rows)
 
 
 def _json(path: Path) -> list[str]:
-    return [json.dumps(_strip(json.loads(path.read_text(encoding="utf-8"))), sort_keys=True)]
+    return [json.dumps(_strip(json.loads(_text(path))), sort_keys=True)]
 
 
 def _npz_differs(first: Path, second: Path) -> str | None:
@@ -81,7 +94,7 @@ READERS["summary.json"] = _json
 
 def compare(first: Path, second: Path, name: str) -> str | None:
     """None when ``first/name`` and ``second/name`` hold the same records, else why not."""
-    if not (second / name).exists():
+    if not _exists(second, name):
         return f"{second / name} is missing"
     if name.endswith(".npz"):
         return _npz_differs(first / name, second / name)
@@ -103,7 +116,7 @@ class Options(Checked):
 def run(options: Options) -> int:
     """One line per record file of ``first``; the exit status: 1 when any differs."""
     first, second = options.first, options.second
-    names = [n for n in (*READERS, "labels.npz") if (first / n).exists()]
+    names = [n for n in (*READERS, "labels.npz") if _exists(first, n)]
     if not names:
         raise SimgraspError(f"{first} holds no records to compare")
     failed = False

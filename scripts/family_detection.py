@@ -11,8 +11,8 @@ image passed through the sensor model. A single view is one camera's pixels of t
 chain plans on. Detection is what ``simgrasp detect`` runs by default
 (:func:`simgrasp.api.detect_handles`) on a single view, seen from its camera: the
 single-view detector. On the fused cloud, with normals toward the cameras, it is what the
-grasp chain runs (``simgrasp evaluate``): the quadric detector's
-:meth:`~simgrasp.handles.config.QuadricDetectorConfig.two_scales`. Scored in the object's
+grasp chain runs (``simgrasp evaluate``): the quadric detector's preset ``two_scales``
+(:mod:`simgrasp.handles.presets`). Scored in the object's
 frame against its exact label: candidate accuracy (share of candidate centers on the handle,
 pooled over runs) and whether the top-ranked handle's center is on it. Rows go to
 ``rows.jsonl`` as they finish (a rerun keeps the whole scenes made under the same detector
@@ -40,23 +40,22 @@ from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked
 from simgrasp.config.values import to_plain
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.single_view import SingleViewConfig
+from simgrasp.handles.presets import chain_quadric, single_view_preset
 from simgrasp.runs.identity import file_digest
 
 SENSORS = ("ideal", "kinect")
 VIEWS = 4
-FUSED = QuadricDetectorConfig.two_scales()
-"""The fused cloud's detector: the grasp chain's (``ChainDetectorConfig``)."""
+FUSED = chain_quadric()
+"""The fused cloud's detector: the grasp chain's (the preset ``two_scales``)."""
 SCENE_ROWS = len(SENSORS) * (VIEWS + 1)
 """Rows of one scene: per sensor, each single view and the fused cloud."""
 
 
 def settings_key() -> str:
     """The detector defaults and the classifier file the rows were made with."""
-    single = SingleViewConfig.learned()
+    single = single_view_preset()
     given = {
-        "fused": to_plain(QuadricDetectorConfig.two_scales()),
+        "fused": to_plain(FUSED),
         "single_view": to_plain(single),
         "classifier": file_digest(single.classifier_path()) if single.classifier else None,
     }
@@ -78,15 +77,17 @@ def _score(detection: Any, object_T_world: np.ndarray, label: Any) -> dict[str, 
     }
 
 
-def measure_scene(kind: str, seed: int, placement: Placement) -> list[dict[str, Any]]:
-    """The rows of one object seen in one scene: per sensor, each single view and the fused
-    cloud (see the module doc)."""
+def measure_scene(
+    kind: str, seed: int, placement: Placement, renderers: Any
+) -> list[dict[str, Any]]:
+    """The rows of one object seen in one scene (rendered by the ``renderers``, a
+    :class:`~simgrasp.scenes.kept_renderer.RendererKeeper`): per sensor, each single view and
+    the fused cloud (see the module doc)."""
     from simgrasp.api import detect_handles
     from simgrasp.assets.model import model_for
     from simgrasp.grippers import make_gripper
     from simgrasp.perception.sensors.settings import SensorSettings
     from simgrasp.scenes.config import SceneConfig
-    from simgrasp.scenes.kept_renderer import kept_renderer
     from simgrasp.scenes.observe import (
         CLOUD_VOXEL,
         object_cloud,
@@ -101,7 +102,7 @@ def measure_scene(kind: str, seed: int, placement: Placement) -> list[dict[str, 
         model, make_gripper("builtin"), SceneConfig(num_views=VIEWS, placement=placement), seed
     )
     object_T_world = np.linalg.inv(scene.world_T_object)
-    frames = render_views(scene, kept_renderer(scene))
+    frames = render_views(scene, renderers.renderer_for(scene))
     rows = []
     for sensor in SENSORS:
         seen = sensed_views(frames, SensorSettings(kind=sensor), seed)
@@ -183,9 +184,27 @@ def _plan(options: Options) -> list[tuple[str, int, Placement]]:
     return plan  # type: ignore[return-value]
 
 
+def _measure(
+    path: Path,
+    done: list[dict[str, Any]],
+    scene: tuple[str, int, Placement],
+    renderers: Any,
+    mesh: str,
+    key: str,
+) -> None:
+    """Measure one scene and append its rows (a scene torn by a kill is measured again)."""
+    kind, seed, placement = scene
+    for row in measure_scene(kind, seed, placement, renderers):
+        named = {"object": f"gen_{kind}_s{seed}", "kind": kind, "seed": seed}
+        full = {**named, "placement": placement, **row, "mesh": mesh, "settings": key}
+        done.append(full)
+        add_row(path, full)
+
+
 def run(options: Options) -> str:
     """Measure every scene not yet in ``rows.jsonl`` under these settings; the table."""
     from simgrasp.assets.generated import generate_tool
+    from simgrasp.scenes.kept_renderer import RendererKeeper
 
     key = settings_key()
     options.out.mkdir(parents=True, exist_ok=True)
@@ -204,15 +223,10 @@ def run(options: Options) -> str:
     have = {scene for scene, count in counts.items() if count == SCENE_ROWS}
     done = [r for r in done if (r["kind"], r["seed"], r["placement"]) in have]
     plan = _plan(options)
-    for kind, seed, placement in plan:
-        if (kind, seed, placement) in have:
-            continue
-        for row in measure_scene(kind, seed, placement):  # a torn scene is measured again
-            named = {"object": f"gen_{kind}_s{seed}", "kind": kind, "seed": seed}
-            full = {**named, "placement": placement, **row}
-            full.update(mesh=mesh_of(kind, seed), settings=key)
-            done.append(full)
-            add_row(path, full)
+    with RendererKeeper() as renderers:
+        for kind, seed, placement in plan:
+            if (kind, seed, placement) not in have:
+                _measure(path, done, (kind, seed, placement), renderers, mesh_of(kind, seed), key)
     wanted = {(k, s, p) for k, s, p in plan}
     text = table([r for r in done if (r["kind"], r["seed"], r["placement"]) in wanted])
     (options.out / "family_detection.md").write_text(text)

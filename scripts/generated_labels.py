@@ -31,11 +31,12 @@ from scipy.spatial import cKDTree
 from simgrasp.assets.auto_handles import LABELER_VERSION
 from simgrasp.assets.generated import ALL_GENERATED_KINDS, generate_parts, generate_tool
 from simgrasp.assets.object import ObjectAsset
+from simgrasp.autolabel.auto_label import auto_handle_label
+from simgrasp.autolabel.config import AutoLabelConfig
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import Checked, Positive, PositiveInt
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
 from simgrasp.perception import sample_surface
 
 SAMPLES = 20000

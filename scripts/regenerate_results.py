@@ -5,9 +5,10 @@
     python scripts/regenerate_results.py evaluate chain
     python scripts/regenerate_results.py labels       # out/labels: check the labels by eye
 
-A rerun resumes an existing ``trials.jsonl`` (only missing trials run) and is refused when the
-chain defaults changed since it was recorded (``defaults.json``); delete both first for a
-fresh run.
+Committed runs keep their records gzipped (``trials.jsonl.gz``), so a rerun into the committed
+folder runs every trial and writes ``trials.jsonl`` beside them; ``scripts/compare_records.py``
+then compares the two. A rerun resumes an existing ``trials.jsonl`` (only missing trials run)
+and is refused when the chain defaults changed since it was recorded (``defaults.json``).
 """
 
 from __future__ import annotations

@@ -2,17 +2,16 @@
 on simulated views with exact handle labels: generated tools and labeled YCB objects, upright
 and lying, through the kinect and stereo sensor models at several distances and elevations
 (:mod:`simgrasp.evaluation.sim_views`). No real cloud is used. Each candidate of
-:func:`~simgrasp.handles.single_view.single_view_candidates` is a row of
-:func:`~simgrasp.handles.candidate_features.candidate_features`, labeled by whether its center
-lies in the object's handle label; boosted trees (scikit-learn) are fitted
+:func:`~simgrasp.handles.single_view.detector.single_view_candidates` is a row of
+:func:`~simgrasp.handles.single_view.candidate_features.candidate_features`, labeled by whether
+its center lies in the object's handle label; boosted trees (scikit-learn) are fitted
 with every view weighted alike and written as JSON. Needs scikit-learn and ``SIMGRASP_YCB_DIR``.
 
     python scripts/train_candidate_classifier.py --seeds 2 --workers 2 \
         --out models/handles/candidate_classifier.json
 
-``--first-objects`` trains on the 13 objects of the first classifier
-(``candidate_classifier_bars.json``; that file, of 3 December 2026, is not reproduced byte for
-byte: today's candidate detector gives 26,769 training candidates where it had 26,850),
+``--first-objects`` trains on the 13 objects of the first classifier (its runs:
+docs/results/real-detect/README.md),
 ``--with-drills`` adds ten generated drills (a model tried and not shipped);
 ``--degradations half quarter noise1mm noise2mm holes`` adds every view made worse as
 ``scripts/real_robustness.py`` makes captures worse (a model tried on 7 December 2026 and not
@@ -41,8 +40,8 @@ from simgrasp.config.checks import MinLength, NonNegativeInt, Positive, Positive
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.capture_degradations import DEGRADATIONS, degraded
 from simgrasp.evaluation.sim_views import Pose, SimCapture, SimView, capture
-from simgrasp.handles.candidate_features import FEATURES, candidate_features
-from simgrasp.handles.single_view import SingleViewConfig, single_view_candidates
+from simgrasp.handles.single_view.candidate_features import FEATURES, candidate_features
+from simgrasp.handles.single_view.detector import SingleViewConfig, single_view_candidates
 from simgrasp.seeding import rng_for
 
 OBJECTS = (
@@ -161,7 +160,7 @@ def ensemble_leave_one_out(
 ) -> None:
     """Print, per training object, the :func:`view_scores` of three models trained on the
     others: without the generated drills at 0.7 (the shipped model's threshold), with them
-    at 0.6, and the two as one :class:`~simgrasp.handles.candidate_features.MaxEnsemble`
+    at 0.6, and the two as one :class:`~simgrasp.handles.single_view.candidate_features.MaxEnsemble`
     (a candidate kept where either keeps it)."""
     drills = np.char.startswith(objects.astype(str), "gen_drill")
     for name in dict.fromkeys(objects):
@@ -199,7 +198,7 @@ def fit(
     x: np.ndarray, y: np.ndarray, views: np.ndarray, view_weight: np.ndarray | None = None
 ) -> dict:
     """:func:`boosted` as the JSON that
-    :class:`~simgrasp.handles.candidate_features.TreeClassifier` reads."""
+    :class:`~simgrasp.handles.single_view.candidate_features.TreeClassifier` reads."""
     model = boosted(x, y, views, view_weight)
     trees = []
     for (estimator,) in model.estimators_:

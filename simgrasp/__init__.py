@@ -34,18 +34,19 @@ _EXPORTS = {
     "GraspSet": "simgrasp.grasping.labeling.grasp_sets",
     "ChainConfig": "simgrasp.grasping.trials.chain_config",
     "DetectorConfig": "simgrasp.handles.detector_config",
-    "QuadricDetectorConfig": "simgrasp.handles.config",
-    "TenPasConfig": "simgrasp.handles.tenpas_config",
+    "QuadricDetectorConfig": "simgrasp.handles.core.config",
+    "TenPasConfig": "simgrasp.handles.baselines.tenpas_config",
     "TrialConfig": "simgrasp.grasping.trials.trial_config",
     "SceneConfig": "simgrasp.scenes.config",
     "PlannerConfig": "simgrasp.grasping.planning.planner_config",
     "SensorSettings": "simgrasp.perception.sensors.settings",
     "LabelConfig": "simgrasp.grasping.labeling.labeling",
     "SimgraspError": "simgrasp.errors",
+    "Session": "simgrasp.grasping.session",
     "SegmentConfig": "simgrasp.perception.segmentation.segment_config",
     "DepthImageConfig": "simgrasp.perception.depth_image",
-    "Detection": "simgrasp.handles.detection",
-    "Handle": "simgrasp.handles.detection",
+    "Detection": "simgrasp.handles.core.detection",
+    "Handle": "simgrasp.handles.core.detection",
     "TrialResult": "simgrasp.grasping.trials.result",
     "ChainResult": "simgrasp.grasping.trials.chain",
     "Segmentation": "simgrasp.perception.segmentation.segment",
@@ -68,6 +69,7 @@ __all__ = [
     "SegmentConfig",
     "Segmentation",
     "SensorSettings",
+    "Session",
     "SimgraspError",
     "TenPasConfig",
     "TrialConfig",
@@ -86,14 +88,15 @@ if TYPE_CHECKING:
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
     from simgrasp.grasping.labeling.labeling import LabelConfig, LabelResult, label_grasps
     from simgrasp.grasping.planning.planner_config import PlannerConfig
+    from simgrasp.grasping.session import Session
     from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.result import TrialResult
     from simgrasp.grasping.trials.trial_config import TrialConfig
-    from simgrasp.handles.config import QuadricDetectorConfig
-    from simgrasp.handles.detection import Detection, Handle
+    from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+    from simgrasp.handles.core.config import QuadricDetectorConfig
+    from simgrasp.handles.core.detection import Detection, Handle
     from simgrasp.handles.detector_config import DetectorConfig
-    from simgrasp.handles.tenpas_config import TenPasConfig
     from simgrasp.perception.depth_image import DepthImageConfig
     from simgrasp.perception.segmentation.segment import Segmentation
     from simgrasp.perception.segmentation.segment_config import SegmentConfig

@@ -8,6 +8,7 @@ it. Units are meters; frames are named as in the README (``world_T_tcp``, ``poin
 from __future__ import annotations
 
 import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
@@ -20,16 +21,19 @@ if TYPE_CHECKING:
     from simgrasp.assets.object import ObjectAsset
     from simgrasp.assets.placement import Placement
     from simgrasp.grasping.labeling.grasp_sets import GraspSet
+    from simgrasp.grasping.session import Session
     from simgrasp.grasping.trials.chain import ChainResult
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.result import TrialResult
-    from simgrasp.handles.config import QuadricDetectorConfig
-    from simgrasp.handles.detection import Detection
+    from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+    from simgrasp.handles.core.config import QuadricDetectorConfig
+    from simgrasp.handles.core.detection import Detection
     from simgrasp.handles.detector_config import DetectorConfig
-    from simgrasp.handles.tenpas_config import TenPasConfig
+    from simgrasp.perception.cloud_file import MeshReadConfig
     from simgrasp.perception.depth_image import DepthImageConfig
     from simgrasp.perception.segmentation.segment import Segmentation
     from simgrasp.perception.segmentation.segment_config import SegmentConfig
+    from simgrasp.perception.units import Units
 
 
 def load_object(
@@ -46,27 +50,35 @@ def load_object(
 
 
 def detect_handles(
-    points: ArrayLike,
+    points: ArrayLike | str | os.PathLike[str],
     normals: ArrayLike | None = None,
     *,
     config: DetectorConfig | QuadricDetectorConfig | TenPasConfig | None = None,
     seed: int = 0,
     viewpoint: ArrayLike | None = None,
     single_view: bool = True,
+    units: Units = "m",
+    mesh: MeshReadConfig | None = None,
 ) -> Detection:
-    """Handles in one object's cloud: ``points`` (N, 3) in meters, any frame; ``normals``
+    """Handles in one object's cloud: ``points`` (N, 3) in ``units``, any frame, or a file
+    ``simgrasp detect`` reads (a cloud, whose normals it leaves out are estimated with a
+    :class:`~simgrasp.perception.cloud_io.ReadNote` warning; a mesh, read as ``mesh`` says:
+    a scan's by its vertices, a model's by its surface sampled by ``seed``); ``normals``
     (N, 3) pointing out of the object, estimated when omitted (toward ``viewpoint``, the
-    camera position in the cloud's frame, for a single view). ``config`` picks the detector
-    (a :class:`DetectorConfig`, or one detector's own settings); the default is the one
-    ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one camera's
-    view from ``viewpoint`` (none given: from the origin, a sensor's own frame) goes to the
-    single-view detector (:meth:`~simgrasp.handles.single_view.SingleViewConfig.learned`).
-    Results are in the cloud's frame."""
+    camera position in the cloud's frame and units, for a single view). A cloud whose size
+    only other units explain is refused, naming the ``units`` to pass. ``config`` picks the
+    detector (a :class:`DetectorConfig`, or one detector's own settings); the default is the
+    one ``simgrasp detect`` runs: with ``single_view``, a cloud the data show to be one
+    camera's view from ``viewpoint`` (none given: from the origin, a sensor's own frame) goes
+    to the single-view detector (the preset ``learned``, :mod:`simgrasp.handles.presets`).
+    Results are in the cloud's frame, in meters."""
     from simgrasp.handles import detect
-    from simgrasp.handles.config import QuadricDetectorConfig
+    from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+    from simgrasp.handles.core.config import QuadricDetectorConfig
     from simgrasp.handles.detector_config import DetectorConfig
-    from simgrasp.handles.single_view import SingleViewConfig
-    from simgrasp.handles.tenpas_config import TenPasConfig
+    from simgrasp.handles.presets import single_view_preset
+
+    points, normals, viewpoint = _cloud_in_meters(points, normals, viewpoint, units, mesh, seed)
 
     chosen = config if config is not None else DetectorConfig()
     _check_type(chosen, "config", DetectorConfig, QuadricDetectorConfig, TenPasConfig)
@@ -75,7 +87,7 @@ def detect_handles(
     else:
         kind = "quadric" if isinstance(chosen, QuadricDetectorConfig) else "tenpas"
         settings = chosen
-    chosen_view = SingleViewConfig.learned() if single_view else None
+    chosen_view = single_view_preset() if single_view else None
     return detect(
         points,
         normals,
@@ -87,6 +99,31 @@ def detect_handles(
     )
 
 
+def _cloud_in_meters(
+    points: ArrayLike | str | os.PathLike[str],
+    normals: ArrayLike | None,
+    viewpoint: ArrayLike | None,
+    units: Units,
+    mesh: MeshReadConfig | None,
+    seed: int,
+) -> tuple[NDArray[np.float64], ArrayLike | None, ArrayLike | None]:
+    """:func:`detect_handles`' points (read from the file they name), normals and viewpoint,
+    in meters."""
+    from simgrasp.perception._arrays import as_points
+    from simgrasp.perception.cloud_file import read_object_cloud
+    from simgrasp.perception.units import UNIT_SCALE, cloud_in_meters
+
+    if isinstance(points, str | os.PathLike):
+        if normals is not None:
+            raise SimgraspError("normals come from the file when points is a file; pass neither")
+        path_points, normals = read_object_cloud(Path(points), units, mesh=mesh, seed=seed)
+    else:
+        path_points = cloud_in_meters(as_points(points), units, "points")
+    if viewpoint is not None and units != "m":
+        viewpoint = np.asarray(viewpoint, dtype=np.float64) * UNIT_SCALE[units]
+    return path_points, normals, viewpoint
+
+
 def _check_type(value: object, name: str, *kinds: type) -> None:
     """A :class:`SimgraspError` naming argument ``name`` unless ``value`` is one of ``kinds``."""
     if not isinstance(value, kinds):
@@ -95,7 +132,11 @@ def _check_type(value: object, name: str, *kinds: type) -> None:
         raise SimgraspError(f"{name} must be a {wanted}, got {type(value).__name__}")
 
 
-def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> ObjectModel:
+def _object_model(
+    obj: object, ycb_dir: str | os.PathLike[str] | None, session: Session | None = None
+) -> ObjectModel:
+    """The model of ``obj``; a name or path is looked up in ``session``'s models when given
+    one (and ``ycb_dir`` is not), else built."""
     from simgrasp.assets.model import ObjectModel, build_object_model, model_for
     from simgrasp.assets.object import ObjectAsset
 
@@ -104,6 +145,8 @@ def _object_model(obj: object, ycb_dir: str | os.PathLike[str] | None) -> Object
     if isinstance(obj, ObjectAsset):
         return build_object_model(obj)
     if isinstance(obj, str | os.PathLike):
+        if session is not None and ycb_dir is None:
+            return session.model(os.fspath(obj))
         return model_for(os.fspath(obj), None if ycb_dir is None else os.fspath(ycb_dir))
     raise SimgraspError(
         f"obj must be a name, a path, an ObjectAsset or an ObjectModel, got {type(obj).__name__}"
@@ -150,6 +193,7 @@ def run_trial(
     width: float | None = None,
     config: ChainConfig | None = None,
     ycb_dir: str | os.PathLike[str] | None = None,
+    session: Session | None = None,
 ) -> ChainResult | TrialResult:
     """One grasp trial of ``obj`` on the table scene of ``seed`` (rest pose, yaw, noise).
 
@@ -159,6 +203,9 @@ def run_trial(
     qz]``; +z the approach, +y the jaw axis) is executed with the jaws opened to ``width`` (m,
     default the gripper's maximum) and a :class:`TrialResult` comes back. Both have
     ``success``, ``on_handle`` and ``to_json()`` (the record ``simgrasp trial --json`` prints).
+    Trials run one after another share a :class:`~simgrasp.grasping.session.Session`'s
+    renderer and object models when given one (``with simgrasp.Session() as session``);
+    without it each call makes its own.
     """
     from simgrasp.grasping.trials.chain_config import ChainConfig
     from simgrasp.grasping.trials.given_grasp import GraspFrame
@@ -175,7 +222,7 @@ def run_trial(
             raise SimgraspError("grasp_frame needs a grasp (the full chain plans its own grasp)")
         from simgrasp.grasping.trials.chain import run_chain
 
-        return run_chain(_object_model(obj, ycb_dir), config, seed)
+        return run_chain(_object_model(obj, ycb_dir, session), config, seed, session=session)
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
     from simgrasp.grippers import make_gripper
 
@@ -183,7 +230,7 @@ def run_trial(
     hand = make_gripper(config.gripper)
     opening = None if width is None else _jaw_width(width, hand.max_opening)
     return trial_of_grasp(
-        _object_model(obj, ycb_dir),
+        _object_model(obj, ycb_dir, session),
         hand,
         pose7,
         frame=grasp_frame,

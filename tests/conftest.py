@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import sys
 from collections import Counter
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import settings
@@ -43,6 +45,16 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
     for marker in KINDS:
         if item.get_closest_marker(marker) is not None:
             require_data(marker)
+
+
+@pytest.fixture(scope="session")
+def renderers() -> Iterator[Any]:
+    """One renderer keeper for a test process's tests (scenes built alike share a GL context),
+    closed at the end (imported here: mujoco after :func:`configure_mujoco_gl`)."""
+    from simgrasp.scenes.kept_renderer import RendererKeeper
+
+    with RendererKeeper() as keeper:
+        yield keeper
 
 
 @pytest.fixture(scope="session")

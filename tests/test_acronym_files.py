@@ -25,7 +25,8 @@ from simgrasp.cli import main
 from simgrasp.grasping.labeling.grasp_files import carried_object
 from simgrasp.grasping.labeling.grasp_sets import FRANKA_T_TCP, read_grasp_set
 from simgrasp.grasping.labeling.labeling import GraspLabeler, LabelConfig
-from simgrasp.grasping.trials.trial_config import TrialConfig, protocol_config
+from simgrasp.grasping.trials.protocol import PROTOCOLS
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.mount import MOUNT_IMPRATIO
 
 EXAMPLE = "examples/grasps/Mug_10f6e09036350e92b3f21f1137c3c347_0.0002682457830986903.h5"
@@ -103,7 +104,7 @@ def test_each_protocol_runs_its_trials_with_its_friction_and_integrator(tmp_path
         labeler = _box_labeler(tmp_path, protocol)
         labeler.label(0, OBJECT_T_TCP, np.nan)
         seen[protocol] = _trial_physics(labeler)
-        labeler.trial_config = protocol_config("full")
+        labeler.trial_config, labeler.phases = PROTOCOLS["full"].config, PROTOCOLS["full"].phases
         labeler.label(1, OBJECT_T_TCP, np.nan)
         seen[f"{protocol} then full"] = _trial_physics(labeler)
     soft = (0.45, mujoco.mjtIntegrator.mjINT_DISCRETE, 0.007)

@@ -155,10 +155,11 @@ def test_segment_scene_refuses_arguments_that_do_not_fit_the_scene(
     refused(call, message)
 
 
-def test_detect_handles_refuses_a_file_name_for_points() -> None:
+def test_detect_handles_reads_a_file_name_and_refuses_a_missing_one() -> None:
+    refused(lambda: simgrasp.detect_handles("cloud.npy"), "cloud.npy: no such point-cloud file")
     refused(
-        lambda: simgrasp.detect_handles("cloud.npy"),
-        "points must be an (N, 3) array of numbers, got str",
+        lambda: simgrasp.detect_handles("cloud.npy", np.zeros((3, 3))),
+        "normals come from the file when points is a file",
     )
 
 

@@ -13,12 +13,13 @@ import pytest
 import trimesh
 
 from simgrasp.assets.generated import generate_tool
+from simgrasp.autolabel.auto_label import auto_handle_label
+from simgrasp.autolabel.config import AutoLabelConfig
+from simgrasp.autolabel.cross_section import CrossSectionConfig
+from simgrasp.autolabel.label_surface import piece_boxes
+from simgrasp.autolabel.revolution import RevolutionConfig
+from simgrasp.autolabel.virtual_scan import ScanConfig
 from simgrasp.cli import main
-from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
-from simgrasp.handles.cross_section import CrossSectionConfig
-from simgrasp.handles.label_surface import piece_boxes
-from simgrasp.handles.revolution import RevolutionConfig
-from simgrasp.handles.virtual_scan import ScanConfig
 from simgrasp.labels import HandleLabel, load_handle_label, write_label_file
 from simgrasp.perception import sample_surface
 from tests.data_needs import require_data
@@ -264,7 +265,7 @@ def test_kmeans_pieces_follow_a_loop_where_slabs_span_its_opening() -> None:
 
 
 def test_free_space_is_empty_around_a_free_tube_and_full_beside_a_wall() -> None:
-    from simgrasp.handles.free_space import sideways_occupancy
+    from simgrasp.autolabel.free_space import sideways_occupancy
 
     tube = _tube_points(0.005, 0.06)
     axis, center, semi = np.array([[0.0, 0.0, 1.0]]), np.zeros((1, 3)), np.array([0.005])
@@ -309,7 +310,7 @@ def test_free_space_fallback_labels_a_flat_strap_the_detector_misses() -> None:
 
 
 def test_axis_reach_follows_a_tube_but_not_onto_a_blocked_blade() -> None:
-    from simgrasp.handles.axis_reach import reached_along_axes
+    from simgrasp.autolabel.axis_reach import reached_along_axes
 
     tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
     y, z = np.meshgrid(np.linspace(-0.02, 0.02, 41), np.linspace(0.0, 0.04, 41))
@@ -362,7 +363,8 @@ def test_wide_sections_and_the_section_stop_keep_a_knife_label_off_its_blade() -
 
 
 def test_uniform_section_leaves_out_wide_candidates_of_large_parts_only() -> None:
-    from simgrasp.handles.auto_label import Candidates, uniform_section
+    from simgrasp.autolabel.auto_label import uniform_section
+    from simgrasp.autolabel.config import Candidates
 
     semi = np.r_[np.full(30, 0.005), np.full(5, 0.012)]
     n = len(semi)
@@ -381,7 +383,7 @@ def test_uniform_section_leaves_out_wide_candidates_of_large_parts_only() -> Non
 def test_section_stops_end_a_tube_at_a_disc_across_it() -> None:
     from scipy.spatial import cKDTree
 
-    from simgrasp.handles.axis_reach import SectionStop, section_stops
+    from simgrasp.autolabel.axis_reach import SectionStop, section_stops
 
     radius, angle = np.meshgrid(np.linspace(0.0, 0.02, 21), np.linspace(0, 2 * np.pi, 72))
     disc = np.column_stack(
@@ -404,8 +406,8 @@ def test_section_stops_end_a_tube_at_a_disc_across_it() -> None:
 def test_only_flat_candidates_thinner_than_the_part_block_its_reach() -> None:
     """A flat handle's own flat fits (as thick as the part, knife 89e8) leave the reach along
     the handle open; a blade's thin fits still block it."""
-    from simgrasp.handles.auto_label import Candidates
-    from simgrasp.handles.label_surface import part_surface
+    from simgrasp.autolabel.config import Candidates
+    from simgrasp.autolabel.label_surface import part_surface
 
     tube = _tube_points(0.005, 0.08)  # z from -0.04 to 0.04
     centers = np.array([[0.005, 0, 0], [0.005, 0, 0.001], [0.005, 0, 0.015], [0.005, 0, -0.015]])
@@ -426,7 +428,8 @@ def test_only_flat_candidates_thinner_than_the_part_block_its_reach() -> None:
 
 
 def test_resplit_drops_a_blade_root_joined_to_the_handle_only_by_its_guard() -> None:
-    from simgrasp.handles.auto_label import Candidates, label_from_candidates
+    from simgrasp.autolabel.auto_label import label_from_candidates
+    from simgrasp.autolabel.config import Candidates
 
     z = np.r_[np.arange(30) * 0.002, 0.060 + np.arange(5) * 0.002, 0.070 + np.arange(4) * 0.002]
     semi = np.r_[np.full(30, 0.005), np.full(5, 0.012), np.full(4, 0.005)]  # handle, guard, root
@@ -463,8 +466,8 @@ def test_the_default_labels_a_solid_fin_standing_off_a_mug() -> None:
 def test_a_round_hammer_handle_is_no_body_its_head_stands_off() -> None:
     """A hammer's round handle passes the body-of-revolution test and its head stands off it;
     the head must not join the label, because the part it touches (the handle) is the body."""
-    from simgrasp.handles.revolution import fit_revolution, standoff_pieces, standoff_points
-    from simgrasp.handles.virtual_scan import scan_mesh
+    from simgrasp.autolabel.revolution import fit_revolution, standoff_pieces, standoff_points
+    from simgrasp.autolabel.virtual_scan import scan_mesh
 
     asset = generate_tool("hammer", 1)
     views = scan_mesh(asset.mesh, FAST.scan)

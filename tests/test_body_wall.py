@@ -1,5 +1,5 @@
-"""The body-wall test of the single-view detector (simgrasp.handles.body_wall): a half wall
-seen from one side is found with its radius and axis, a flat face or blade, a thin round
+"""The body-wall test of the single-view detector (simgrasp.handles.single_view.body_wall): a
+half wall seen from one side is found with its radius and axis, a flat face or blade, a thin round
 handle or a long one is no body, a seed gives one wall, the settings refuse an empty radius
 range, and on rendered mug views the wall is found and the detector with the test on keeps no
 candidate on it."""
@@ -13,8 +13,9 @@ import pytest
 
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
-from simgrasp.handles.body_wall import BodyWallConfig, fit_body_wall
-from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
+from simgrasp.handles.presets import single_view_preset
+from simgrasp.handles.single_view.body_wall import BodyWallConfig, fit_body_wall
+from simgrasp.handles.single_view.detector import detect_single_view
 
 
 def _seen_half_cylinder(
@@ -107,7 +108,7 @@ def test_with_the_wall_on_a_strap_mug_seen_from_afar_is_held_by_its_strap() -> N
     those candidates and all that remain are on the strap
     (docs/results/real-detect/body-wall/unseen-mugs-s130)."""
     view = SimView("gen_strap_mug_s142", "upright", 0.78, 32.0, "stereo", azimuth_deg=120.0)
-    unwalled = replace(SingleViewConfig.learned(), body_wall=BodyWallConfig(enabled=False))
+    unwalled = replace(single_view_preset(), body_wall=BodyWallConfig(enabled=False))
     assert not score_view(view, "default", 0, None, unwalled).top_on_handle
     row = score_view(view, "default", 0)
     assert row.top_on_handle and row.on_handle == row.candidates > 0
@@ -120,7 +121,7 @@ def test_no_kept_candidate_lies_on_the_wall_of_a_rendered_mug() -> None:
     view = SimView("gen_mug", "upright", 0.6, 40.0, "kinect")
     shot = capture(view, 0)
     points = np.asarray(shot.points_cam, dtype=np.float64)
-    config = SingleViewConfig.learned()
+    config = single_view_preset()
     assert config.body_wall.enabled  # the default since 7 December 2026
     detection = detect_single_view(points, config, 0, np.zeros(3))
     wall = fit_body_wall(detection.points, config.body_wall, 0)
@@ -137,7 +138,7 @@ def test_a_tube_mug_with_its_handle_turned_away_has_its_wall_found() -> None:
     again near it, finds the body (docs/results/real-detect/README.md)."""
     view = SimView("gen_mug_s15", "upright", 0.78, 32.0, "stereo", azimuth_deg=120.0)
     points = np.asarray(capture(view, 0).points_cam, dtype=np.float64)
-    config = SingleViewConfig.learned()
+    config = single_view_preset()
     detection = detect_single_view(points, config, 0, np.zeros(3))
     wall = fit_body_wall(detection.points, config.body_wall, 0)
     assert wall is not None and 0.035 <= wall.radius <= 0.045
@@ -151,7 +152,7 @@ def test_where_nothing_holds_the_candidates_off_a_mug_sized_wall_are_taken() -> 
     3.3 cm wall at 0.5, and all it keeps are on the strap; with the retry off, or limited to
     walls under 2 cm, the view fails as before (docs/results/real-detect/README.md)."""
     view = SimView("gen_strap_mug_s31", "upright", 0.78, 32.0, "stereo", azimuth_deg=120.0)
-    default = SingleViewConfig.learned()
+    default = single_view_preset()
     for wall in (
         replace(default.body_wall, retry_threshold=None),
         replace(default.body_wall, retry_max_radius=0.02),

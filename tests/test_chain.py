@@ -3,10 +3,13 @@ simulator and renderer."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from data_needs import ROBOTIQ
 
+import simgrasp
 from simgrasp.assets.model import model_for
 from simgrasp.grasping.planning.clearance import collides
 from simgrasp.grasping.planning.planner import (
@@ -17,7 +20,7 @@ from simgrasp.grasping.planning.planner import (
 from simgrasp.grasping.trials.chain import run_chain
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grippers.geometry import GripperGeometry
-from simgrasp.handles.detection import Handle
+from simgrasp.handles.core.detection import Handle
 
 GEOMETRY = GripperGeometry(max_opening=0.085)
 
@@ -190,12 +193,38 @@ def hammer_model():
     return model_for("gen_hammer")
 
 
-def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_model) -> None:
-    result = run_chain(hammer_model, ChainConfig(), seed=0)
+@pytest.fixture(scope="module")
+def hammer_chain(hammer_model):
+    """The generated hammer's full chain of seed 0, through the front door."""
+    return simgrasp.run_trial(hammer_model, seed=0)
+
+
+def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_chain) -> None:
+    result = hammer_chain
+    assert isinstance(result, simgrasp.ChainResult)
     assert result.cloud_points > 500
     assert result.candidates > 0 and result.detection_accuracy >= 0.8
     assert result.handle_recall
-    assert result.success and result.on_handle, result.to_json()["failure"]
+    assert result.success and result.on_handle, result.failure
+    assert result.failure is None and result.to_json()["failure"] is None
+
+
+def test_a_chain_result_names_its_failure_as_its_record_does(hammer_chain) -> None:
+    """``ChainResult.failure``: the trial's failure, ``no_grasp`` without a grasp, a
+    neighbor's doing in clutter (which the record's ``failure`` holds too)."""
+    result = hammer_chain
+    assert result.trial is not None and result.failure is None
+    missed = dataclasses.replace(result.trial, success=False, failure="missed")
+    variants = {
+        "missed": dataclasses.replace(result, trial=missed),
+        "no_grasp": dataclasses.replace(result, trial=None),
+        "wrong_object": dataclasses.replace(
+            result, trial=missed, scene_fields={"failure": "wrong_object"}
+        ),
+    }
+    for failure, variant in variants.items():
+        assert variant.failure == failure == variant.to_json()["failure"]
+        assert variant.success is False
 
 
 @pytest.mark.parametrize("gripper", ["builtin", ROBOTIQ])
@@ -216,7 +245,9 @@ def test_full_chain_is_reproducible(hammer_model) -> None:
 
 @pytest.mark.parametrize("detector", ["centroid", "random", "tenpas"])
 def test_baselines_run_through_the_same_chain(hammer_model, detector: str) -> None:
-    record = run_chain(hammer_model, ChainConfig.of(detector__kind=detector), seed=1).to_json()
+    result = run_chain(hammer_model, ChainConfig.of(detector__kind=detector), seed=1)
+    record = result.to_json()
+    assert result.failure == record["failure"]
     assert record["detector"] == detector
     assert record["success"] in (True, False)
     assert record["failure"] in (

@@ -18,7 +18,7 @@ from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.perceive import organized_cloud, perceive_target
 from simgrasp.scenes.scene import build_scene
@@ -31,10 +31,12 @@ def hammer():
     return model_for("gen_hammer")
 
 
-def test_under_segment_the_target_is_cut_by_the_segmenter_not_the_mask(hammer) -> None:
+def test_under_segment_the_target_is_cut_by_the_segmenter_not_the_mask(
+    renderers: RendererKeeper, hammer
+) -> None:
     config = SceneConfig(num_views=2, clutter=3, clutter_objects="generated")
     scene = build_scene(hammer, make_gripper("builtin"), config, seed=0)
-    observation = observe(scene, kept_renderer(scene), 0.0, 0)
+    observation = observe(scene, renderers.renderer_for(scene), 0.0, 0)
     segmented = perceive_target(scene, observation, "segment", 0.0, 0)
     masked = perceive_target(scene, observation, "mask", 0.0, 0)
     assert masked.cloud is observation.cloud and masked.target_iou == 1.0
@@ -53,7 +55,7 @@ def test_under_segment_the_target_is_cut_by_the_segmenter_not_the_mask(hammer) -
     assert not np.array_equal(np.sort(cut, axis=0), np.sort(masked.cloud.points_world, axis=0))
 
 
-def test_a_crowded_table_keeps_its_own_plane(hammer) -> None:
+def test_a_crowded_table_keeps_its_own_plane(renderers: RendererKeeper, hammer) -> None:
     """Twenty generated objects on the table, seen by the kinect model, cut with the chain's
     settings: flat ones (pans, spatula blades) lie within the plane RANSAC's 12 mm band, and a
     fit of all its inliers tilted toward them (no table found in the first view: 72 % of the
@@ -62,7 +64,7 @@ def test_a_crowded_table_keeps_its_own_plane(hammer) -> None:
         scene__clutter=19, scene__clutter_objects="generated", sensor__kind="kinect"
     )
     scene = build_scene(hammer, make_gripper("builtin"), config.scene, 0)
-    observation = observe(scene, kept_renderer(scene), 0.0, 0, config.sensor)
+    observation = observe(scene, renderers.renderer_for(scene), 0.0, 0, config.sensor)
     for frame in observation.frames:
         cloud = organized_cloud(frame)
         result = segment_scene(cloud, config.segment)
@@ -111,7 +113,9 @@ def test_a_clutter_trial_records_its_scene_and_cut(hammer) -> None:
     assert isinstance(record["neighbors_disturbed"], int)
 
 
-def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap(ycb_dir: str) -> None:
+def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap(
+    renderers: RendererKeeper, ycb_dir: str
+) -> None:
     """Seed 105 stands the YCB mug (Kinect depth) with its strap facing a neighbor: the
     12 cm palm behind every approach to the strap up to 30 degrees down meets the neighbor,
     so the usual pitches leave no grasp; the fallback's steeper ones pass over the neighbor,
@@ -119,7 +123,7 @@ def test_a_mug_hemmed_in_by_a_neighbor_is_grasped_from_above_its_strap(ycb_dir: 
     mug, seed = model_for("025_mug", ycb_dir), 105
     config = ChainConfig.of(scene__clutter=5, sensor__kind="kinect")
     scene = build_scene(mug, make_gripper(config.gripper), config.scene, seed)
-    observation = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor)
+    observation = observe(scene, renderers.renderer_for(scene), 0.0, seed, config.sensor)
     cut = perceive_target(scene, observation, config.perception_mode, 0.0, seed)
     usual = replace(config, planner=replace(config.planner, fallback_pitches=()))
     assert propose_grasps(scene, cut.cloud, usual, seed, cut.obstacles_world)[0] == []

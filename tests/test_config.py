@@ -18,8 +18,8 @@ from simgrasp.config.schema import leaves
 from simgrasp.config.tree import build, diff, flatten
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 
 
 def effective(argv: list[str], capsys: pytest.CaptureFixture[str]) -> dict:
@@ -135,8 +135,6 @@ def test_every_flag_is_in_help_with_its_default(command: str) -> None:
     sub = next(a for a in parser._actions if a.dest == "command").choices[command]
     text = re.sub(r"\s+", " ", sub.format_help())
     for leaf in leaves(command_module(command).Options):
-        if not leaf.spec.cli:
-            continue
         name = leaf.key.upper() if leaf.spec.positional else flag_name(leaf.key)
         assert name in text, name
         assert leaf.doc, f"{command}: {leaf.key} has no docstring"

@@ -1,4 +1,4 @@
-"""The thickness profile of long tools (simgrasp.handles.cross_section) on meshes whose
+"""The thickness profile of long tools (simgrasp.autolabel.cross_section) on meshes whose
 answer is known: a knife with a round handle, a guard and a thin blade; a spanner's flat bar
 between heads; a cup."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from simgrasp.handles.cross_section import (
+from simgrasp.autolabel.cross_section import (
     CrossSectionConfig,
     alike_share,
     long_runs,

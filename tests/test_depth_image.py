@@ -12,7 +12,7 @@ from test_render import build_scene
 
 from simgrasp.cli import main
 from simgrasp.perception.camera import depth_to_points_cam
-from simgrasp.perception.depth_image import DepthImageConfig, read_depth_image
+from simgrasp.perception.depth_image import DepthImageConfig, read_depth_image, returned_points
 from simgrasp.perception.scene_cloud import read_scene
 from simgrasp.scenes.render import DepthFrame, SceneRenderer
 
@@ -39,13 +39,19 @@ def _intrinsics(frame: DepthFrame) -> list[str]:
 def test_a_png_frame_back_projects_as_the_renderer_camera_does(frame, tmp_path):
     png = _png(tmp_path / "depth.png", frame.depth)
     k = frame.intrinsics
-    scene = read_depth_image(png, DepthImageConfig(intrinsics=(k.fx, k.fy, k.cx, k.cy)))
-    assert (scene.width, scene.height) == (k.width, k.height)
-    assert scene.organized and np.allclose(scene.viewpoint, 0.0)
+    config = DepthImageConfig(intrinsics=(k.fx, k.fy, k.cx, k.cy))
+    grid = read_depth_image(png, config)
+    assert grid.shape == (k.height, k.width, 3)
     quantized = np.round(frame.depth * 1000) / 1000
     expected, pixels = depth_to_points_cam(quantized, k)
-    assert np.array_equal(np.flatnonzero(scene.valid), pixels)  # no return stays NaN
-    assert np.allclose(scene.points[pixels], expected, atol=1e-6)
+    flat = grid.reshape(-1, 3)
+    assert np.array_equal(np.flatnonzero(np.isfinite(flat).all(axis=1)), pixels)  # NaN: none
+    assert np.allclose(flat[pixels], expected, atol=1e-6)
+    assert np.array_equal(returned_points(grid), flat[pixels])
+    scene = read_scene(png, config)  # the organized scene cloud, the sensor at the origin
+    assert (scene.width, scene.height) == (k.width, k.height)
+    assert scene.organized and np.allclose(scene.viewpoint, 0.0)
+    assert np.array_equal(scene.grid(), grid, equal_nan=True)
 
 
 def test_segment_reads_a_png_frame_as_its_organized_cloud(frame, tmp_path, capsys):

@@ -16,12 +16,16 @@ from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.cli import main
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
-from simgrasp.handles.candidate_features import FEATURES, candidate_features, read_classifier
-from simgrasp.handles.detection import Candidate
-from simgrasp.handles.single_view import (
+from simgrasp.handles.core.detection import Candidate
+from simgrasp.handles.presets import single_view_preset
+from simgrasp.handles.single_view.candidate_features import (
+    FEATURES,
+    candidate_features,
+    read_classifier,
+)
+from simgrasp.handles.single_view.detector import (
     FALLBACK_DETECTOR,
     SINGLE_VIEW_DETECTOR,
-    SingleViewConfig,
     _keep,
 )
 from simgrasp.quadric.quadric import Quadric
@@ -47,7 +51,7 @@ def test_the_default_keeps_a_thin_strap_seen_close_that_two_spacings_would_drop(
     view = SimView("gen_strap_mug_s47", "lying", 0.3, 90.0, "stereo")
     row = score_view(view, "default", 0)
     assert row.top_on_handle and row.on_handle == row.candidates > 0
-    wide_only = replace(SingleViewConfig.learned(), narrow_width_spacings=0.0)
+    wide_only = replace(single_view_preset(), narrow_width_spacings=0.0)
     before = score_view(view, "default", 0, None, wide_only)
     assert not before.top_on_handle
 
@@ -182,7 +186,7 @@ def test_the_classifier_sees_a_narrow_fit_only_with_its_axis_near_its_surface() 
     ``narrow_width_spacings`` wide (1: 2 mm) whose axis lies within ``narrow_axis_offset``
     half widths of their seen surface (a thin strap at range, kept; a rim's unresolved fit,
     its axis 7 half widths off, dropped). The threshold at 0 keeps every other candidate."""
-    settings = replace(SingleViewConfig.learned(), classifier_threshold=0.0)
+    settings = replace(single_view_preset(), classifier_threshold=0.0)
     cloud, eye = _patch(0.006), np.zeros(3)
     bars = (_bar(0.0015), _bar(0.003), _bar(0.003, axis_offset=7.0), _bar(0.012))
     assert _keep(bars, cloud, eye, 0.002, settings).tolist() == [False, True, False, True]

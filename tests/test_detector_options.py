@@ -8,6 +8,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from simgrasp.handles import QuadricDetectorConfig, detect
+from simgrasp.handles.presets import quadric_preset
 from simgrasp.perception import estimate_normals, voxel_downsample
 
 from shapes import hammer_like, mug_like
@@ -43,7 +44,7 @@ def test_bad_option_values_are_refused(field: str, value: object) -> None:
 
 
 def test_real_depth_preset_keeps_overrides() -> None:
-    config = QuadricDetectorConfig.real_depth(gripper_max_opening=0.05)
+    config = quadric_preset("real_depth", gripper_max_opening=0.05)
     assert config.handle_anchor == "surface" and config.gripper_max_opening == 0.05
 
 

@@ -1,6 +1,7 @@
-"""The commands that README.md and the committed results print (``simgrasp ...``, ``python
-scripts/...``, ``python benchmarks/...``) use flags that exist today: a flag renamed or removed
-since a run was committed fails here, not in the hands of a reader who copies the command."""
+"""The commands that README.md and the pages under docs/ (the site's pages and the committed
+results) print (``simgrasp ...``, ``python scripts/...``, ``python benchmarks/...``) use flags
+that exist today: a flag renamed or removed since a page or a run was written fails here, not
+in the hands of a reader who copies the command."""
 
 from __future__ import annotations
 
@@ -130,17 +131,17 @@ def test_documented_scripts_use_flags_they_define() -> None:
                 ]
             problems += [f"{where}: {script} has no {flag}" for flag in unknown]
     counts = dict(checked)
-    assert sum(checked.values()) > 30, f"only {counts} documented script commands found"
-    assert checked["settings"] > 20, f"only {counts}: are the settings scripts still loaded?"
+    assert sum(checked.values()) > 10, f"only {counts} documented script commands found"
+    assert checked["settings"] > 5, f"only {counts}: are the settings scripts still loaded?"
     assert not problems, "\n".join(problems)
 
 
 def test_a_script_is_loaded_without_running_it(capsys) -> None:
     """Loading a script for its flags runs nothing (no output) and leaves the environment as it
-    was, though ``segment_scale.py`` and the ``segment_cv.py`` it imports set thread counts."""
+    was."""
     before = dict(os.environ)
-    flags = _settings_flags(ROOT / "scripts" / "segment_scale.py")
-    assert {"--hires-cache", "--repeats", "--print-config"} <= flags and "--no-such" not in flags
+    flags = _settings_flags(ROOT / "scripts" / "train_candidate_classifier.py")
+    assert {"--degradations", "--seeds", "--print-config"} <= flags and "--no-such" not in flags
     assert dict(os.environ) == before
     assert capsys.readouterr() == ("", "")
 

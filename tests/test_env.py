@@ -23,7 +23,7 @@ from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.camera import CameraSpec
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe, viewpoint_normals
 from simgrasp.scenes.scene import build_scene
 
@@ -91,7 +91,9 @@ def test_gymnasium_env_checker_passes() -> None:
         env.close()
 
 
-def test_observation_is_the_chains_cloud_and_images(small_env: HandleGraspEnv) -> None:
+def test_observation_is_the_chains_cloud_and_images(
+    renderers: RendererKeeper, small_env: HandleGraspEnv
+) -> None:
     obs, info = small_env.reset(seed=11)
     assert obs in small_env.observation_space
     assert obs["depth"].shape == (1, 120, 160) and obs["depth"].dtype == np.float32
@@ -106,7 +108,7 @@ def test_observation_is_the_chains_cloud_and_images(small_env: HandleGraspEnv) -
         config.scene_config,
         info["episode_seed"],
     )
-    cloud = observe(scene, kept_renderer(scene), config.noise, info["episode_seed"]).cloud
+    cloud = observe(scene, renderers.renderer_for(scene), config.noise, info["episode_seed"]).cloud
     count = len(cloud)
     assert info["cloud_points"] == count and 10 < count <= config.max_points
     assert obs["valid"].sum() == count and not obs["valid"][count:].any()

@@ -13,12 +13,14 @@ from simgrasp.grasping.trials.chain import propose_grasps
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.trial import run_trial
 from simgrasp.grippers import make_gripper
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import build_scene
 
 
-def test_a_strap_lying_flat_is_grasped_with_a_finger_inside_its_loop() -> None:
+def test_a_strap_lying_flat_is_grasped_with_a_finger_inside_its_loop(
+    renderers: RendererKeeper,
+) -> None:
     """Seed 29 lays gen_mug on its side, the strap's loop flat on the table (Kinect depth):
     with the jaws fully open (8.5 cm) the inner finger of every approach across the strap
     lands on the mug's body, so no grasp is clear; opened to the strap's width plus 1 cm a
@@ -26,7 +28,7 @@ def test_a_strap_lying_flat_is_grasped_with_a_finger_inside_its_loop() -> None:
     mug, seed = model_for("gen_mug"), 29
     config = ChainConfig.of(gripper="builtin", sensor__kind="kinect", scene__clutter=0)
     scene = build_scene(mug, make_gripper(config.gripper), config.scene, seed)
-    cloud = observe(scene, kept_renderer(scene), 0.0, seed, config.sensor).cloud
+    cloud = observe(scene, renderers.renderer_for(scene), 0.0, seed, config.sensor).cloud
     wide_only = replace(config, planner=replace(config.planner, fallback_opening_margins=()))
     assert propose_grasps(scene, cloud, wide_only, seed)[0] == []
     grasps, detection = propose_grasps(scene, cloud, config, seed)

@@ -12,6 +12,7 @@ import pytest
 from simgrasp.assets.registry import load_object
 from simgrasp.handles import QuadricDetectorConfig, detect
 from simgrasp.handles.accuracy import detection_accuracy, handle_recall
+from simgrasp.handles.presets import quadric_preset
 from simgrasp.perception import sample_surface
 from simgrasp.seeding import rng_for
 
@@ -104,7 +105,7 @@ def test_open3d_is_imported_before_the_first_timed_step() -> None:
     """A fresh process's first detection must not charge Open3D's one-time import (about a
     second) to its voxelize step: the detectors import it before their timers start."""
     script = (
-        "import sys; from simgrasp.handles.step_timer import new_timings\n"
+        "import sys; from simgrasp.handles.core.step_timer import new_timings\n"
         "assert 'open3d' not in sys.modules, 'imported with simgrasp already'\n"
         "assert new_timings() == {} and 'open3d' in sys.modules\n"
     )
@@ -132,7 +133,7 @@ def test_a_fine_pass_handle_counts_only_where_the_first_pass_found_none(make) ->
     (their scores now shares of both passes' candidates)."""
     cloud = make()
     first = detect(cloud.points, seed=1)
-    fine = QuadricDetectorConfig.two_scales()
+    fine = quadric_preset("two_scales")
     fine_alone = QuadricDetectorConfig(
         neighborhood_half_size=fine.fine_half_size,
         voxels_per_neighborhood=fine.fine_voxels_per_neighborhood,

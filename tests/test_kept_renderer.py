@@ -9,7 +9,7 @@ from simgrasp.assets.model import build_object_model
 from simgrasp.assets.registry import load_object
 from simgrasp.grippers import make_gripper
 from simgrasp.scenes.config import SceneConfig
-from simgrasp.scenes.kept_renderer import close_kept_renderer, kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import render_views
 from simgrasp.scenes.render import SceneRenderer
 from simgrasp.scenes.scene import build_scene
@@ -24,13 +24,12 @@ def test_a_scene_built_alike_is_drawn_as_by_a_fresh_renderer(ycb_dir: str) -> No
     first = build_scene(model, make_gripper("builtin"), CONFIG, seed=0)
     second = build_scene(model, make_gripper("builtin"), CONFIG, seed=1)
     assert not np.allclose(first.world_T_object, second.world_T_object)
-    try:
-        renderer = kept_renderer(first)
+    with RendererKeeper() as keeper:
+        renderer = keeper.renderer_for(first)
         render_views(first, renderer)
-        assert kept_renderer(second) is renderer
+        assert keeper.renderer_for(second) is renderer
         kept = render_views(second, renderer)
-    finally:
-        close_kept_renderer()
+    assert renderer.closed
     with SceneRenderer(second.model) as fresh_renderer:
         fresh = render_views(second, fresh_renderer)
     for a, b in zip(kept, fresh, strict=True):
@@ -50,11 +49,32 @@ def test_a_scene_built_otherwise_replaces_the_kept_renderer() -> None:
         build_scene(mug, make_gripper("builtin"), CONFIG, seed=0),
         build_scene(mug, make_gripper("robotiq_2f85"), CONFIG, seed=0),
     ]
-    try:
-        renderers = [kept_renderer(scene) for scene in scenes]
+    with RendererKeeper() as keeper:
+        renderers = [keeper.renderer_for(scene) for scene in scenes]
         assert len({id(r) for r in renderers}) == len(scenes)
         assert all(r.closed for r in renderers[:-1])  # one GL context kept at a time
         assert not renderers[-1].closed
-    finally:
-        close_kept_renderer()
     assert renderers[-1].closed
+
+
+def test_a_session_owns_its_renderer_and_models() -> None:
+    """The chain renders with the session it is given and leaves it open; closing the session
+    frees the GL context, and a session used as a context manager closes itself."""
+    from simgrasp.grasping.session import Session
+    from simgrasp.grasping.trials.chain import run_chain
+    from simgrasp.grasping.trials.chain_config import ChainConfig
+
+    config = ChainConfig.of(scene__num_views=1)
+    with Session() as session:
+        model = session.model("gen_hammer")
+        assert session.model("gen_hammer") is model  # built once
+        first = run_chain(model, config, seed=0, session=session)
+        renderer = session.renderers.renderer_for(
+            build_scene(model, make_gripper("builtin"), config.scene, seed=1)
+        )
+        assert not renderer.closed  # the chain's renderer, kept for scenes built alike
+        again = run_chain(model, config, seed=0, session=session)
+    assert renderer.closed
+    alone = run_chain(build_object_model(load_object("gen_hammer")), config, seed=0)
+    assert first.to_json() | {"timings_s": None} == again.to_json() | {"timings_s": None}
+    assert alone.to_json() | {"timings_s": None} == first.to_json() | {"timings_s": None}

@@ -4,28 +4,52 @@ sub-packages, no module over 400 lines, no function over sixty lines."""
 from __future__ import annotations
 
 import ast
-import subprocess
-import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 PACKAGE = Path(__file__).parents[1] / "simgrasp"
 
 
-def module_name(path: Path) -> str:
-    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+def module_name(path: Path, package: Path = PACKAGE) -> str:
+    parts = path.relative_to(package.parent).with_suffix("").parts
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def import_graph() -> dict[str, set[str]]:
-    """Module -> the package modules it imports at module level (a ``from X import Y`` of a
-    submodule Y counts as importing X.Y)."""
-    modules = {module_name(p): p for p in PACKAGE.rglob("*.py")}
+def is_type_checking(node: ast.AST) -> bool:
+    """``if TYPE_CHECKING:`` (or ``typing.TYPE_CHECKING``): imports for annotations only."""
+    if not isinstance(node, ast.If):
+        return False
+    test = node.test
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
+
+
+def import_nodes(tree: ast.AST) -> Iterator[ast.Import | ast.ImportFrom]:
+    """Every import statement in ``tree``, at module level or inside a function or class, except
+    those in the body of an ``if TYPE_CHECKING:`` block (its ``else`` still runs)."""
+    for node in ast.iter_child_nodes(tree):
+        if isinstance(node, ast.Import | ast.ImportFrom):
+            yield node
+        if is_type_checking(node):
+            assert isinstance(node, ast.If)
+            for child in node.orelse:
+                yield from import_nodes(ast.Module(body=[child], type_ignores=[]))
+            continue
+        yield from import_nodes(node)
+
+
+def import_graph(package: Path = PACKAGE) -> dict[str, set[str]]:
+    """Module -> the package modules it imports anywhere in its code, at module level or inside
+    a function (a lazy import runs too), ``if TYPE_CHECKING:`` blocks aside; a
+    ``from X import Y`` of a submodule Y counts as importing X.Y."""
+    modules = {module_name(p, package): p for p in package.rglob("*.py")}
     graph: dict[str, set[str]] = {name: set() for name in modules}
     for name, path in modules.items():
-        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        for node in import_nodes(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Import):
                 targets = [alias.name for alias in node.names]
-            elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            elif node.module and not node.level:
                 subs = [f"{node.module}.{alias.name}" for alias in node.names]
                 targets = [s for s in subs if s in modules] or [node.module]
             else:
@@ -67,7 +91,34 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 
 
 def test_no_import_cycles() -> None:
-    assert cycles(import_graph()) == []
+    """No two modules import each other, directly or round a loop, even from inside a
+    function."""
+    found = cycles(import_graph())
+    assert found == [], found
+
+
+def test_the_module_graph_fails_on_a_planted_function_level_cycle(tmp_path: Path) -> None:
+    """A package whose modules close a loop only through an import inside a function (and one
+    more only through ``if TYPE_CHECKING:``, which does not count) is caught."""
+    package = tmp_path / "pkg"
+    (package / "sub").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "sub" / "__init__.py").write_text("")
+    (package / "a.py").write_text("from pkg.sub import b\n")
+    (package / "sub" / "b.py").write_text("import pkg.c\n")
+    (package / "c.py").write_text("def f():\n    if True:\n        from pkg import a\n")
+    (package / "d.py").write_text(
+        "from typing import TYPE_CHECKING\nimport pkg.e\nif TYPE_CHECKING:\n    import pkg.a\n"
+    )
+    (package / "e.py").write_text(
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from pkg import d\n"
+        "else:\n    import pkg.c\n"
+    )
+    graph = import_graph(package)
+    assert graph["pkg.c"] == {"pkg.a"} and graph["pkg.e"] == {"pkg.c"}
+    assert cycles(graph) == [["pkg.a", "pkg.c", "pkg.sub.b"]]
+    (package / "c.py").write_text("def f():\n    return 1\n")  # the loop cut: none left
+    assert cycles(import_graph(package)) == []
 
 
 MAX_MODULE_LINES = 400
@@ -147,16 +198,31 @@ def test_the_cycle_check_finds_a_cycle() -> None:
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == [["a", "b", "c"]]
 
 
+MAX_FUNCTION_LINES = 60
+
+
+def long_functions(path: Path, max_lines: int) -> list[str]:
+    """``path:line: name is N lines`` for every function over ``max_lines`` (from ``def`` to
+    the body's last line, docstring included, decorators not)."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), filename=str(path))):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            length = (node.end_lineno or node.lineno) - node.lineno + 1
+            if length > max_lines:
+                found.append(f"{path}:{node.lineno}: {node.name} is {length} lines")
+    return found
+
+
 def test_no_function_is_over_sixty_lines() -> None:
-    """scripts/check_function_length.py (60 lines) on the package, the scripts, the benchmarks,
-    the examples and the tests: long functions are split by phase."""
+    """The package, the scripts, the benchmarks, the examples and the tests: long functions are
+    split by phase."""
     root = PACKAGE.parent
-    script = root / "scripts" / "check_function_length.py"
     folders = [root / name for name in ("simgrasp", "scripts", "benchmarks", "examples", "tests")]
-    done = subprocess.run(
-        [sys.executable, str(script), "--max-lines", "60", *map(str, filter(Path.is_dir, folders))],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    assert done.returncode == 0, done.stdout
+    files = [f for folder in folders if folder.is_dir() for f in sorted(folder.rglob("*.py"))]
+    assert [line for f in files for line in long_functions(f, MAX_FUNCTION_LINES)] == []
+
+
+def test_the_length_check_finds_a_long_function(tmp_path: Path) -> None:
+    module = tmp_path / "long.py"
+    module.write_text("def f():\n" + "    x = 1\n" * 60)
+    assert long_functions(module, MAX_FUNCTION_LINES) == [f"{module}:1: f is 61 lines"]

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from simgrasp.handles.cluster import best_first, cluster_handles
-from simgrasp.handles.config import CentralityMeasure
+from simgrasp.handles.core.cluster import best_first, cluster_handles
+from simgrasp.handles.core.config import CentralityMeasure
 
 
 def test_a_long_handle_far_from_the_centroid_outranks_a_short_near_arc() -> None:

@@ -19,8 +19,9 @@ from simgrasp.grasping.trials.chain_config import ChainConfig, ChainDetectorConf
 from simgrasp.grippers import make_gripper
 from simgrasp.handles import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.handles.presets import quadric_preset
 from simgrasp.perception.sensors.settings import SensorSettings
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 from simgrasp.scenes.observe import observe
 from simgrasp.scenes.scene import build_scene
 
@@ -34,7 +35,7 @@ def mug(ycb_dir: str):
 
 
 def test_lying_mug_is_held_by_its_strap_with_camera_cloud_settings(mug) -> None:
-    config = ChainConfig(detector=ChainDetectorConfig(quadric=QuadricDetectorConfig.camera_cloud()))
+    config = ChainConfig(detector=ChainDetectorConfig(quadric=quadric_preset("camera_cloud")))
     result = run_chain(mug, config, seed=0)
     assert result.handle_recall
     assert result.success and result.on_handle, result.to_json()["failure"]
@@ -49,7 +50,7 @@ def test_the_paper_pass_alone_misses_the_lying_strap_the_chain_default_holds_it(
 
 
 def test_the_chain_default_is_two_scales_and_mesh_clouds_keep_the_plain_defaults() -> None:
-    assert ChainConfig().detector.quadric == QuadricDetectorConfig.two_scales()
+    assert ChainConfig().detector.quadric == quadric_preset("two_scales")
     assert ChainConfig().detector.quadric.fine_half_size > 0
     assert DetectorConfig().quadric == QuadricDetectorConfig()
     assert QuadricDetectorConfig().fine_half_size == 0
@@ -66,7 +67,7 @@ def test_the_chain_default_holds_the_kinect_noisy_lying_strap(mug) -> None:
 def test_the_committed_preset_file_is_the_camera_cloud_preset() -> None:
     """docs/results/lying-mug runs the CLI with this file: it must hold camera_cloud()."""
     config = build(ChainConfig, read_config_file(PRESET))
-    assert config.detector.quadric == QuadricDetectorConfig.camera_cloud()
+    assert config.detector.quadric == quadric_preset("camera_cloud")
 
 
 def _kinect_chain(quadric: QuadricDetectorConfig) -> ChainConfig:
@@ -79,29 +80,31 @@ def _kinect_chain(quadric: QuadricDetectorConfig) -> ChainConfig:
 def test_kinect_depth_lying_strap_is_held_with_noisy_camera_cloud_settings(mug) -> None:
     """Seed 7, strap sideways: camera_cloud()'s normals-based fits of the Kinect-noisy strap
     come out too wide for the shell test; noisy_camera_cloud()'s Taubin fits pass it."""
-    before = run_chain(mug, _kinect_chain(QuadricDetectorConfig.camera_cloud()), seed=7)
+    before = run_chain(mug, _kinect_chain(quadric_preset("camera_cloud")), seed=7)
     assert not before.handle_recall
-    after = run_chain(mug, _kinect_chain(QuadricDetectorConfig.noisy_camera_cloud()), seed=7)
+    after = run_chain(mug, _kinect_chain(quadric_preset("noisy_camera_cloud")), seed=7)
     assert after.handle_recall
     assert after.success and after.on_handle, after.to_json()["failure"]
 
 
 def test_the_committed_noisy_preset_file_is_the_noisy_camera_cloud_preset() -> None:
     config = build(ChainConfig, read_config_file(PRESETS / "noisy_camera_cloud.toml"))
-    assert config.detector.quadric == QuadricDetectorConfig.noisy_camera_cloud()
+    assert config.detector.quadric == quadric_preset("noisy_camera_cloud")
     assert config.detector.quadric.fit_method == "taubin"
 
 
 def test_a_second_taubin_fit_finds_the_kinect_noisy_strap(mug) -> None:
     """camera_cloud() with a second, Taubin fit per neighborhood keeps its Birdal candidates
     and adds the Taubin ones that pass: the strap of seed 7 is found and held."""
-    quadric = QuadricDetectorConfig.camera_cloud(second_fit_method="taubin")
+    quadric = quadric_preset("camera_cloud", second_fit_method="taubin")
     result = run_chain(mug, _kinect_chain(quadric), seed=7)
     assert result.handle_recall
     assert result.success and result.on_handle, result.to_json()["failure"]
 
 
-def test_flying_pixels_do_not_block_the_approaches_to_an_upright_kinect_strap(mug) -> None:
+def test_flying_pixels_do_not_block_the_approaches_to_an_upright_kinect_strap(
+    renderers: RendererKeeper, mug
+) -> None:
     """Upright, seed 0, Kinect depth: isolated points (flying pixels at the strap's depth
     edges) inside the open gripper blocked approaches into the strap's gap (with two_fits
     settings all but one, which closed at an angle across the strap and missed); as no
@@ -110,12 +113,12 @@ def test_flying_pixels_do_not_block_the_approaches_to_an_upright_kinect_strap(mu
         ChainConfig.of(scene__placement="upright"), sensor=SensorSettings(kind="kinect")
     )
     scene = build_scene(mug, make_gripper(config.gripper), config.scene, 0)
-    cloud = observe(scene, kept_renderer(scene), config.noise, 0, config.sensor).cloud
+    cloud = observe(scene, renderers.renderer_for(scene), config.noise, 0, config.sensor).cloud
     isolated = len(cloud.points_world) - len(obstacle_points(cloud.points_world, config.planner))
     assert isolated > 0.01 * len(cloud.points_world)
     strict = replace(config, planner=replace(config.planner, obstacle_radius=0.0))
     blocked, _ = propose_grasps(scene, cloud, strict, 0)
     grasps, _ = propose_grasps(scene, cloud, config, 0)
     assert len(grasps) >= len(blocked) + 3
-    ideal = observe(scene, kept_renderer(scene), 0.0, 0, SensorSettings()).cloud
+    ideal = observe(scene, renderers.renderer_for(scene), 0.0, 0, SensorSettings()).cloud
     assert len(obstacle_points(ideal.points_world, config.planner)) == len(ideal.points_world)

@@ -51,7 +51,6 @@ def test_text_with_comments_and_unnormalised_normals(tmp_path: Path) -> None:
         ("c.xyz", "1 2 3\nnan 2 3\n4 5 inf\n", "2 of 3 points have NaN or inf"),
         ("c.xyz", "# nothing\n", "empty"),
         ("c.xyz", "1 2 three\n", "not a readable"),
-        ("c.xyz", "1 2 3 0 0 0\n", "zero length"),
         ("c.ply", "not a ply\n", "not a PLY file"),
         ("c.npy", "garbage", "not a readable"),
     ],

@@ -12,8 +12,9 @@ from scipy.spatial import cKDTree
 from simgrasp.assets.real import default_real_dir, osd_scene_file, read_labeled_scene
 from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.evaluation.real_pots import labeled_pot, score_pot
-from simgrasp.handles import QuadricDetectorConfig, detect
-from simgrasp.handles.plate import plate_handles
+from simgrasp.handles import detect
+from simgrasp.handles.core.plate import plate_handles
+from simgrasp.handles.presets import quadric_preset
 from simgrasp.perception.segmentation.segment import segment_scene
 
 TABLE = np.array([0.0, 0.0, 1.0, 0.0])  # z = 0, up +z
@@ -41,7 +42,7 @@ def front_wall(radius: float = 0.08, height: float = 0.1) -> np.ndarray:
 
 WALL = front_wall()
 TAB = grid((-0.03, 0.03), (-0.025, -STEP), (0.1, 0.1))  # at the wall's top, toward the sensor
-CONFIG = QuadricDetectorConfig.real_depth()  # with the plate test
+CONFIG = quadric_preset("real_depth")  # with the plate test
 
 
 def plates(points: np.ndarray, centers: np.ndarray) -> np.ndarray:
@@ -88,7 +89,7 @@ def test_plate_candidates_only_with_the_setting_and_a_table() -> None:
     assert kinds.count("plate") >= 5
     assert found.handles and found.handles[0].center[1] < -0.005  # the top handle: the tab
     assert found.handles[0].center[2] == pytest.approx(0.1, abs=0.003)
-    without_plates = QuadricDetectorConfig.real_depth(plate_test=False)
+    without_plates = quadric_preset("real_depth", plate_test=False)
     for config, table in ((without_plates, TABLE), (CONFIG, None)):
         without = detect(cloud, None, config, seed=0, viewpoint=EYE, table=table)
         assert "plate" not in [c.kind for c in without.candidates]
@@ -105,5 +106,5 @@ def test_the_face_on_tab_of_a_real_pot_is_its_top_handle() -> None:
     with_plates = score_pot(pot, label, CONFIG, seed=0, table=table, scene=seen)
     assert with_plates.top_on_handle
     assert with_plates.accuracy >= 0.8
-    without_plates = QuadricDetectorConfig.real_depth(plate_test=False)
+    without_plates = quadric_preset("real_depth", plate_test=False)
     assert not score_pot(pot, label, without_plates, seed=0, table=table, scene=seen).top_on_handle

@@ -68,7 +68,7 @@ def test_a_cloud_in_millimetres_read_as_meters_is_one_line(tmp_path: Path, capsy
     ("entry", "problem"),
     [
         ('path = "m.xyz"\nsplit = "test"\n', "split must be tune or holdout"),
-        ('path = "m.xyz"\nsplit = "tune"\nunits = "cm"\n', "units must be m or mm"),
+        ('path = "m.xyz"\nsplit = "tune"\nunits = "km"\n', "units must be one of m, mm, cm"),
         ('split = "tune"\n', "missing 'path'"),
         ('path = "m.xyz"\nsplit = "tune"\ncolour = 1\n', "unknown key(s) colour"),
         ('path = "m.xyz"\nsplit = "tune"\nlabel_key = "cup"\n', "has no entry 'cup'"),

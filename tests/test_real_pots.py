@@ -10,6 +10,7 @@ from simgrasp.assets.real import default_real_dir, osd_scene_file, read_labeled_
 from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.evaluation.real_pots import POT_SEGMENTATION, labeled_pot, score_pot
 from simgrasp.handles import QuadricDetectorConfig
+from simgrasp.handles.presets import quadric_preset
 
 REAL_DIR = default_real_dir()
 needs_real = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
@@ -42,7 +43,7 @@ def test_labels_hold_the_pot_tabs_and_little_else() -> None:
 def test_pot_handle_is_found_on_a_real_scene() -> None:
     label = load_scene_labels()["learn39"]
     pot = labeled_pot(read_labeled_scene(osd_scene_file("learn39", REAL_DIR)), label)
-    result = score_pot(pot, label, QuadricDetectorConfig.real_depth(), seed=0)
+    result = score_pot(pot, label, quadric_preset("real_depth"), seed=0)
     assert result.candidates >= 10
     assert result.accuracy >= 0.8
     assert result.top_on_handle
@@ -80,7 +81,7 @@ def test_the_committed_real_depth_preset_file_is_the_real_depth_preset() -> None
     assert {k.split(".")[0] for k in settings} == {"single_view", "detector", "segmentation"}
     assert settings["single_view"] is False
     detector = build(DetectorConfig, section(settings, "detector"))
-    assert detector.quadric == QuadricDetectorConfig.real_depth()
+    assert detector.quadric == quadric_preset("real_depth")
     assert build(SegmentConfig, section(settings, "segmentation")) == POT_SEGMENTATION
 
 

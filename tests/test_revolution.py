@@ -1,4 +1,4 @@
-"""The body-of-revolution test and its stand-off region (simgrasp.handles.revolution) on
+"""The body-of-revolution test and its stand-off region (simgrasp.autolabel.revolution) on
 meshes whose answer is known: a cup with a ring handle, a short wide bowl, a flat blade."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from simgrasp.handles.revolution import (
+from simgrasp.autolabel.revolution import (
     RevolutionConfig,
     fit_revolution,
     standoff_pieces,
@@ -87,7 +87,7 @@ def test_a_mug_with_a_big_handle_is_one_and_a_drill_is_not() -> None:
     0.84) is a body of revolution; a generated drill, round about its housing, is not: its
     wall leaves azimuth sectors nearly empty (fill 0.64), so its battery cannot stand off."""
     from simgrasp.assets.generated import generate_tool
-    from simgrasp.handles.virtual_scan import ScanConfig, scan_mesh
+    from simgrasp.autolabel.virtual_scan import ScanConfig, scan_mesh
 
     for kind, seed, expected in (("mug", 0, True), ("drill", 2, False)):
         views = scan_mesh(generate_tool(kind, seed).mesh, ScanConfig())

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simgrasp.handles.cylinder_fit import (
+from simgrasp.handles.baselines.cylinder_fit import (
     fit_circles,
     minimal_curvature_axes,
     perpendicular_basis,

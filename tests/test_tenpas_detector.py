@@ -11,8 +11,8 @@ import trimesh
 from scipy.spatial import cKDTree
 
 from simgrasp.handles import TenPasConfig, detect
-from simgrasp.handles.detection import TIMING_STEPS
-from simgrasp.handles.tenpas_detector import align_shells, detect_tenpas_handles
+from simgrasp.handles.baselines.tenpas_detector import align_shells, detect_tenpas_handles
+from simgrasp.handles.core.detection import TIMING_STEPS
 from simgrasp.labels import ycb_handle_label
 
 from shapes import hammer_like

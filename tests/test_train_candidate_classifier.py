@@ -12,7 +12,7 @@ from script_modules import load_script
 
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.sim_views import SimView
-from simgrasp.handles.candidate_features import FEATURES
+from simgrasp.handles.single_view.candidate_features import FEATURES
 
 
 @pytest.fixture(scope="module")

@@ -4,6 +4,7 @@ records are real ones, from the committed sweep in docs/results/evaluate."""
 
 from __future__ import annotations
 
+import gzip
 import json
 from pathlib import Path
 
@@ -13,18 +14,21 @@ from simgrasp.evaluation.report import write_report
 from simgrasp.evaluation.trial_log import trial_log
 
 COMMITTED = Path(__file__).parents[1] / "docs" / "results"
-EVALUATE_LOG = COMMITTED / "evaluate" / "trials.jsonl"
+EVALUATE_LOG = COMMITTED / "evaluate" / "trials.jsonl.gz"
+"""Committed runs keep their records gzipped."""
 
 
 def real_lines(count: int) -> list[bytes]:
     """The first ``count`` lines of the committed 720-trial sweep, without newlines."""
-    return EVALUATE_LOG.read_bytes().split(b"\n")[:count]
+    return gzip.decompress(EVALUATE_LOG.read_bytes()).split(b"\n")[:count]
 
 
 @pytest.mark.parametrize(
-    "log", sorted(COMMITTED.glob("*/trials.jsonl")), ids=lambda p: p.parent.name
+    "committed", sorted(COMMITTED.glob("*/trials.jsonl.gz")), ids=lambda p: p.parent.name
 )
-def test_every_committed_log_passes_the_record_check(log: Path) -> None:
+def test_every_committed_log_passes_the_record_check(committed: Path, tmp_path: Path) -> None:
+    log = tmp_path / "trials.jsonl"
+    log.write_bytes(gzip.decompress(committed.read_bytes()))
     assert len(trial_log(log).load()) == len(log.read_bytes().splitlines())
 
 

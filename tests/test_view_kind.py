@@ -1,4 +1,4 @@
-"""One default for every cloud: the single-view test (:mod:`simgrasp.handles.view_kind`)
+"""One default for every cloud: the single-view test (:mod:`simgrasp.handles.single_view.view_kind`)
 tells a camera's view from a cloud seen all around, and ``detect`` with single-view settings
 sends each to its detector. Simulated kinect views of the generated mug (no data needed), the
 real GPD table mug through ``simgrasp detect`` (needs the real clouds)."""
@@ -16,11 +16,11 @@ from simgrasp.api import detect_handles, load_object
 from simgrasp.cli import main
 from simgrasp.evaluation.real_manifest import load_real_cloud, read_manifest
 from simgrasp.evaluation.sim_views import SimView, capture, score_view
-from simgrasp.handles import SingleViewConfig, detect
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.quadric_detector import detect_quadric_handles
-from simgrasp.handles.single_view import FALLBACK_DETECTOR, SINGLE_VIEW_DETECTOR
-from simgrasp.handles.view_kind import (
+from simgrasp.handles import detect
+from simgrasp.handles.core.quadric_detector import detect_quadric_handles
+from simgrasp.handles.presets import quadric_preset, single_view_preset
+from simgrasp.handles.single_view.detector import FALLBACK_DETECTOR, SINGLE_VIEW_DETECTOR
+from simgrasp.handles.single_view.view_kind import (
     ViewKindConfig,
     hidden_share,
     is_single_view,
@@ -113,7 +113,7 @@ def test_a_bad_view_test_setting_is_refused() -> None:
 def test_detect_sends_a_view_to_the_single_view_detector_and_a_mesh_cloud_to_the_quadric(
     view_cam: np.ndarray, mesh_cloud: np.ndarray
 ) -> None:
-    settings = SingleViewConfig.learned()
+    settings = single_view_preset()
     seen = detect(view_cam, None, seed=0, viewpoint=np.zeros(3), single_view=settings)
     assert seen.detector == SINGLE_VIEW_DETECTOR
     eye = np.array([0.0, -0.5, 0.4])
@@ -149,11 +149,9 @@ def test_a_view_the_classifier_keeps_nothing_of_goes_to_the_fallback() -> None:
     detection is the fallback quadric detector's (real_depth settings) on the same view."""
     x, y = np.meshgrid(np.arange(-0.1, 0.1, 0.002), np.arange(-0.1, 0.1, 0.002))
     board = np.column_stack([x.ravel(), y.ravel(), np.full(x.size, 0.5)])
-    found = detect(
-        board, None, seed=0, viewpoint=np.zeros(3), single_view=SingleViewConfig.learned()
-    )
+    found = detect(board, None, seed=0, viewpoint=np.zeros(3), single_view=single_view_preset())
     assert found.detector == FALLBACK_DETECTOR
-    alone = detect_quadric_handles(board, None, QuadricDetectorConfig.real_depth(), 0, np.zeros(3))
+    alone = detect_quadric_handles(board, None, quadric_preset("real_depth"), 0, np.zeros(3))
     assert len(found.candidates) == len(alone.candidates)
     assert len(found.handles) == len(alone.handles)
 
@@ -196,17 +194,17 @@ def test_another_classifier_file_is_used_and_a_missing_one_is_one_line(
     from dataclasses import replace
 
     from simgrasp.errors import SimgraspError
-    from simgrasp.handles.single_view import detect_single_view
+    from simgrasp.handles.single_view.detector import detect_single_view
     from simgrasp.resources import model_path
 
     copy = tmp_path / "copy.json"
     copy.write_text(model_path("handles", "candidate_classifier.json").read_text())
-    shipped = detect_single_view(view_cam, SingleViewConfig.learned(), 0, np.zeros(3))
-    copied = replace(SingleViewConfig.learned(), classifier_file=str(copy))
+    shipped = detect_single_view(view_cam, single_view_preset(), 0, np.zeros(3))
+    copied = replace(single_view_preset(), classifier_file=str(copy))
     again = detect_single_view(view_cam, copied, 0, np.zeros(3))
     assert [h.center.tolist() for h in again.handles] == [
         h.center.tolist() for h in shipped.handles
     ]
-    missing = replace(SingleViewConfig.learned(), classifier_file=str(tmp_path / "none.json"))
+    missing = replace(single_view_preset(), classifier_file=str(tmp_path / "none.json"))
     with pytest.raises(SimgraspError, match="none.json: no such candidate classifier file"):
         detect_single_view(view_cam, missing, 0, np.zeros(3))

@@ -1,9 +1,10 @@
 """The automatic handle label of a mesh object that comes with none, cached on disk.
 
 A mesh object (:mod:`simgrasp.assets.mesh_object`) given no ``handles`` file gets the label
-``simgrasp label-handles`` would write for it (:func:`simgrasp.handles.auto_label.auto_handle_label`
-with its default settings), so ``trial``, ``evaluate``, ``label-grasps`` and the env score
-``on_handle`` on any mesh; records say where the label came from
+``simgrasp label-handles`` would write for it
+(:func:`simgrasp.autolabel.auto_label.auto_handle_label` with its default settings), so
+``trial``, ``evaluate``, ``label-grasps`` and the env score ``on_handle`` on any mesh; records
+say where the label came from
 (:attr:`simgrasp.assets.object.ObjectAsset.handle_source`). Scanning and detecting take a few
 seconds a mesh, so the label is kept in the cache directory's ``handle-labels`` folder, one
 JSON file per (mesh, settings), written atomically (concurrent workers never read half a
@@ -28,18 +29,19 @@ from simgrasp.labels import HandleLabel, load_label_file, write_label_file
 log = logging.getLogger(__name__)
 
 LABELER_VERSION = 7
-"""Part of every entry's key with the labeler's settings: raised when
-:func:`simgrasp.handles.auto_label.auto_handle_label` finds other labels with the same settings
-(2: bodies of revolution; 3: a long tool's thin sections left out; both 5 December 2026; 4:
-the k-means pieces' seeding and fallback; 5: k-means started from the slabs, no random
-draw; 6: a long tool's heads left out; 7: a part on a blade is told by a thicker run 3 cm
-long, not by the tool's median slab; all 6 December 2026), so no stale label is read."""
+"""Part of every entry's key with the labeler's settings: raised whenever
+:func:`simgrasp.autolabel.auto_label.auto_handle_label` finds other labels with the same
+settings (2: bodies of revolution; 3: a long tool's thin sections left out; 4: the k-means
+pieces' seeding and fallback; 5: k-means started from the slabs, no random draw; 6: a long
+tool's heads left out; 7: a part on a blade is told by a thicker run 3 cm long, not by the
+tool's median slab), so no stale label is read."""
 
 
 def automatic_handle_label(mesh: trimesh.Trimesh, name: str) -> HandleLabel:
     """The automatic handle label of ``mesh`` (its frame, m) for object ``name``, from the
     cache when it holds one for this mesh and the labeler's settings."""
-    from simgrasp.handles.auto_label import AutoLabelConfig, auto_handle_label
+    from simgrasp.autolabel.auto_label import auto_handle_label
+    from simgrasp.autolabel.config import AutoLabelConfig
 
     config = AutoLabelConfig()
     fields = {**flatten(config), "labeler_version": LABELER_VERSION}

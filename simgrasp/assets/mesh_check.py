@@ -13,6 +13,7 @@ Units are meters; every mesh is in its object's own frame.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -189,6 +190,11 @@ def outward(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     """``mesh`` with its faces turned outward: a consistently wound surface whose signed
     volume is negative is inside out (the YCB chips-can Poisson scan), which renderers that
     cull back faces draw as the far inner wall; its faces are flipped in place."""
-    if mesh.is_winding_consistent and mesh.volume < 0:
+    if not mesh.is_winding_consistent:
+        return mesh
+    with warnings.catch_warnings():  # a flat mesh's centre of mass divides by its zero volume
+        warnings.simplefilter("ignore", RuntimeWarning)
+        inside_out = mesh.volume < 0
+    if inside_out:
         mesh.invert()
     return mesh

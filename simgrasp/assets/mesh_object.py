@@ -24,6 +24,7 @@ its mass comes from its convex hull's volume and its collisions from CoACD's par
 from __future__ import annotations
 
 import sys
+import warnings
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
@@ -43,7 +44,7 @@ from simgrasp.assets.mesh_check import (
     validate_mesh,
 )
 from simgrasp.assets.object import ObjectAsset
-from simgrasp.errors import DataNotFoundError, SimgraspError
+from simgrasp.errors import DataNotFoundError, SimgraspError, fix_for_caller
 from simgrasp.labels import HandleLabel, load_label_file
 
 MESH_SUFFIXES = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
@@ -223,11 +224,16 @@ def size_hint(message: str, mesh: trimesh.Trimesh, path: Path | str, factor: flo
                 return (
                     f"object mesh {path}: largest extent {largest:.4g} m at scale "
                     f"{factor:g} is not a graspable object; if the file is in {units}, "
-                    f"pass --units {units} (or --scale {unit_factor:g})"
+                    + fix_for_caller(
+                        f"pass --units {units} (or --scale {unit_factor:g})",
+                        f'name it "{path}?units={units}" (or "?scale={unit_factor:g}")',
+                    )
                 )
         return (
             f"object mesh {path}: largest extent {largest:.4g} m at scale {factor:g} "
-            f"is not a graspable object; pass --scale S so that it measures 5 mm-3 m"
+            "is not a graspable object; "
+            + fix_for_caller("pass --scale S", f'name it "{path}?scale=S"')
+            + " so that it measures 5 mm-3 m"
         )
     return message
 
@@ -271,8 +277,10 @@ def _label_of(path: Path, keys: tuple[str, ...], name: str) -> HandleLabel:
 def _mass(spec: MeshObjectSpec, mesh: trimesh.Trimesh) -> float:
     """The spec's mass, or its density times the solid's volume (kg)."""
     try:
-        solid, volume_from = mass_properties_solid(mesh)
-        volume = abs(float(solid.volume))
+        with warnings.catch_warnings():  # a flat mesh's centre of mass divides by zero volume
+            warnings.simplefilter("ignore", RuntimeWarning)
+            solid, volume_from = mass_properties_solid(mesh)
+            volume = abs(float(solid.volume))
     except Exception:  # qhull fails on a flat point set: no volume
         volume, volume_from = 0.0, "convex_hull"
     if not volume > MIN_VOLUME_M3:

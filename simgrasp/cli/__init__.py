@@ -23,7 +23,7 @@ from simgrasp.config.arguments import (
     effective_config_text,
     settings_from_args,
 )
-from simgrasp.errors import SimgraspError
+from simgrasp.errors import SimgraspError, command_line_caller
 from simgrasp.runs.out_dir import check_outputs, remove_empty
 
 # name -> one-line help; the module is simgrasp.cli.<name with - as _>
@@ -43,6 +43,7 @@ COMMANDS: dict[str, str] = {
     "compare-labels": "confusion matrix of two label-grasps runs",
     "label-handles": "find the handle regions of any mesh, as a label file",
     "view": "interactive 3D view of a label-grasps folder (served or exported as HTML)",
+    "settings": "list every setting of a command: key, default, type and what it does",
 }
 
 
@@ -65,17 +66,28 @@ class _Parser(argparse.ArgumentParser):
 def build_parser(command: str | None) -> argparse.ArgumentParser:
     """The parser of every command, with the flags of ``command`` (only its module is
     imported)."""
-    parser = _Parser(prog="simgrasp", description=__doc__.splitlines()[0], allow_abbrev=False)
+    parser = _Parser(
+        prog="simgrasp",
+        description=__doc__.splitlines()[0],
+        epilog="simgrasp COMMAND --help: a command's main options and an example; "
+        "simgrasp COMMAND --help-all: every setting.",
+        allow_abbrev=False,
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, help_text in COMMANDS.items():
         # no abbreviations: `--detector` on a command without it would match every
         # `--detector.*` flag of another, and a typo must not pick a flag silently
-        cmd = sub.add_parser(name, help=help_text, description=help_text, allow_abbrev=False)
-        if name == command:
+        chosen = name == command  # its -h is the short help of its settings
+        cmd = sub.add_parser(
+            name, help=help_text, description=help_text, allow_abbrev=False, add_help=not chosen
+        )
+        if chosen:
             module = command_module(name)
             cmd.description = (module.__doc__ or help_text).strip()
             cmd.formatter_class = argparse.RawDescriptionHelpFormatter
-            add_settings_arguments(cmd, module.Options)
+            examples = getattr(module, "EXAMPLES", ())
+            listing = f"simgrasp settings {name}" if "settings" in COMMANDS else ""
+            add_settings_arguments(cmd, module.Options, examples=examples, listing=listing)
     return parser
 
 
@@ -96,7 +108,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         options = settings_from_args(module.Options, args)
         made = check_outputs(options)  # a run never works for minutes, then fails to save
-        code = int(module.run(options) or 0)
+        with command_line_caller():  # errors suggest flags, not Python arguments
+            code = int(module.run(options) or 0)
         sys.stdout.flush()  # a closed pipe shows here, inside the handler below
         return code
     except SimgraspError as exc:

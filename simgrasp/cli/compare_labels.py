@@ -14,6 +14,12 @@ from simgrasp.config import setting
 from simgrasp.config.checks import Checked, NonNegativeInt, PositiveInt
 from simgrasp.errors import SimgraspError
 
+EXAMPLES = (
+    "simgrasp compare-labels out/full out/fast",
+    "simgrasp compare-labels out/ours --reference flex.h5 --plot agreement.png",
+)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
@@ -24,7 +30,7 @@ class Options(Checked):
     reference_file: Path | None = setting(None, flag="--reference")
     """Grasp file(s) with labels (ACRONYM .h5: FleX's; a glob or folder) to compare
     REFERENCE's labels with, instead of OTHER."""
-    plot: Path | None = setting(None, output="plot")
+    plot: Path | None = setting(None, output="plot", main=True)
     """With --reference: write the agreement plot (PNG) here."""
     examples: Path | None = setting(None, output="dir")
     """With --reference: replay a few grasps of each kind of disagreement (the reference held
@@ -38,7 +44,7 @@ class Options(Checked):
     depends on which objects were labeled; 0: no intervals."""
     seed: NonNegativeInt = 0
     """With --reference: the seed of the intervals' resamples and of the examples' draw."""
-    json: bool = False
+    json: bool = setting(False, main=True)
     """Print the counts as JSON."""
 
     def _check(self) -> None:

@@ -47,13 +47,17 @@ RUN_FILES = (
 """Records a run of demo, evaluate, label-grasps or detect-eval leaves in its output folder."""
 
 
+EXAMPLES = ("simgrasp demo --seeds 1 --workers 2 --out out/demo",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
-    seeds: int | None = None
+    seeds: int | None = setting(None, main=True)
     """Seeds per setting (default 2, 1 with YCB)."""
-    workers: int = 2
+    workers: int = setting(2, main=True)
     """Parallel worker processes."""
-    out: Path = Path("out/demo")
+    out: Path = setting(Path("out/demo"), main=True)
     """Output directory."""
     chain: ChainConfig = setting(
         default_factory=ChainConfig, flatten=True, exclude=("detector.kind", "gripper", "noise")

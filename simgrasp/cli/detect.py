@@ -9,7 +9,7 @@ Detector defaults: the quadric detector's plain defaults (one pass), the same as
 that the data show to be one camera's view from the viewpoint goes to the single-view
 detector instead (``--single-view``, docs/results/real-detect). ``trial``
 and ``evaluate`` add a fine pass for the fused clouds of rendered depth views
-(``--detector.quadric.fine-half-size 0.012``, ``QuadricDetectorConfig.two_scales``), on which
+(``--detector.quadric.fine-half-size 0.012``, the preset ``two_scales``), on which
 thin handles (a lying mug's strap) are seen from two sides; give that flag here to detect on a
 cloud file as ``trial`` does. The defaults stay apart so that both commands' committed
 results stay as they are.
@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import sys
+import warnings
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -26,48 +27,59 @@ from typing import Any
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Detection
 from simgrasp.handles.detector_config import DetectorConfig
-from simgrasp.handles.single_view import SingleViewConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.presets import single_view_preset
+from simgrasp.handles.single_view.detector import SingleViewConfig
+from simgrasp.perception.cloud_file import MeshReadConfig, is_mesh_file
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS, DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.units import Units
+
+EXAMPLES = (
+    "simgrasp detect mug.ply --units mm --json",
+    "simgrasp detect view.pcd --viewpoint 0 0 0 --detector tenpas",
+)
+"""Command lines shown by ``--help``."""
 
 
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     cloud: Path = setting(positional=True, metavar="CLOUD")
-    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units), or a depth image .png / .tif
-    (one sensor frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else
-    its valid pixels as the object, with a note when they hold a table)."""
-    units: Units = "m"
+    """Point cloud file: .ply, .pcd, .xyz or .npy (in --units; normals it leaves out, NaN or
+    zero, are estimated, said in a note); a mesh file, .obj .stl .off .glb .gltf or a .ply with
+    faces (a scanner's reconstruction: read by its vertices; a model's large triangles: by its
+    surface, sampled by the seed; --mesh.points); or a depth image .png / .tif (one sensor
+    frame: --depth.intrinsics, --depth.scale; the whole scene with --segment, else its valid
+    pixels as the object, with a note when they hold a table)."""
+    units: Units = setting("m", main=True)
     """Units of the file's coordinates and of --viewpoint (results are in meters)."""
-    json: bool = False
+    json: bool = setting(False, main=True)
     """Print one JSON object instead of a table."""
-    seed: int = 0
-    """Seed of the neighborhood sampling."""
+    seed: int = setting(0, main=True)
+    """Seed of the neighborhood sampling (and of the points drawn over a mesh's surface)."""
     detector: DetectorConfig = field(default_factory=DetectorConfig)
     gripper_width: float | None = None
     """Maximum gripper opening (m); sets the chosen detector's gripper_max_opening."""
-    viewpoint: tuple[float, float, float] | None = setting(None, metavar=("X", "Y", "Z"))
+    viewpoint: tuple[float, float, float] | None = setting(None, metavar=("X", "Y", "Z"), main=True)
     """Camera position for a single-view cloud (m, the cloud's frame): normals are turned
     toward it."""
     single_view: bool = True
     """A cloud measured to be one camera's view from the viewpoint (--viewpoint, with
     --segment the file's VIEWPOINT, else the origin: a sensor's own frame;
-    `simgrasp.handles.view_kind`) is detected with the
-    single-view detector (`SingleViewConfig.learned`: the shipped candidate classifier;
+    `simgrasp.handles.single_view.view_kind`) is detected with the
+    single-view detector (the preset `learned`: the shipped candidate classifier;
     quadric detector only); false: the quadric settings below on every cloud."""
     single_view_detector: SingleViewConfig = setting(
-        default_factory=SingleViewConfig.learned, exclude=("fallback",)
+        default_factory=single_view_preset, exclude=("fallback",)
     )
     """Where the classifier keeps nothing, the fallback is
-    `QuadricDetectorConfig.real_depth()` (not a flag)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
+    the preset `real_depth` (not a flag)."""
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot", main=True)
     """Write a picture of the detection."""
-    segment: bool = False
+    segment: bool = setting(False, main=True)
     """CLOUD is a whole scene: segment it (as `simgrasp segment`) and detect on each object;
     normals face the file's VIEWPOINT unless --viewpoint is given."""
     object: str = setting("all", metavar="K|all")
@@ -75,6 +87,7 @@ class Options(Checked):
     part, a pot's tab, stands for its object)."""
     segmentation: SegmentConfig = field(default_factory=SegmentConfig)
     depth: DepthImageConfig = field(default_factory=DepthImageConfig)
+    mesh: MeshReadConfig = field(default_factory=MeshReadConfig)
 
 
 def run(options: Options) -> int:
@@ -88,9 +101,10 @@ def run(options: Options) -> int:
         raise SimgraspError("--object needs --segment")
 
     with stdout_to_stderr():  # library warnings must not mix with the output (--json)
-        detection = _detect(options)
+        detection, notes = _detect(options)
     if options.json:
-        json.dump({**detection.to_json(), "input": _input_record(options)}, sys.stdout)
+        record = {**_input_record(options), "notes": notes}
+        json.dump({**detection.to_json(), "input": record}, sys.stdout)
         sys.stdout.write("\n")
         return 0
     print(
@@ -161,6 +175,8 @@ def _input_record(options: Options) -> dict[str, Any]:
         record["segmentation"] = asdict(options.segmentation)
     if options.cloud.suffix.lower() in DEPTH_IMAGE_FORMATS:
         record["depth"] = asdict(options.depth)
+    if not options.segment and is_mesh_file(options.cloud):
+        record["mesh"] = asdict(options.mesh)
     return record
 
 
@@ -183,7 +199,7 @@ def _single_view(options: Options) -> SingleViewConfig | None:
 def _may_be_a_view_elsewhere(options: Options, points: Any, detection: Detection) -> bool:
     """Whether the quadric detector ran on a cloud, given no viewpoint, that may be one
     camera's view from elsewhere than the origin (`view_kind.one_view_from_somewhere`)."""
-    from simgrasp.handles.view_kind import one_view_from_somewhere
+    from simgrasp.handles.single_view.view_kind import one_view_from_somewhere
 
     if not options.single_view or options.viewpoint is not None:
         return False
@@ -207,13 +223,31 @@ def _note_a_scene(cloud: Path, points: Any) -> None:
         )
 
 
-def _detect(options: Options) -> Detection:
+def _read(options: Options) -> tuple[Any, Any, list[str]]:
+    """The cloud's points (m) and normals or None, and the notes reading made (normals
+    estimated), each printed on stderr as a line ``note: ...``."""
+    from simgrasp.perception.cloud_file import read_object_cloud
+    from simgrasp.perception.cloud_io import ReadNote
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ReadNote)
+        points, normals = read_object_cloud(
+            options.cloud, options.units, options.depth, options.mesh, options.seed
+        )
+    notes = [str(w.message) for w in caught if issubclass(w.category, ReadNote)]
+    for note in notes:
+        print(f"note: {note}", file=sys.stderr)
+    for other in (w for w in caught if not issubclass(w.category, ReadNote)):
+        warnings.warn_explicit(other.message, other.category, other.filename, other.lineno)
+    return points, normals, notes
+
+
+def _detect(options: Options) -> tuple[Detection, list[str]]:
     from simgrasp.handles import detect
-    from simgrasp.perception.depth_image import read_points
     from simgrasp.perception.units import UNIT_SCALE
 
     config = _detector_config(options)
-    points, normals = read_points(options.cloud, options.units, options.depth)
+    points, normals, notes = _read(options)
     scale = UNIT_SCALE[options.units]
     viewpoint = None if options.viewpoint is None else [v * scale for v in options.viewpoint]
     kind = options.detector.kind
@@ -238,4 +272,4 @@ def _detect(options: Options) -> Detection:
         from simgrasp.plots.detection import plot_detection
 
         plot_detection(detection, options.plot, title=f"{options.cloud} ({detection.detector})")
-    return detection
+    return detection, notes

@@ -22,6 +22,7 @@ from simgrasp.config.checks import Positive, PositiveInt
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import NoiseSigma
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
+from simgrasp.handles.presets import preset_names
 
 if TYPE_CHECKING:
     from simgrasp.evaluation.detection_run import DetectionItem
@@ -35,19 +36,23 @@ REAL_ONLY = ("real_configs", "real_dir")
 """Settings of ``--real`` only."""
 
 
+EXAMPLES = ("simgrasp detect-eval --objects paper --noise 0:0.1:0.01 --seeds 10 --workers 2",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
-    objects: tuple[str, ...] = ("paper",)
+    objects: tuple[str, ...] = setting(("paper",), main=True)
     """Object names and/or the sets paper, ycb, generated, all."""
-    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
+    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS", main=True)
     """Multiplicative noise sigmas: START:STOP:STEP (e.g. 0:0.1:0.01) or a comma list."""
-    seeds: PositiveInt = 10
+    seeds: PositiveInt = setting(10, main=True)
     """Seeds 0..N-1 per object and sigma."""
-    detector: tuple[DetectorName, ...] = DETECTORS
+    detector: tuple[DetectorName, ...] = setting(DETECTORS, main=True)
     """Detectors to compare."""
     gripper_width: Positive | None = setting(None, metavar="M")
     """Maximum gripper opening (m; default the detectors' 0.085)."""
-    workers: PositiveInt = 1
+    workers: PositiveInt = setting(1, main=True)
     """Parallel worker processes (or Ray CPUs)."""
     backend: Literal["local", "ray"] = "local"
     """Run detections in local worker processes or as Ray tasks."""
@@ -55,17 +60,15 @@ class Options(YcbSource):
     """Ray cluster to join with --backend ray (auto or HOST:PORT)."""
     no_progress: bool = False
     """Hide the progress bar."""
-    out: Path = Path("out/detect-eval")
+    out: Path = setting(Path("out/detect-eval"), main=True)
     """Output directory (detections.jsonl, resumed by the same command; run.json, the CSV,
     tables and plot)."""
     real: Path | None = setting(None, metavar="MANIFEST")
     """Score the real clouds of this manifest instead (TOML, see
     simgrasp/evaluation/real_manifest.py; the shipped one: models/handles/real_detect.toml)."""
-    real_configs: tuple[str, ...] = ("default",)
-    """With --real: the named detector settings to compare (default: what `simgrasp detect`
-    runs; multi_view: the quadric defaults on every cloud, the default before 3 December
-    2026; paper, two_scales, camera_cloud, noisy_camera_cloud, real_depth, tenpas, standoff,
-    standoff_axis, standoff_measured, learned)."""
+    real_configs: tuple[str, ...] = setting(("default",), choices=preset_names, metavar="PRESET")
+    """With --real: the detector presets to compare (simgrasp.handles.presets, each with what
+    it is for and its results page; default: what `simgrasp detect` runs)."""
     real_dir: Path | None = None
     """With --real: folder the manifest's cloud paths are relative to (default:
     $SIMGRASP_REAL_DIR, else ../shared/real)."""

@@ -37,24 +37,30 @@ if TYPE_CHECKING:
 SWEPT = ("detector.kind", "gripper", "noise", "sensor.kind", "perception")
 
 
+EXAMPLES = (
+    "simgrasp evaluate --objects generated --detector quadric,centroid --seeds 3 --out out/eval",
+)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
-    objects: tuple[str, ...] = ("generated",)
+    objects: tuple[str, ...] = setting(("generated",), main=True)
     """Object names, mesh files (read with --scale/--units/--mass/...) and/or the sets
     generated, families, paper, ycb, all."""
-    detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names)
+    detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names, main=True)
     """Grasp proposers to sweep (:mod:`simgrasp.grasping.proposers`)."""
-    gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names)
+    gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names, main=True)
     """Grippers to sweep."""
-    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS")
+    noise: tuple[NoiseSigma, ...] = setting((0.0,), parse=float_range, metavar="SIGMAS", main=True)
     """Multiplicative cloud-noise sigmas: START:STOP:STEP or a comma list."""
-    sensor: tuple[str, ...] = setting(("ideal",), choices=sensor_names)
+    sensor: tuple[str, ...] = setting(("ideal",), choices=sensor_names, main=True)
     """Depth sensors to sweep."""
     perception: tuple[Perception, ...] = setting(("auto",), choices=PERCEPTIONS)
     """Cuts of the target to sweep (auto, segment, mask; auto: segment in clutter, else mask)."""
-    seeds: PositiveInt = 3
+    seeds: PositiveInt = setting(3, main=True)
     """Seeds 0..N-1 per setting."""
-    workers: PositiveInt = 2
+    workers: PositiveInt = setting(2, main=True)
     """Parallel worker processes (or Ray CPUs)."""
     out: Path
     """Output directory (trials.jsonl, summary.csv, report.md, plots)."""

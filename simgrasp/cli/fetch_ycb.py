@@ -27,12 +27,15 @@ from simgrasp.config import setting
 from simgrasp.config.checks import Checked, Positive
 from simgrasp.errors import SimgraspError
 
+EXAMPLES = ("simgrasp fetch-ycb --objects 025_mug,048_hammer --dest ~/ycb",)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     objects: str
     """Comma-separated YCB ids or names (025_mug,hammer), or all."""
-    dest: str | None = None
+    dest: str | None = setting(None, main=True)
     """Folder to put the objects in (default: $SIMGRASP_YCB_DIR)."""
     kind: str = setting("google_16k", choices=tuple(sorted(SCAN_DIR)))
     """google_16k: textured 16k-face scans; berkeley: Poisson/TSDF meshes."""

@@ -29,6 +29,10 @@ SHOWN_PROBLEMS = 10
 """Invalid rows listed one by one before the rest are counted."""
 
 
+EXAMPLES = ("simgrasp label-grasps 048_hammer --grasps grasps.npz --workers 2 --out out/labels",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
     label: LabelConfig = setting(default_factory=LabelConfig, flatten=True)
@@ -41,12 +45,12 @@ class Options(YcbSource, MeshObjectOptions):
     holding the grasp file's grasps/ folder)."""
     max_grasps: int | None = None
     """Label only each file's first N grasps."""
-    export: Literal["acronym", "graspgen"] | None = None
+    export: Literal["acronym", "graspgen"] | None = setting(None, main=True)
     """Also write each input file with our labels (object_in_gripper, score, on_handle) under
     grasps/qualities/simgrasp (OUT/export/)."""
-    out: Path | None = None
+    out: Path | None = setting(None, main=True)
     """Output directory (default out/labels/OBJECT)."""
-    workers: PositiveInt = 1
+    workers: PositiveInt = setting(1, main=True)
     """Worker processes (or Ray CPUs)."""
     backend: Literal["local", "ray"] = "local"
     """Label in local worker processes or as Ray tasks."""

@@ -5,7 +5,7 @@ OBJECT is a mesh file (.obj .stl .ply .off .glb ...), scaled to meters (``--scal
 a catalog name; in its own frame, as :func:`simgrasp.assets.registry.load_object_mesh` loads
 it: to compare the automatic label with a shipped or exact one). It is scanned from many
 directions, our quadric detector runs on every scan and its candidates are clustered into the
-oriented boxes of ``models/handles/ycb_handles.json`` (:mod:`simgrasp.handles.auto_label`), in
+oriented boxes of ``models/handles/ycb_handles.json`` (:mod:`simgrasp.autolabel.auto_label`), in
 the scaled mesh's own frame. ``--plot`` draws the label on the scanned surface for review.
 Read the result with ``simgrasp.labels.load_handle_label``.
 """
@@ -17,15 +17,19 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
 from simgrasp.assets.mesh_object import MESH_SUFFIXES
+from simgrasp.autolabel.config import AutoLabelConfig
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.auto_label import AutoLabelConfig
 
 if TYPE_CHECKING:
     import trimesh
 
 MeshUnits = Literal["m", "cm", "mm"]
 METERS_PER_UNIT: dict[str, float] = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+
+
+EXAMPLES = ("simgrasp label-handles wrench.stl --units mm --out handles.json",)
+"""Command lines shown by ``--help``."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -35,19 +39,19 @@ class Options:
     name (a YCB id, gen_<kind>_s<N>, a catalog name), in meters."""
     scale: float = 1.0
     """Multiply a mesh file by this (e.g. an ACRONYM file's object/scale) ..."""
-    units: MeshUnits = "m"
+    units: MeshUnits = setting("m", main=True)
     """... and by the meters per unit of these units."""
     name: str | None = None
     """Object name in the output file (default: the mesh file's stem, or the object name)."""
-    out: Path = setting(Path("handles.json"), output="file", suffixes=(".json",))
+    out: Path = setting(Path("handles.json"), output="file", suffixes=(".json",), main=True)
     """Output label file (the format of models/handles/ycb_handles.json)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot", main=True)
     """Also write a picture of the label on the scanned surface."""
     label: AutoLabelConfig = field(default_factory=AutoLabelConfig)
 
 
 def run(options: Options) -> int:
-    from simgrasp.handles.auto_label import auto_handle_label
+    from simgrasp.autolabel.auto_label import auto_handle_label
     from simgrasp.labels import write_label_file
     from simgrasp.stdout_guard import stdout_to_stderr
 

@@ -11,14 +11,17 @@ from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 
+EXAMPLES = ("simgrasp labels --objects gen_mug,025_mug --out out/labels",)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
-    objects: tuple[str, ...] = ("all",)
+    objects: tuple[str, ...] = setting(("all",), main=True)
     """Object names and/or the sets generated, families, paper, ycb, all."""
     seed: int = 0
     """Sizes of generated tools named without _s<seed>."""
-    out: Path = setting(Path("out/labels"), output="dir")
+    out: Path = setting(Path("out/labels"), output="dir", main=True)
     """Output directory (one PNG per object or scene)."""
     osd: tuple[str, ...] = ()
     """Draw the labeled pot handles of these osd-learn scenes instead (learn33,... or all)."""

@@ -23,6 +23,13 @@ if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
 
 
+EXAMPLES = (
+    "simgrasp object show gen_hammer --out hammer.png",
+    "simgrasp object export 033_spatula --out out/spatula",
+)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
     action: Literal["show", "export"] = setting(positional=True)

@@ -6,6 +6,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+from simgrasp.config import setting
+
 
 @dataclass(frozen=True, kw_only=True)
 class MeshObjectOptions:
@@ -14,7 +16,7 @@ class MeshObjectOptions:
 
     scale: float | None = None
     """Mesh object: multiply the file's coordinates by this to get meters."""
-    units: Literal["mm", "cm", "m"] | None = None
+    units: Literal["mm", "cm", "m"] | None = setting(None, main=True)
     """Mesh object: the file's units (instead of --scale)."""
     mass: float | None = None
     """Mesh object: mass (kg)."""

@@ -21,6 +21,9 @@ from simgrasp.config import setting
 from simgrasp.config.checks import PositiveInt
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 
+EXAMPLES = ("simgrasp sample-grasps 048_hammer --n 2000 --out grasps.npz",)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
@@ -31,10 +34,10 @@ class Options(YcbSource, MeshObjectOptions):
     """Number of grasps."""
     out: Path = setting(output="file", suffixes=(".npz",))
     """Output .npz file."""
-    seed: int = 0
+    seed: int = setting(0, main=True)
     """Seed of the sampling and of the scene whose table the grasps clear (label them with
     the same --seed)."""
-    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names, main=True)
     """The gripper whose open jaws must fit."""
     placement: Placement = DEFAULT_PLACEMENT
     """Rest pose policy of the scene whose table the grasps clear."""

@@ -34,14 +34,18 @@ from simgrasp.perception.sensors.settings import SensorSettings
 TARGET_LABEL, FIRST_DISTRACTOR_LABEL, TABLE_LABEL = 20, 30, 1
 
 
+EXAMPLES = ("simgrasp scenes export --clutter 5 --seeds 10 --sensor kinect --out out/scenes",)
+"""Command lines shown by ``--help``."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource, MeshObjectOptions):
     action: Literal["export"] = setting(positional=True, metavar="ACTION")
     """export: write the scenes' views as labeled PCD files."""
-    object: str = "gen_hammer"
+    object: str = setting("gen_hammer", main=True)
     """The target object (YCB id, generated tool or mesh file, read with
     --scale/--units/--mass/...)."""
-    seeds: int = 3
+    seeds: int = setting(3, main=True)
     """Scenes of seeds 0..N-1."""
     out: Path = setting(output="dir")
     """Output directory."""
@@ -63,6 +67,7 @@ def run(options: Options) -> int:
     )
     from simgrasp.grippers import make_gripper
     from simgrasp.runs.out_dir import claim_out_dir
+    from simgrasp.scenes.kept_renderer import RendererKeeper
     from simgrasp.scenes.scene import build_scene
 
     if options.seeds < 1:
@@ -71,25 +76,27 @@ def run(options: Options) -> int:
     model, gripper = model_for(name, options.ycb_dir), make_gripper("builtin")
     identity = export_identity(name, model.asset.name, chain.scene, chain.sensor)
     stem, cameras = file_stem(name), camera_names(chain.scene)
-    with claim_out_dir(out, invocation(), partial(refuse_other_command, out)):
+    with (
+        claim_out_dir(out, invocation(), partial(refuse_other_command, out)),
+        RendererKeeper() as renderers,
+    ):
         claim_export_dir(out, identity)
         done = finished_seeds(out, stem, options.seeds, cameras)
         if done:
             print(f"skipped seeds {spans(done)}: their views are already in {out}")
         for seed in sorted(set(range(options.seeds)) - set(done)):
             scene = build_scene(model, gripper, chain.scene, seed)
-            _export_views(scene, chain.sensor, out, stem)
+            _export_views(scene, chain.sensor, out, stem, renderers.renderer_for(scene))
     return 0
 
 
-def _export_views(scene, sensor: SensorSettings, out: Path, stem: str) -> None:  # noqa: ANN001
-    """Write every camera's view of ``scene`` (a Scene: lazy import) through ``sensor`` as
-    ``OUT/<stem>_s<seed>_<camera>.pcd`` and print each path."""
+def _export_views(scene, sensor: SensorSettings, out: Path, stem: str, renderer) -> None:  # noqa: ANN001
+    """Write every camera's view of ``scene`` (a Scene; ``renderer`` a SceneRenderer for it:
+    lazy imports) through ``sensor`` as ``OUT/<stem>_s<seed>_<camera>.pcd`` and print each
+    path."""
     from simgrasp.evaluation.scene_export import view_path
-    from simgrasp.scenes.kept_renderer import kept_renderer
     from simgrasp.scenes.observe import observe
 
-    renderer = kept_renderer(scene)
     for frame in observe(scene, renderer, 0.0, scene.seed, sensor).frames:
         rgb = renderer.rgb(scene.data, frame.camera_name, *frame.depth.shape[::-1])
         path = view_path(out, stem, scene.seed, frame.camera_name)

@@ -16,20 +16,28 @@ from simgrasp.config.checks import Checked
 from simgrasp.perception.depth_image import DepthImageConfig
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
+EXAMPLES = (
+    "simgrasp segment scene.pcd --labels labels.npy --plot scene.png",
+    "simgrasp segment depth.png --depth.intrinsics 615 615 320 240 --depth.scale 0.001",
+)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(Checked):
     scene: Path = setting(positional=True, metavar="SCENE")
     """Scene cloud: .pcd (organized or not, NaN pixels kept), .ply or .npy (meters), or a
     depth image .png / .tif (one sensor frame: --depth.intrinsics, --depth.scale)."""
-    json: bool = False
+    json: bool = setting(False, main=True)
     """Print one JSON object (with ``settings``: the segmentation settings, seed included)."""
-    labels: Path | None = setting(None, metavar="OUT.npy", output="file", suffixes=(".npy",))
+    labels: Path | None = setting(
+        None, metavar="OUT.npy", output="file", suffixes=(".npy",), main=True
+    )
     """Write one int32 label per input point, in the input's order (0 invalid, 1 table, 2..
     objects nearest first)."""
-    plot: Path | None = setting(None, metavar="OUT.png", output="plot")
+    plot: Path | None = setting(None, metavar="OUT.png", output="plot", main=True)
     """Write a picture of the labels."""
-    clouds: Path | None = setting(None, metavar="DIR", output="dir")
+    clouds: Path | None = setting(None, metavar="DIR", output="dir", main=True)
     """Write each whole object (with its side parts) as DIR/object_<label>.ply: points in the
     scene's frame (m), normals toward the sensor; earlier object_*.ply there are replaced."""
     depth: DepthImageConfig = field(default_factory=DepthImageConfig)

@@ -5,7 +5,7 @@ the best grasp. Every chain setting is a flag (``--detector.quadric.shell-test f
 ``--trial.hold-time 2``) or comes from ``--config FILE``; ``--print-config`` shows them.
 
 The quadric detector's chain default adds a fine pass (``--detector.quadric.fine-half-size``
-0.012, ``QuadricDetectorConfig.two_scales``) to the plain defaults that ``detect`` and
+0.012, the preset ``two_scales``) to the plain defaults that ``detect`` and
 ``detect-eval`` use: the chain's clouds are fused rendered depth views, where a thin handle (a
 lying mug's strap) is seen from two sides and the one-pass fits come out too wide. Give
 ``--detector.quadric.fine-half-size 0`` to detect as ``detect`` does.
@@ -17,7 +17,7 @@ import json
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -26,7 +26,16 @@ from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.trials.chain_config import ChainConfig
-from simgrasp.grasping.trials.protocol import Protocol
+from simgrasp.grasping.trials.protocol import protocol_names
+
+if TYPE_CHECKING:
+    from simgrasp.grasping.session import Session
+
+EXAMPLES = (
+    "simgrasp trial gen_mug --seed 3 --placement upright --json",
+    "simgrasp trial mug.obj --units mm --detector tenpas --render trial.mp4",
+)
+"""Command lines shown by ``--help``."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -43,15 +52,15 @@ class Options(YcbSource, MeshObjectOptions):
     """Frame of --grasp: world, or the object's mesh frame (placed at its scene pose)."""
     width: float | None = None
     """Jaw opening before closing for --grasp (m; default the gripper's maximum)."""
-    protocol: Protocol | None = None
-    """Trial protocol of --grasp, as label-grasps' (full, fast, acronym, acronym-fast), instead
-    of the --trial.* settings (default: those, whose defaults are the full protocol)."""
-    seed: int = 0
+    protocol: str | None = setting(None, choices=protocol_names)
+    """Trial protocol of --grasp, as label-grasps' (its phases and settings), instead of the
+    --trial.* settings (default: those, whose defaults are the full protocol)."""
+    seed: int = setting(0, main=True)
     """Seed of the scene (rest pose and yaw) and of the chain (noise, detection, planning), as
     in an evaluate record: the same object and seed rerun that trial."""
-    json: bool = False
+    json: bool = setting(False, main=True)
     """Print the trial record as JSON."""
-    render: Path | None = setting(None, output="file")
+    render: Path | None = setting(None, output="file", main=True)
     """Write key frames (pre-grasp, closed, lifted, perturbed): .png grid or .mp4."""
     record: bool = False
     """Add the states a replay needs to the record (``replay``: object and TCP poses, jaw
@@ -60,13 +69,18 @@ class Options(YcbSource, MeshObjectOptions):
 
 
 def run(options: Options) -> int:
+    from simgrasp.grasping.session import Session
     from simgrasp.scenes.key_frames import FrameRecorder, check_frames_target, write_frames
 
     _check_grasp_flags(options)
     if options.render is not None:
         check_frames_target(options.render)
-    frames = FrameRecorder() if options.render is not None else None
-    record = _recorded_trial(options, frames) if options.record else _trial(options, frames)
+    with Session(options.ycb_dir) as session:
+        frames = FrameRecorder(session.renderers) if options.render is not None else None
+        if options.record:
+            record = _recorded_trial(options, frames, session)
+        else:
+            record = _trial(options, frames, session)
     if options.render is not None and frames is not None:
         record["render"] = write_frames(frames.frames, options.render)
     if options.json:
@@ -94,57 +108,60 @@ def _check_grasp_flags(options: Options) -> None:
         raise SimgraspError(f"--grasp: {problem}: give a unit quaternion")
 
 
-def _trial(options: Options, on_phase: Any) -> dict[str, Any]:
+def _trial(options: Options, on_phase: Any, session: Session) -> dict[str, Any]:
     """The record of the given grasp's trial (``--grasp``) or of the full chain's."""
-    return _given_trial(options, on_phase) if options.grasp else _chain_trial(options, on_phase)
+    if options.grasp:
+        return _given_trial(options, on_phase, session)
+    return _chain_trial(options, on_phase, session)
 
 
-def _recorded_trial(options: Options, frames: Any) -> dict[str, Any]:
+def _recorded_trial(options: Options, frames: Any, session: Session) -> dict[str, Any]:
     """:func:`_trial` with the states of a replay (:mod:`simgrasp.viewer.record`)."""
     from simgrasp.viewer.record import StateRecorder
 
     recorder = StateRecorder(next_phase=frames)
     with recorder.installed():
-        record = _trial(options, recorder)
+        record = _trial(options, recorder, session)
     record["replay"] = recorder.replay()
     return record
 
 
-def _given_trial(options: Options, recorder: Any) -> dict[str, Any]:
+def _given_trial(options: Options, recorder: Any, session: Session) -> dict[str, Any]:
     """Execute the grasp given with ``--grasp``."""
-    from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.given_grasp import trial_of_grasp
-    from simgrasp.grasping.trials.trial_config import protocol_config
+    from simgrasp.grasping.trials.protocol import get_protocol
     from simgrasp.grippers import make_gripper
 
     assert options.grasp is not None
-    trial_config = options.chain.trial
+    trial_config, phases = options.chain.trial, None
     if options.protocol is not None:
-        trial_config = protocol_config(options.protocol)
+        protocol = get_protocol(options.protocol)
+        trial_config, phases = protocol.config, protocol.phases
     result = trial_of_grasp(
-        model_for(options.object_name(options.object), options.ycb_dir),
+        session.model(options.object_name(options.object)),
         make_gripper(options.chain.gripper),
         options.grasp,
         frame=options.grasp_frame,
         width=options.width,
         scene_config=options.chain.scene,
         trial_config=trial_config,
+        phases=phases,
         seed=options.seed,
         on_phase=recorder,
     )
     return result.to_json()
 
 
-def _chain_trial(options: Options, recorder: Any) -> dict[str, Any]:
+def _chain_trial(options: Options, recorder: Any, session: Session) -> dict[str, Any]:
     """Render, detect, plan and execute (see :mod:`simgrasp.grasping.trials.chain`); the
     record says which renderer made the depth (``render_backend``: GL and ray-cast depth
     differ at silhouettes, so a seed's trial depends on it, as ``evaluate`` records too)."""
-    from simgrasp.assets.model import model_for
     from simgrasp.grasping.trials.chain import run_chain
     from simgrasp.scenes.render import select_backend
 
-    object_model = model_for(options.object_name(options.object), options.ycb_dir)
-    record = run_chain(object_model, options.chain, options.seed, on_phase=recorder).to_json()
+    object_model = session.model(options.object_name(options.object))
+    chain = run_chain(object_model, options.chain, options.seed, on_phase=recorder, session=session)
+    record = chain.to_json()
     return {**record, "render_backend": select_backend()}
 
 

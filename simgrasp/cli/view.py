@@ -12,6 +12,9 @@ from pathlib import Path
 from simgrasp.cli.options import YcbSource
 from simgrasp.config import setting
 
+EXAMPLES = ("simgrasp view out/eval --export eval.html",)
+"""Command lines shown by ``--help``."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
@@ -19,9 +22,9 @@ class Options(YcbSource):
     """A label-grasps output folder (run.json, labels.jsonl), a trial record (trial
     --record --json > t.json), a detection (detect --json > d.json, drawn over the input cloud
     it records) or an evaluate or demo output folder (trials.jsonl, report.md)."""
-    port: int = 8000
+    port: int = setting(8000, main=True)
     """Port of the local server (bound to 127.0.0.1 only)."""
-    export: Path | None = setting(None, output="file", suffixes=(".html", ".htm"))
+    export: Path | None = setting(None, output="file", suffixes=(".html", ".htm"), main=True)
     """Write the page to this .html file instead of serving it."""
 
 

@@ -1,7 +1,8 @@
 """Command-line flags generated from a settings tree, and the tree built back from them.
 
 Every leaf becomes ``--dotted.key`` (underscores as dashes; plus its alias flag, if any) with
-its type, choices, default and docstring in ``--help``. Three flags come with every tree:
+its type, choices, default and docstring in ``--help-all``, grouped by settings tree; the short
+``--help`` shows the main ones (:mod:`simgrasp.config.help`). Three flags come with every tree:
 ``--config FILE`` (a TOML or YAML subset), ``--set KEY=VALUE`` (repeatable) and
 ``--print-config``. Precedence: defaults < ``--config`` < ``--set`` < flags.
 """
@@ -9,6 +10,7 @@ its type, choices, default and docstring in ``--help``. Three flags come with ev
 from __future__ import annotations
 
 import argparse
+import inspect
 import re
 import sys
 import types
@@ -18,7 +20,8 @@ from pathlib import Path
 from typing import Any
 
 from simgrasp.config.files import dumps_toml, parse_set_items, read_config_file
-from simgrasp.config.schema import Leaf, leaves
+from simgrasp.config.help import HelpPlan, add_help_flags, first_paragraph, shown, usage_of
+from simgrasp.config.schema import Leaf, flag_name, leaves, trees
 from simgrasp.config.tree import build, check_keys, leaf_map
 from simgrasp.config.values import convert, parse_text, to_plain, type_name
 from simgrasp.errors import SimgraspError
@@ -27,39 +30,63 @@ _PREFIX = "setting:"
 _POSITIONAL = "positional:"
 
 
-def flag_name(key: str) -> str:
-    """``detector.quadric.shell_test`` -> ``--detector.quadric.shell-test``."""
-    return "--" + key.replace("_", "-")
-
-
-def add_settings_arguments(parser: argparse.ArgumentParser, cls: type) -> None:
-    """Add a flag (or positional) per leaf of ``cls`` plus ``--config``, ``--set`` and
-    ``--print-config``."""
+def add_settings_arguments(
+    parser: argparse.ArgumentParser,
+    cls: type,
+    *,
+    examples: Sequence[str] = (),
+    listing: str = "",
+) -> None:
+    """Add a flag (or positional) per leaf of ``cls``, grouped by settings tree, plus
+    ``--config``, ``--set``, ``--print-config`` and the two helps (:mod:`simgrasp.config.help`:
+    ``-h/--help`` when ``parser`` was made with ``add_help=False``, and ``--help-all``), showing
+    ``examples`` and naming ``listing``, a command that lists every setting key."""
+    if parser.usage is None:
+        parser.usage = usage_of(cls)
+    groups: dict[str, Any] = {}
+    actions = {}
     for leaf in leaves(cls):
-        if leaf.spec.cli:
-            _add_leaf(parser, leaf)
+        actions[leaf.key] = _add_leaf(_group(parser, groups, cls, leaf.key), leaf)
     group = parser.add_argument_group("settings files")
-    group.add_argument(
-        "--config",
-        type=Path,
-        metavar="FILE",
-        help="TOML or YAML file setting any subset of the settings, by their dotted keys "
-        "(flags and --set win over it)",
+    files = (
+        group.add_argument(
+            "--config",
+            type=Path,
+            metavar="FILE",
+            help="TOML or YAML file setting any subset of the settings, by their dotted keys "
+            "(flags and --set win over it)",
+        ),
+        group.add_argument(
+            "--set",
+            action="append",
+            default=[],
+            metavar="KEY=VALUE",
+            help="set any setting by its dotted key, e.g. --set detector.quadric.shell_test=false "
+            "(repeatable; flags win over it)",
+        ),
+        group.add_argument(
+            "--print-config",
+            action="store_true",
+            help="print the effective settings as TOML and exit",
+        ),
     )
-    group.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="set any setting by its dotted key, e.g. --set detector.quadric.shell_test=false "
-        "(repeatable; flags win over it)",
-    )
-    group.add_argument(
-        "--print-config", action="store_true", help="print the effective settings as TOML and exit"
-    )
+    add_help_flags(parser, HelpPlan(cls, actions, files, tuple(examples), listing))
 
 
-def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
+def _group(parser: argparse.ArgumentParser, groups: dict[str, Any], cls: type, key: str) -> Any:
+    """The argument group of setting ``key`` in ``--help-all``: its settings tree's (``--detector.*
+    settings``, described by the tree's docstring), else ``parser`` itself."""
+    tree = key.split(".")[0] if "." in key else ""
+    if not tree:
+        return parser
+    if tree not in groups:
+        doc = first_paragraph(inspect.getdoc(trees(cls)[tree]) or "")
+        title = f"{flag_name(tree)}.* settings"
+        groups[tree] = parser.add_argument_group(title, doc.replace("%", "%%"))
+    return groups[tree]
+
+
+def _add_leaf(parser: Any, leaf: Leaf) -> argparse.Action:
     """The flag of ``leaf``; its text is converted and checked when the tree is built
     (:func:`given_settings`), so a bad value names the setting's key like ``--set``'s."""
     kwargs: dict[str, Any] = {"help": _help(leaf), "dest": _PREFIX + leaf.key}
@@ -80,10 +107,9 @@ def _add_leaf(parser: argparse.ArgumentParser, leaf: Leaf) -> None:
         kwargs.pop("dest")
         kwargs["metavar"] = leaf.spec.metavar or leaf.key.upper()
         kwargs.setdefault("nargs", "?")
-        parser.add_argument(_POSITIONAL + leaf.key, default=None, **kwargs)
-        return
+        return parser.add_argument(_POSITIONAL + leaf.key, default=None, **kwargs)
     names = [flag_name(leaf.key)] + ([leaf.spec.flag] if leaf.spec.flag else [])
-    parser.add_argument(*names, default=argparse.SUPPRESS, **kwargs)
+    return parser.add_argument(*names, default=argparse.SUPPRESS, **kwargs)
 
 
 def _many_kwargs(leaf: Leaf) -> dict[str, Any]:
@@ -98,18 +124,11 @@ def _many_kwargs(leaf: Leaf) -> dict[str, Any]:
 
 
 def _help(leaf: Leaf) -> str:
-    default = "required" if leaf.required else f"default: {_shown(leaf.default)}"
+    default = "required" if leaf.required else f"default: {shown(leaf.default)}"
     allowed = leaf.allowed
     kind = f"{type_name(leaf.annotation)}{': ' + allowed if allowed else ''}"
     text = f"{leaf.doc} ({kind}; {default})".strip()
     return text.replace("%", "%%")
-
-
-def _shown(value: Any) -> str:
-    plain = to_plain(value)
-    if isinstance(plain, list):
-        return ",".join(map(str, plain)) if plain else "none"
-    return str(plain)
 
 
 def _metavar(annotation: Any) -> str:
@@ -232,7 +251,7 @@ def script_main(
     called on the settings and the text it returns printed (an int it returns is the exit
     status: a check that printed what it found); a :class:`SimgraspError` is one line and exit
     status 2."""
-    parser = argparse.ArgumentParser(description=description)
+    parser = argparse.ArgumentParser(description=description, add_help=False)
     add_settings_arguments(parser, cls)
     args = parser.parse_args(argv)
     try:

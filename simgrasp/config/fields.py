@@ -3,7 +3,7 @@
 Every setting of a run is a field of a frozen dataclass; :func:`setting` adds the few facts
 the generated command line needs beyond its type, default and docstring (an alias flag, the
 choices when they come from a registry, a text parser, positional or flattened placement,
-several values for a list).
+several values for a list, a place in the command's short ``--help``).
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ class FieldSpec:
         flatten: for a nested config field, its fields are named without its own name.
         exclude: for a nested config field, dotted keys of it not offered on this command.
         metavar: the placeholder shown in ``--help``.
-        cli: False keeps the field out of the flags (still settable by ``--config``/``--set``).
         output: a path the command writes, a ``"file"``, a ``"plot"`` (a file matplotlib
             can write, by its suffix) or a ``"dir"``: proved writable before the run starts
             (:func:`simgrasp.runs.out_dir.check_outputs`), so a run never works for minutes
@@ -46,6 +45,11 @@ class FieldSpec:
             plain list flags): ``--exclude A,B C`` is three items, so an item cannot hold a
             comma. Each item is converted to X and checked as X; ``parse``, if given, turns
             each value into a tuple.
+        main: one of the few settings most runs of a command set (what it reads and writes,
+            units, the detector's kind, the seed, the workers): listed in full by the
+            command's short ``--help``, where every other setting is summed up by its tree
+            (``--detector.*``) and listed by ``--help-all``. A positional or required setting
+            is always listed. Marked here, on the field, wherever the field is nested.
     """
 
     flag: str | None = None
@@ -55,10 +59,10 @@ class FieldSpec:
     flatten: bool = False
     exclude: tuple[str, ...] = ()
     metavar: str | None = None
-    cli: bool = True
     output: Literal["file", "plot", "dir"] | None = None
     suffixes: tuple[str, ...] = ()
     many: bool = False
+    main: bool = False
 
 
 def setting(

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -66,28 +66,41 @@ def parse_set_items(items: Sequence[str]) -> dict[str, str]:
 
 def dumps_toml(flat: Mapping[str, Any]) -> str:
     """A flat ``dotted key -> plain value`` config as TOML text (``None`` values as comments,
-    since TOML has no null)."""
-    return "\n".join(_table_lines(nest(flat), ())).strip() + "\n"
+    since TOML has no null). A key under another setting (``evaluate``'s ``detector`` list
+    beside ``detector.quadric.*``) is written quoted at the top, where no table can hold it."""
+    named = {key: toml_key(key, flat) for key in flat}
+    table = nest({key: value for key, value in flat.items() if named[key] == key})
+    table.update({named[key]: value for key, value in flat.items() if named[key] != key})
+    return "\n".join(_table_lines(table, ())).strip() + "\n"
+
+
+def toml_key(key: str, keys: Collection[str]) -> str:
+    """``key`` as a TOML key: dotted, or quoted (one key holding dots) when a prefix of it is
+    a setting too."""
+    parts = key.split(".")
+    under_a_setting = any(".".join(parts[:i]) in keys for i in range(1, len(parts)))
+    return f'"{key}"' if under_a_setting else key
 
 
 def _table_lines(table: Mapping[str, Any], prefix: tuple[str, ...]) -> list[str]:
     scalars = [(k, v) for k, v in table.items() if not isinstance(v, Mapping)]
     lines = [f"[{'.'.join(prefix)}]"] if prefix and scalars else []
     for key, value in scalars:
-        lines.append(f"# {key} = none" if value is None else f"{key} = {_toml_value(value)}")
+        lines.append(f"# {key} = none" if value is None else f"{key} = {toml_value(value)}")
     for key, value in table.items():
         if isinstance(value, Mapping):
             lines += ["", *_table_lines(value, (*prefix, key))]
     return lines
 
 
-def _toml_value(value: Any) -> str:
+def toml_value(value: Any) -> str:
+    """A plain value (:func:`~simgrasp.config.values.to_plain`) as TOML text."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, list):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
     if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
+        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
     if isinstance(value, float):
         return repr(value) if value == value and abs(value) != float("inf") else str(value)
     return json.dumps(value)

@@ -51,9 +51,20 @@ class Leaf:
         return self.default is MISSING
 
     @property
+    def main(self) -> bool:
+        """Whether the command's short ``--help`` lists it: a positional, a required setting or
+        one marked ``main`` (:attr:`FieldSpec.main`)."""
+        return self.spec.main or self.spec.positional or self.required
+
+    @property
     def allowed(self) -> str:
         """What the setting allows (``> 0``, ``one of a, b``; empty when its type says it)."""
         return describe(self.marked, self.spec.choices)
+
+
+def flag_name(key: str) -> str:
+    """``detector.quadric.shell_test`` -> ``--detector.quadric.shell-test``."""
+    return "--" + key.replace("_", "-")
 
 
 def is_branch(annotation: Any) -> bool:
@@ -101,6 +112,22 @@ def leaves(
             doc = docs.get(field.name, "")
             marked = marked_hints(cls)[field.name]
             yield Leaf(path, ".".join(key), annotation, value, doc, spec, marked)
+
+
+def trees(cls: type) -> dict[str, type]:
+    """The first-level settings trees of ``cls``: the key of each branch whose leaves' keys
+    start with it (``detector`` for ``detector.quadric.shell_test``; a flattened branch's
+    own branches count as the root's) -> the branch's dataclass."""
+    found: dict[str, type] = {}
+    for field in dataclasses.fields(cls):
+        annotation = type_hints(cls)[field.name]
+        if not is_branch(annotation):
+            continue
+        if field_spec(field).flatten:
+            found.update(trees(annotation))
+        else:
+            found[field.name] = annotation
+    return found
 
 
 @functools.cache

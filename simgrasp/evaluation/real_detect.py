@@ -3,9 +3,12 @@ per cloud, detector setting and seed, candidate accuracy (share of candidate cen
 labeled handle, the paper's Table I measure) and whether the top handle's center is on one;
 summed per data set, per split (tune / holdout) and overall.
 
-The settings compared are named (:data:`NAMED_CONFIGS`): the quadric detector's default, its
-presets (kept to reproduce old runs) and ten Pas's detector. Normals face the manifest's
-viewpoint; nothing else about the capture is told to the detector.
+The settings compared are the detector presets of :mod:`simgrasp.handles.presets`, by name:
+``default`` is what ``simgrasp detect`` runs (on a cloud measured to be one view, every real
+capture, the single-view detector with the preset ``learned`` and its fallback), a
+single-view preset (``learned``, ``standoff``) runs that detector alone, without the view test
+or the fallback, and any other preset its detector on every cloud. Normals face the
+manifest's viewpoint; nothing else about the capture is told to the detector.
 """
 
 from __future__ import annotations
@@ -26,39 +29,13 @@ from simgrasp.config.values import to_plain
 from simgrasp.errors import SimgraspError
 from simgrasp.evaluation.real_manifest import RealCloud, load_real_cloud, require_file
 from simgrasp.handles import detect
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.detection import Detection
 from simgrasp.handles.detector_config import DetectorName
-from simgrasp.handles.single_view import SingleViewConfig, detect_single_view
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.presets import preset, single_view_preset
+from simgrasp.handles.single_view.detector import SingleViewConfig, detect_single_view
 from simgrasp.perception.depth_image import DEPTH_IMAGE_FORMATS
 from simgrasp.runs.identity import claim_entries, claim_identity, file_digest
-
-Setting = QuadricDetectorConfig | TenPasConfig | SingleViewConfig
-NAMED_CONFIGS: dict[str, Callable[[], Setting]] = {
-    "default": QuadricDetectorConfig,
-    "multi_view": QuadricDetectorConfig,
-    "paper": QuadricDetectorConfig.paper,
-    "two_scales": QuadricDetectorConfig.two_scales,
-    "camera_cloud": QuadricDetectorConfig.camera_cloud,
-    "noisy_camera_cloud": QuadricDetectorConfig.noisy_camera_cloud,
-    "real_depth": QuadricDetectorConfig.real_depth,
-    "tenpas": TenPasConfig,
-    "standoff": SingleViewConfig,
-    "standoff_axis": lambda: SingleViewConfig(anchor="axis"),
-    "standoff_measured": lambda: SingleViewConfig(anchor="consistent", min_width_spacings=2.0),
-    "learned": SingleViewConfig.learned,
-    "learned_bars": SingleViewConfig.learned_bars,
-}
-"""The detector settings ``detect-eval --real --real-configs`` can compare, by name.
-``default`` is what ``simgrasp detect`` runs: the quadric detector's defaults, and on a
-cloud measured to be one view (every real capture) the single-view detector with
-:meth:`SingleViewConfig.learned`, its ``real_depth()`` fallback where the classifier keeps
-nothing; ``learned`` is that classifier alone, without the view test or the fallback
-(``learned_bars``: the first classifier and its settings, the ``learned`` of runs before 4
-December 2026);
-``multi_view`` is the quadric detector's defaults on every cloud (the ``default`` of runs
-before 3 December 2026)."""
 
 
 @dataclass(frozen=True)
@@ -83,26 +60,17 @@ class RealDetectRow:
         return self.on_handle / self.candidates if self.candidates else float("nan")
 
 
-def config_by_name(name: str) -> Setting:
-    """The named detector setting; one line listing the names when unknown."""
-    if name not in NAMED_CONFIGS:
-        raise SimgraspError(
-            f"unknown detector setting {name!r}; choose from {', '.join(NAMED_CONFIGS)}"
-        )
-    return NAMED_CONFIGS[name]()
-
-
 def setting_record(name: str, single_view: SingleViewConfig | None = None) -> dict[str, Any]:
     """What the rows of setting ``name`` depend on besides the clouds and the seed: its
     values, for ``default`` also the single-view settings it runs on a single view
-    (``single_view``, as :func:`detect_named` takes it; None: :meth:`SingleViewConfig.learned`),
+    (``single_view``, as :func:`detect_named` takes it; None: the preset ``learned``),
     and the SHA-256 of the classifier file a single-view setting reads (a retrained model
     changes the rows as a changed setting does)."""
-    config = config_by_name(name)
+    config = preset(name)
     record: dict[str, Any] = {"detector": to_plain(config)}
     single = config
     if name == "default":
-        single = single_view if single_view is not None else SingleViewConfig.learned()
+        single = single_view if single_view is not None else single_view_preset()
         record["single_view"] = to_plain(single)
     if isinstance(single, SingleViewConfig) and single.classifier:
         record["classifier_sha256"] = _digest(single.classifier_path(), f"setting {name}")
@@ -117,16 +85,16 @@ def detect_named(
     single_view: SingleViewConfig | None = None,
 ) -> Detection:
     """Detect on a single view seen from ``viewpoint`` with the named setting; for
-    ``default``, ``single_view`` replaces :meth:`SingleViewConfig.learned` (another trained
+    ``default``, ``single_view`` replaces the preset ``learned`` (another trained
     classifier, ``scripts/compare_candidate_classifiers.py``)."""
-    config = config_by_name(name)
+    config = preset(name)
     if isinstance(config, SingleViewConfig):
         return detect_single_view(points, config, seed, viewpoint)
     kind: DetectorName = "tenpas" if isinstance(config, TenPasConfig) else "quadric"
     if name != "default":
         single_view = None
     elif single_view is None:
-        single_view = SingleViewConfig.learned()
+        single_view = single_view_preset()
     return detect(
         points, None, config, seed, detector=kind, viewpoint=viewpoint, single_view=single_view
     )
@@ -256,12 +224,6 @@ def _scan(path: Path) -> tuple[list[RealDetectRow], int, str]:
             return rows, start, str(exc)
         start += len(line) + 1
     return rows, start, "no newline"
-
-
-def read_done(path: Path) -> list[RealDetectRow]:
-    """Rows already written to ``path`` (a run killed midway loses none) but a torn last row
-    (:func:`_scan`), which is left in the file."""
-    return _scan(path)[0]
 
 
 def _cut_torn_row(path: Path, start: int, problem: str) -> None:

@@ -6,7 +6,7 @@ A TOML file of ``[[cloud]]`` tables, each::
     path = "handles/gpd_table_mug.pcd"  # relative to the real data dir, or absolute
     dataset = "gpd"                     # rows are summarized per data set
     split = "holdout"                   # "tune" (settings may be chosen on it) or "holdout"
-    units = "m"                         # the file's (and viewpoint's, crop's) units: m or mm
+    units = "m"                         # the file's (and viewpoint's, crop's) units: m, mm or cm
     viewpoint = [0.0, 0.0, 0.0]         # sensor position in the cloud's frame
     labels = "real_handles.json"        # handle label file, relative to the manifest's folder
     label_key = "gpd_table_mug"         # optional: the entry in the label file (default name)
@@ -107,7 +107,9 @@ def _entry(manifest: Path, index: int, entry: dict[str, Any], real_dir: Path) ->
     name = _field(manifest, index, entry, "name", str)
     units = entry.get("units", "m")
     if units not in UNIT_SCALE:
-        raise _entry_error(manifest, index, entry, f"units must be m or mm, got {units!r}")
+        raise _entry_error(
+            manifest, index, entry, f"units must be one of {', '.join(UNIT_SCALE)}, got {units!r}"
+        )
     split = _field(manifest, index, entry, "split", str)
     if split not in ("tune", "holdout"):
         raise _entry_error(manifest, index, entry, f"split must be tune or holdout, got {split!r}")
@@ -197,12 +199,11 @@ def load_real_cloud(cloud: RealCloud) -> NDArray[np.float64]:
     cropped and cut as the manifest says; one line naming the cloud when the file is missing,
     the units are wrong or its label lies outside it."""
     from simgrasp.perception.cloud_io import read_cloud
-    from simgrasp.perception.depth_image import read_depth_image
+    from simgrasp.perception.depth_image import read_depth_image, returned_points
 
     require_file(cloud)
     if cloud.path.suffix.lower() in DEPTH_IMAGE_FORMATS:
-        frame = read_depth_image(cloud.path, cloud.depth)
-        points = frame.points[frame.valid].astype(np.float64)
+        points = returned_points(read_depth_image(cloud.path, cloud.depth))
     else:
         points, _ = read_cloud(cloud.path)
         points = cloud_in_meters(points, cloud.units, f"cloud {cloud.name} ({cloud.path})")

@@ -16,14 +16,13 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.assets.real import LabeledScene, osd_scene_file, read_labeled_scene
+from simgrasp.assets.real import LabeledScene
 from simgrasp.assets.scene_labels import SceneHandleLabel, load_scene_labels
-from simgrasp.errors import SimgraspError
 from simgrasp.handles import detect
-from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorName
-from simgrasp.handles.single_view import SingleViewConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.perception.segmentation.segment import segment_scene
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 
@@ -140,63 +139,3 @@ def score_pot(
 def labeled_scenes(path: Path | None = None) -> dict[str, SceneHandleLabel]:
     """The scene labels with at least one visible handle region, by scene name."""
     return {k: v for k, v in load_scene_labels(path).items() if v.label.regions}
-
-
-def evaluate_real_pots(
-    config: QuadricDetectorConfig | TenPasConfig,
-    seeds: range | tuple[int, ...],
-    real_dir: Path | None = None,
-    scenes: tuple[str, ...] | None = None,
-    detector: DetectorName = "quadric",
-    cut: str = "segment",
-    segment_config: SegmentConfig | None = None,
-    single_view: SingleViewConfig | None = None,
-) -> list[PotResult]:
-    """Every labeled scene (or ``scenes``) x seed, the pot cut by the scene segmentation
-    (``cut="segment"``) or by its ground-truth labels (``"labels"``); the table plane
-    comes from the segmentation's plane either way. ``single_view``: as
-    :func:`simgrasp.handles.detect` takes it (``detect``'s default on a single view)."""
-    if cut not in ("segment", "labels"):
-        raise SimgraspError(f"cut must be 'segment' or 'labels', got {cut!r}")
-    labels = labeled_scenes()
-    results = []
-    for name in scenes or tuple(labels):
-        scene = read_labeled_scene(osd_scene_file(name, real_dir))
-        truth = labeled_pot(scene, labels[name])
-        points, iou = (
-            segmented_pot(scene, labels[name], segment_config) if cut == "segment" else (truth, 1.0)
-        )
-        on_handle = labels[name].label.contains
-        kept = on_handle(points).sum() / max(on_handle(truth).sum(), 1)
-        plane = segment_scene(scene.cloud, segment_config).plane
-        seen = scene.points[np.isfinite(scene.points).all(axis=1)]
-        results += [
-            score_pot(
-                points,
-                labels[name],
-                config,
-                s,
-                detector,
-                (cut, iou, float(kept)),
-                plane,
-                seen,
-                single_view,
-            )
-            for s in seeds
-        ]
-    return results
-
-
-def summarize(results: list[PotResult]) -> dict[str, float]:
-    """Pooled candidate accuracy, mean per-run accuracy (runs with candidates), the share of
-    runs without candidates, and the share of runs whose top handle is on a handle."""
-    candidates = sum(r.candidates for r in results)
-    accuracies = [r.accuracy for r in results if r.candidates]
-    return {
-        "runs": float(len(results)),
-        "pooled_accuracy": sum(r.on_handle for r in results) / candidates if candidates else 0.0,
-        "mean_accuracy": float(np.mean(accuracies)) if accuracies else float("nan"),
-        "no_candidates": float(np.mean([r.candidates == 0 for r in results])),
-        "top_on_handle": float(np.mean([r.top_on_handle for r in results])),
-        "median_detect_s": float(np.median([r.detect_s for r in results])),
-    }

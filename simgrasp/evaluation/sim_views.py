@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.single_view import SingleViewConfig
+from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.labels import HandleLabel
 from simgrasp.perception.camera import CameraIntrinsics, depth_to_points_cam
 from simgrasp.seeding import rng_for

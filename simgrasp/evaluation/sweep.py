@@ -3,7 +3,9 @@ trial (:func:`simgrasp.grasping.trials.chain.run_chain`), run by the resumable-r
 (:mod:`simgrasp.runs`) in worker processes or as Ray tasks and recorded in ``trials.jsonl``.
 
 Workers are started with the ``spawn`` method (a GL context must not cross a ``fork``); each
-worker builds every object model once (CoACD decompositions come from the on-disk cache).
+worker process runs its trials in one :class:`~simgrasp.grasping.session.Session` (its
+renderer and object models: every object model built once, CoACD decompositions from the
+on-disk cache), which the worker's exit frees; a sweep run in this process closes it at its end.
 """
 
 from __future__ import annotations
@@ -92,15 +94,16 @@ def plan_trials(
 
 
 @functools.cache
-def _object_model(name: str, ycb_dir: str | None):  # -> ObjectModel (lazy mujoco import)
-    from simgrasp.assets.model import model_for
+def worker_session(ycb_dir: str | None):  # -> Session (lazy mujoco import)
+    """The session of this worker process's trials (module docstring)."""
+    from simgrasp.grasping.session import Session
 
-    return model_for(name, ycb_dir)
+    return Session(ycb_dir)
 
 
 def prepare_object(name: str, ycb_dir: str | None) -> str:
     """Build (or load from the cache) the model of ``name`` in this process; returns the name."""
-    _object_model(name, ycb_dir)
+    worker_session(ycb_dir).model(name)
     return name
 
 
@@ -108,7 +111,9 @@ def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's summary fields."""
     from simgrasp.grasping.trials.chain import run_chain
 
-    record = run_chain(_object_model(spec.object, ycb_dir), spec.config, spec.seed).to_json()
+    session = worker_session(ycb_dir)
+    result = run_chain(session.model(spec.object), spec.config, spec.seed, session=session)
+    record = result.to_json()
     record["object_asset"] = record["object"]
     record.update(spec.summary_fields())
     return record
@@ -134,16 +139,20 @@ def run_sweep(
     check_meshes(Path(out_dir), list(dict.fromkeys(s.object for s in specs)))
     objects = tuple((name,) for name in dict.fromkeys(s.object for s in specs))
     work = Work(run_spec, (ycb_dir,), warm_up=prepare_object, warm_calls=objects)
-    finished = run_resumable(
-        specs,
-        lambda spec: spec.key,
-        trial_log(Path(out_dir) / TRIALS_FILE),
-        lambda todo: run_tasks(work, todo, run),
-        progress=progress,
-        desc="evaluate",
-        unit="trial",
-        on_record=on_record,
-    )
+    try:
+        finished = run_resumable(
+            specs,
+            lambda spec: spec.key,
+            trial_log(Path(out_dir) / TRIALS_FILE),
+            lambda todo: run_tasks(work, todo, run),
+            progress=progress,
+            desc="evaluate",
+            unit="trial",
+            on_record=on_record,
+        )
+    finally:  # the trials run here (one local worker) used this process's session
+        worker_session(ycb_dir).close()
+        worker_session.cache_clear()
     return [finished[spec.key] for spec in specs]
 
 

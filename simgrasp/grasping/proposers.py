@@ -11,7 +11,7 @@ with ``view`` a :class:`~simgrasp.grasping.cloud_view.CloudView`, ``geometry`` t
 :class:`~simgrasp.grasping.trials.chain_config.ChainDetectorConfig` (its ``kind`` the entry's name),
 ``planner`` the :class:`~simgrasp.grasping.planning.planner_config.PlannerConfig` and ``seed`` the
 trial's; it returns the grasps ranked best first and, for a handle detector, its
-:class:`~simgrasp.handles.detection.Detection` (else None). A new proposer is one module with
+:class:`~simgrasp.handles.core.detection.Detection` (else None). A new proposer is one module with
 that function and an entry here, or :func:`register_proposer` at run time.
 """
 

@@ -1,7 +1,10 @@
 """Handle detection: from one object's point cloud to handle hypotheses.
 
-``detect`` runs either the quadric detector (the paper's method, default) or the ten Pas &
-Platt 2013 style detector behind the same interface, so the harness can compare them.
+``detect`` runs either the quadric detector (the paper's method, default; :mod:`.core`), on
+one camera's view the single-view detector (:mod:`.single_view`), or the ten Pas & Platt 2013
+style detector (:mod:`.baselines`) behind the same interface, so the harness can compare them.
+:mod:`.presets` names whole settings of each; :mod:`.scene_detect` detects on every object of
+a segmented scene; :mod:`.accuracy` scores a detection against labeled handles.
 """
 
 from __future__ import annotations
@@ -12,15 +15,19 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.cloud_input import validate_cloud
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import Candidate, Detection, Handle
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.baselines.tenpas_detector import detect_tenpas_handles
+from simgrasp.handles.core.cloud_input import validate_cloud
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import Candidate, Detection, Handle
+from simgrasp.handles.core.quadric_detector import detect_quadric_handles
 from simgrasp.handles.detector_config import DETECTORS, DetectorName
-from simgrasp.handles.quadric_detector import detect_quadric_handles
-from simgrasp.handles.single_view import FALLBACK_DETECTOR, SingleViewConfig, detect_single_view
-from simgrasp.handles.tenpas_config import TenPasConfig
-from simgrasp.handles.tenpas_detector import detect_tenpas_handles
-from simgrasp.handles.view_kind import is_single_view
+from simgrasp.handles.single_view.detector import (
+    FALLBACK_DETECTOR,
+    SingleViewConfig,
+    detect_single_view,
+)
+from simgrasp.handles.single_view.view_kind import is_single_view
 
 
 def default_config(
@@ -58,8 +65,8 @@ def detect(
 
     With ``single_view`` given, a cloud measured to be one view from ``viewpoint`` (or, with
     none and ``single_view.sensor_origin``, from the origin; see
-    :mod:`simgrasp.handles.view_kind`) goes to the single-view detector
-    (:mod:`simgrasp.handles.single_view`) with those settings and ``config``'s gripper
+    :mod:`simgrasp.handles.single_view.view_kind`) goes to the single-view detector
+    (:mod:`simgrasp.handles.single_view.detector`) with those settings and ``config``'s gripper
     opening, ``normals`` unused (and where it finds no handle, to the quadric detector with
     the settings' ``fallback``, ``table`` and ``scene``); any other cloud to the quadric
     detector with ``config``.

@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.core.detection import Detection
 from simgrasp.labels import HandleLabel
 
 

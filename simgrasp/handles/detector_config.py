@@ -8,8 +8,8 @@ from typing import Literal
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked
 from simgrasp.errors import SimgraspError
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 
 DetectorName = Literal["quadric", "tenpas"]
 DETECTORS: tuple[DetectorName, ...] = ("quadric", "tenpas")
@@ -19,7 +19,7 @@ DETECTORS: tuple[DetectorName, ...] = ("quadric", "tenpas")
 class DetectorConfig(Checked):
     """The handle detector and the settings of each (only the chosen one's are used)."""
 
-    kind: DetectorName = setting("quadric", flag="--detector")
+    kind: DetectorName = setting("quadric", flag="--detector", main=True)
     """quadric: quadric fits with the paper's criteria (Birdal et al. 2018); tenpas: ten Pas &
     Platt 2013's cylindrical shells."""
     quadric: QuadricDetectorConfig = field(default_factory=QuadricDetectorConfig)

@@ -18,10 +18,10 @@ from numpy.typing import ArrayLike
 
 from simgrasp.errors import SimgraspError
 from simgrasp.handles import DetectorName, default_config, detect
-from simgrasp.handles.config import QuadricDetectorConfig
-from simgrasp.handles.detection import TIMING_STEPS, Detection
-from simgrasp.handles.single_view import SingleViewConfig
-from simgrasp.handles.tenpas_config import TenPasConfig
+from simgrasp.handles.baselines.tenpas_config import TenPasConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
+from simgrasp.handles.core.detection import TIMING_STEPS, Detection
+from simgrasp.handles.single_view.detector import SingleViewConfig
 from simgrasp.perception.depth_image import DepthImageConfig
 from simgrasp.perception.scene_cloud import read_scene
 from simgrasp.perception.segmentation.segment import Segmentation, segment_scene

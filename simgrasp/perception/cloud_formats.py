@@ -264,3 +264,12 @@ def _read_compressed_pcd(path: Path, data: bytes, offset: int, count: int, dtype
     if cloud.has_normals():
         table |= {f"normal_{a}": np.asarray(cloud.normals)[:, k] for k, a in enumerate("xyz")}
     return table
+
+
+def ply_face_count(path: Path, data: bytes) -> int:
+    """How many faces a PLY file's header declares (0 for a point cloud): a file with faces is
+    a mesh, a scanner's reconstruction."""
+    if not data.startswith(b"ply"):
+        raise SimgraspError(f"{path}: not a PLY file (it does not start with 'ply')")
+    lines, _ = _header(path, data, b"end_header")
+    return sum(count for name, count, _ in _ply_elements(path, lines) if name == "face")

@@ -9,7 +9,10 @@ reporting how many points have NaN or inf: silently dropping points would change
 detector sees. The one exception is the PCD format's own mark of a pixel with no return: a
 ``.pcd`` point whose x, y and z are all NaN (as PCL writes the empty pixels of an organized
 cloud, cropped or not) is no point and is left out, as a depth image's zero pixels are.
-Normals are rescaled to unit length; zero-length normals are refused. A cut or corrupted file
+Normals are rescaled to unit length. Normals that are NaN, inf or zero (scanner exports give
+the vertices no face uses a zero normal) are estimated from their neighbours
+(:mod:`simgrasp.perception.normal_fill`), or, when none is usable, left to the detector to
+estimate; a :class:`ReadNote` warning says so in one line. A cut or corrupted file
 is refused rather than read with points that are not in it: ``.ply`` and ``.pcd`` by the
 strict readers of :mod:`simgrasp.perception.cloud_formats` (point counts must match the
 header, every value must parse), ``.npy`` when its size does not match its header or it is
@@ -28,10 +31,15 @@ from numpy.typing import ArrayLike, NDArray
 from simgrasp.errors import SimgraspError
 from simgrasp.perception._arrays import import_open3d, to_open3d
 from simgrasp.perception.cloud_formats import read_pcd, read_ply
+from simgrasp.perception.normal_fill import fill_missing_normals, missing_normals
 
 FORMATS = (".ply", ".pcd", ".xyz", ".npy")
 
 Cloud = tuple[NDArray[np.float64], NDArray[np.float64] | None]
+
+
+class ReadNote(UserWarning):
+    """What reading a file changed, in one line: its normals partly or wholly estimated."""
 
 
 def _format(path: Path) -> str:
@@ -45,7 +53,8 @@ def _format(path: Path) -> str:
 
 def read_cloud(path: str | Path) -> Cloud:
     """Read a cloud file; returns (N, 3) points and (N, 3) unit normals or None (meters). A
-    PCD's points with no return (x, y and z all NaN) are left out."""
+    PCD's points with no return (x, y and z all NaN) are left out; normals the file left out
+    (NaN, inf or zero) are estimated, with a :class:`ReadNote` warning saying how many."""
     path = Path(path)
     suffix = _format(path)
     if not path.is_file():
@@ -56,7 +65,7 @@ def read_cloud(path: str | Path) -> Cloud:
             points, normals = _returns_only(points, normals)
     else:
         points, normals = _split_columns(path, _read_table(path, suffix))
-    return _checked(path, points, normals)
+    return _checked(path, points, normals, fill=True)
 
 
 def _returns_only(points: NDArray[np.float64], normals: NDArray[np.float64] | None) -> Cloud:
@@ -158,7 +167,12 @@ def _split_columns(path: Path, table: NDArray[np.float64]) -> Cloud:
     return table[:, :3], (table[:, 3:] if table.shape[1] == 6 else None)
 
 
-def _checked(path: Path, points: NDArray[np.float64], normals: ArrayLike | None) -> Cloud:
+def _checked(
+    path: Path, points: NDArray[np.float64], normals: ArrayLike | None, fill: bool = False
+) -> Cloud:
+    """``points`` and unit ``normals`` or None, checked; with ``fill`` (reading) the missing
+    normals are estimated (:mod:`simgrasp.perception.normal_fill`) with a :class:`ReadNote`
+    saying how many, else (writing) refused."""
     if points.ndim != 2 or points.shape[1] != 3:
         raise SimgraspError(f"{path}: points must be N x 3, got shape {points.shape}")
     if len(points) == 0:
@@ -176,10 +190,20 @@ def _checked(path: Path, points: NDArray[np.float64], normals: ArrayLike | None)
         raise SimgraspError(
             f"{path}: normals shape {nrm.shape} does not match points {points.shape}"
         )
-    length = np.linalg.norm(nrm, axis=1)
-    bad = ~np.isfinite(length) | (length < 1e-12)
-    if bad.any():
+    bad = missing_normals(nrm)
+    if not bad.any():
+        return points, nrm / np.linalg.norm(nrm, axis=1)[:, None]
+    if not fill:
         raise SimgraspError(
             f"{path}: {int(bad.sum())} of {len(points)} normals are NaN, inf or zero length"
         )
-    return points, nrm / length[:, None]
+    if bad.all():
+        warnings.warn(f"{path}: no normal in the file is usable: estimated", ReadNote, 2)
+        return points, None
+    warnings.warn(
+        f"{path}: {int(bad.sum())} of {len(points)} normals are NaN, inf or zero length: "
+        "estimated from their neighbours",
+        ReadNote,
+        2,
+    )
+    return points, fill_missing_normals(points, nrm)

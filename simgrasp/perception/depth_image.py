@@ -1,11 +1,12 @@
-"""A depth image file (one real sensor frame) as an organized scene cloud.
+"""A depth image file (one real sensor frame) as an organized grid of camera-frame points.
 
 Most depth sensors store a frame as a one-channel image: a 16-bit PNG of millimetres
 (RealSense, Kinect, Azure Kinect, GraspNet-1Billion, OCID) or a float TIFF. Back-projected
 through the pinhole intrinsics, every pixel becomes a point of the camera frame (OpenCV axes:
 x right, y down, z forward; meters; the sensor at the origin), in image order, NaN where the
-sensor returned nothing (0 or not finite). The result is what ``simgrasp segment`` and
-``simgrasp detect`` take from a ``.pcd``: an organized :class:`SceneCloud`.
+sensor returned nothing (0 or not finite). :func:`simgrasp.perception.scene_cloud.read_scene`
+makes it what ``simgrasp segment`` and ``simgrasp detect`` take from a ``.pcd``: an organized
+scene cloud.
 
 The intrinsics are ``DepthImageConfig.intrinsics`` (``--depth.intrinsics FX FY CX CY``), or,
 when not given, a GraspNet ``meta.mat`` beside the image (its ``intrinsic_matrix`` and
@@ -16,7 +17,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,10 +24,6 @@ from numpy.typing import NDArray
 from simgrasp.config import setting
 from simgrasp.config.checks import Checked, Positive
 from simgrasp.errors import SimgraspError
-from simgrasp.perception.units import Units
-
-if TYPE_CHECKING:
-    from simgrasp.perception.scene_cloud import SceneCloud
 
 DEPTH_IMAGE_FORMATS = (".png", ".tif", ".tiff")
 PLAUSIBLE_DEPTH_M = (0.05, 20.0)
@@ -88,35 +84,23 @@ def graspnet_meta(path: Path) -> tuple[Intrinsics, float]:
     return (k[0, 0], k[1, 1], k[0, 2], k[1, 2]), factor
 
 
-def read_depth_image(path: Path, config: DepthImageConfig | None = None) -> SceneCloud:
-    """The depth image at ``path`` as an organized scene cloud (module docstring); one line
-    naming the file when it cannot be read or its intrinsics or scale are missing or wrong."""
-    from simgrasp.perception.scene_cloud import scene_from_array
-
+def read_depth_image(path: Path, config: DepthImageConfig | None = None) -> NDArray[np.float32]:
+    """(H, W, 3) camera-frame points (m) of the depth image at ``path`` (module docstring), NaN
+    where the sensor returned nothing; one line naming the file when it cannot be read or its
+    intrinsics or scale are missing or wrong."""
     config = config or DepthImageConfig()
     intrinsics, units_per_meter = _camera(path, config)
     depth = _depth_units(path) / units_per_meter
     depth[~(depth > 0)] = np.nan  # no return: 0, negative or not finite
     _check_depths(path, depth)
-    return scene_from_array(back_project(depth, intrinsics), source=str(path))
+    return back_project(depth, intrinsics)
 
 
-def read_points(
-    path: Path, units: Units = "m", depth: DepthImageConfig | None = None
-) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
-    """(N, 3) points (m) and normals or None of an object cloud file in ``units``
-    (:func:`simgrasp.perception.cloud_io.read_cloud`), or the valid pixels of a depth image
-    (an object cut from its frame by another segmenter: other pixels 0)."""
-    from simgrasp.perception.cloud_io import read_cloud
-    from simgrasp.perception.units import cloud_in_meters
-
-    if Path(path).suffix.lower() not in DEPTH_IMAGE_FORMATS:
-        points, normals = read_cloud(path)
-        return cloud_in_meters(points, units, str(path)), normals
-    if units != "m":
-        raise SimgraspError(f"{path}: a depth image's units are set by --depth.scale, not --units")
-    scene = read_depth_image(Path(path), depth)
-    return scene.points[scene.valid].astype(np.float64), None
+def returned_points(grid: NDArray[np.float32]) -> NDArray[np.float64]:
+    """(M, 3) the points of a depth image's ``grid`` (:func:`read_depth_image`) with a return,
+    in image order (m)."""
+    flat = grid.reshape(-1, 3)
+    return flat[np.isfinite(flat).all(axis=1)].astype(np.float64)
 
 
 def _camera(path: Path, config: DepthImageConfig) -> tuple[Intrinsics, float]:

@@ -115,7 +115,7 @@ def read_scene(path: str | Path, depth: DepthImageConfig | None = None) -> Scene
     if suffix == ".npy":
         return scene_from_array(_load_npy(path), source=str(path))
     if suffix in DEPTH_IMAGE_FORMATS:
-        return read_depth_image(path, depth)
+        return scene_from_array(read_depth_image(path, depth), source=str(path))
     return _read_structured(path, suffix)
 
 

@@ -1,6 +1,7 @@
 """Cloud units: files are read as meters unless told otherwise, and a cloud whose size only
 other units explain (millimetres read as meters, or meters read as millimetres) is refused
-before any detection work.
+before any detection work, with the fix spelled for the caller (``--units mm`` on the command
+line, ``units="mm"`` in Python).
 
 Meshes are checked the same way when loaded (:mod:`simgrasp.assets.mesh_check`). For a point
 cloud the check is its bounding-box diagonal, an O(N) test made before voxelizing or normal
@@ -16,11 +17,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from simgrasp.errors import SimgraspError
+from simgrasp.errors import SimgraspError, fix_for_caller
 
-Units = Literal["m", "mm"]
-UNIT_SCALE: dict[str, float] = {"m": 1.0, "mm": 1e-3}
-"""Meters per unit."""
+Units = Literal["m", "mm", "cm"]
+UNIT_SCALE: dict[str, float] = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
+"""Meters per unit, in the order a wrong size is explained by (meters, then millimetres)."""
+_UNIT_NAMES = {"m": "meters", "mm": "millimetres", "cm": "centimetres"}
 
 
 @dataclass(frozen=True)
@@ -43,25 +45,36 @@ def cloud_in_meters(
     source: str,
     config: CloudUnitsConfig | None = None,
 ) -> NDArray[np.float64]:
-    """``points`` given in ``units``, in meters; a ValueError naming ``source`` if the result
-    spans more than ``config.max_extent`` (the cloud is then almost surely in millimetres) or,
-    read as millimetres, less than ``config.min_extent`` (then almost surely in meters)."""
+    """``points`` given in ``units``, in meters; a ValueError naming ``source`` and the units
+    that explain its size if the result spans more than ``config.max_extent`` (a cloud in
+    millimetres read as meters) or, read in other units than meters, less than
+    ``config.min_extent`` (a cloud in meters read as millimetres)."""
     config = config or CloudUnitsConfig()
     if units not in UNIT_SCALE:
         raise SimgraspError(f"unknown units {units!r}; use one of {', '.join(UNIT_SCALE)}")
     scaled = points * UNIT_SCALE[units] if units != "m" else points
     extent = float(np.linalg.norm(scaled.max(axis=0) - scaled.min(axis=0))) if len(scaled) else 0.0
-    if extent > config.max_extent:
-        guess = "is it in millimetres? pass --units mm" if units == "m" else "check its units"
-        raise SimgraspError(
-            f"{source}: the cloud spans {extent:.0f} m (bounding-box diagonal) read as "
-            f"{units}, more than the {config.max_extent:g} m any object or tabletop scene "
-            f"spans: {guess}"
-        )
-    if units != "m" and 0 < extent < config.min_extent:
-        raise SimgraspError(
-            f"{source}: the cloud spans {extent * 1000:.2g} mm (bounding-box diagonal) read as "
-            f"{units}, less than the {config.min_extent * 100:g} cm any object to grasp spans: "
-            "is it in meters? drop --units"
-        )
+    if extent > config.max_extent or (units != "m" and 0 < extent < config.min_extent):
+        raise SimgraspError(_size_error(source, extent, units, config))
     return scaled
+
+
+def _size_error(source: str, extent: float, units: str, config: CloudUnitsConfig) -> str:
+    """One line: the cloud's implausible size ``extent`` (m, read in ``units``) and, as meshes
+    do, the first other units that make it an object or a tabletop scene (at least twice
+    ``min_extent`` and at most ``max_extent`` across), spelled for the caller."""
+    size = f"{extent:.0f} m" if extent > config.max_extent else f"{extent * 1000:.2g} mm"
+    limit = (
+        f"more than the {config.max_extent:g} m any object or tabletop scene spans"
+        if extent > config.max_extent
+        else f"less than the {config.min_extent * 100:g} cm any object to grasp spans"
+    )
+    message = f"{source}: the cloud spans {size} (bounding-box diagonal) read as {units}, {limit}"
+    for other, scale in UNIT_SCALE.items():
+        rescaled = extent / UNIT_SCALE[units] * scale
+        if other != units and 2 * config.min_extent <= rescaled <= config.max_extent:
+            cli = "drop --units" if other == "m" else f"pass --units {other}"
+            return f"{message}: is it in {_UNIT_NAMES[other]}? " + fix_for_caller(
+                cli, f'pass units="{other}"'
+            )
+    return f"{message}: check its units"

@@ -12,7 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from simgrasp.handles.auto_label import AutoLabel  # noqa: E402
+from simgrasp.autolabel.auto_label import AutoLabel  # noqa: E402
 from simgrasp.seeding import rng_for  # noqa: E402
 
 VIEWS = (("x, y", 0, 1), ("x, z", 0, 2), ("y, z", 1, 2))

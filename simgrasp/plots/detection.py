@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from simgrasp.handles.detection import Detection  # noqa: E402
+from simgrasp.handles.core.detection import Detection  # noqa: E402
 from simgrasp.quadric import surface_mesh  # noqa: E402
 
 KIND_COLORS = {

@@ -27,6 +27,7 @@ from simgrasp.assets.stable import sample_rest_pose
 from simgrasp.scenes.camera import default_viewpoints
 from simgrasp.scenes.clutter_sets import distractor_pool
 from simgrasp.scenes.config import SceneConfig
+from simgrasp.scenes.table import OBJECT_NAME, table_spec
 from simgrasp.seeding import rng_for
 from simgrasp.transforms import make_transform
 
@@ -174,9 +175,7 @@ def _settle_model(
     config: SceneConfig,
 ) -> tuple[mujoco.MjModel, list[int]]:
     """The table and the objects alone, compiled; the body ids (target first)."""
-    from simgrasp.scenes.scene import OBJECT_NAME, _table_spec
-
-    spec = _table_spec(target.asset.name, config)
+    spec = table_spec(target.asset.name, config)
     target.add_to(spec, world_T_target, name=OBJECT_NAME)
     for index, (model, pose) in enumerate(zip(models, poses, strict=True)):
         model.add_to(spec, pose, name=f"{DISTRACTOR_PREFIX}{index}")

@@ -46,7 +46,7 @@ class SceneConfig(Checked):
     cameras: tuple[CameraSpec, ...] = ()
     num_views: int = setting(1, flag="--views", choices=tuple(range(1, MAX_VIEWS + 1)))
     random_yaw: bool = True
-    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
+    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement", main=True)
     clutter: int = setting(0, flag="--clutter", choices=tuple(range(MAX_CLUTTER + 1)))
     clutter_objects: str = setting(
         DEFAULT_CLUTTER_SET, flag="--clutter-objects", metavar="all|generated|ycb|NAMES"

@@ -9,14 +9,14 @@ placed around it. The renderer of the first such scene draws the others exactly 
 one would (tested). A scene built otherwise replaces it, so a :class:`RendererKeeper` holds at
 most one renderer (one GL context).
 
-The chain uses one keeper per process (:func:`kept_renderer`, closed at exit). A GL context
-hangs a ``fork``-ed child: call :func:`close_kept_renderer` before forking (or use the
-``spawn`` start method, as simgrasp's own workers do).
+A keeper belongs to whoever runs the scenes: a :class:`~simgrasp.grasping.session.Session`
+(the chain, the commands) or an env, which closes it. A GL context hangs a ``fork``-ed child:
+close the keeper before forking (or use the ``spawn`` start method, as simgrasp's own workers
+do).
 """
 
 from __future__ import annotations
 
-import atexit
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -85,18 +85,8 @@ class RendererKeeper:
             self._kept.renderer.close()
             self._kept = None
 
+    def __enter__(self) -> RendererKeeper:
+        return self
 
-_PROCESS_KEEPER = RendererKeeper()
-
-
-def kept_renderer(scene: Scene) -> SceneRenderer:
-    """This process's renderer for scenes built like ``scene`` (see the module docstring)."""
-    return _PROCESS_KEEPER.renderer_for(scene)
-
-
-def close_kept_renderer() -> None:
-    """Free this process's kept renderer, if any (idempotent)."""
-    _PROCESS_KEEPER.close()
-
-
-atexit.register(close_kept_renderer)
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()

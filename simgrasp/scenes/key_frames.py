@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from simgrasp._mujoco import mujoco
 from simgrasp.errors import SimgraspError
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.scenes.kept_renderer import RendererKeeper
 
 RENDER_SIZE = (640, 480)
 """(width, height) of each key frame (pixels)."""
@@ -29,8 +29,8 @@ def check_frames_target(path: Path) -> None:
 
 class FrameRecorder:
     """Phase callback that renders one RGB picture per key moment of a trial, with the
-    process's kept renderer (:mod:`simgrasp.scenes.kept_renderer`; the full chain has already
-    rendered its depth views with it), from a free camera ``distance`` (m) away.
+    renderer ``renderers`` keeps for the trial's scene (give it the session's: the full chain
+    has already rendered its depth views with it), from a free camera ``distance`` (m) away.
 
     By default the camera looks down 25 degrees at a point 12 cm above where the object is at
     the first key moment (its rest pose on the table). ``aim_world`` (a world point, m) and
@@ -39,11 +39,13 @@ class FrameRecorder:
 
     def __init__(
         self,
+        renderers: RendererKeeper,
         distance: float = 0.9,
         aim_world: NDArray[np.float64] | None = None,
         view_world: NDArray[np.float64] | None = None,
     ) -> None:
         self.frames: list[np.ndarray] = []
+        self.renderers = renderers
         self.distance = distance
         self.aim_world = aim_world
         self.view_world = view_world
@@ -52,7 +54,9 @@ class FrameRecorder:
     def __call__(self, _phase: str, scene: Any) -> None:
         if self._camera is None:
             self._camera = self._placed(scene)
-        self.frames.append(kept_renderer(scene).rgb(scene.data, self._camera, *RENDER_SIZE))
+        self.frames.append(
+            self.renderers.renderer_for(scene).rgb(scene.data, self._camera, *RENDER_SIZE)
+        )
 
     def _placed(self, scene: Any) -> mujoco.MjvCamera:
         camera = mujoco.MjvCamera()

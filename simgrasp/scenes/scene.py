@@ -26,6 +26,7 @@ from simgrasp.grippers.base import Gripper
 from simgrasp.grippers.mount import BoundGripper, attach_gripper
 from simgrasp.scenes.camera import add_camera, default_viewpoints
 from simgrasp.scenes.config import SceneConfig
+from simgrasp.scenes.table import OBJECT_NAME, TABLE_NAME, table_spec
 from simgrasp.seeding import rng_for
 from simgrasp.transforms import make_transform, matrix_to_pose7
 
@@ -33,10 +34,7 @@ if TYPE_CHECKING:
     from simgrasp.assets.model import ObjectModel
     from simgrasp.scenes.clutter import Distractor
 
-OBJECT_NAME = "object"
-TABLE_NAME = "table"
 GRIPPER_PREFIX = "gripper/"
-SHADOW_MAP_SIZE = 2048
 """Shadow map texels a side (MuJoCo's default 4096 took ~45 ms per renderer on software GL,
 every scene; depth frames ignore shadows, and pictures keep crisp ones at 640 x 480)."""
 
@@ -110,7 +108,7 @@ def build_scene(
     distractors are dropped around it and settled (:mod:`simgrasp.scenes.clutter`).
     """
     config = config or SceneConfig()
-    spec = _table_spec(object_model.asset.name, config)
+    spec = table_spec(object_model.asset.name, config)
     world_T_object = _rest_pose(object_model, config, seed, sample_rest_pose)
     distractors: tuple[Distractor, ...] = ()
     if config.clutter:
@@ -158,31 +156,6 @@ def build_scene(
         seed=seed,
         distractors=distractors,
     )
-
-
-def _table_spec(object_name: str, config: SceneConfig) -> mujoco.MjSpec:
-    """A new scene spec with the table (top at ``config.table_top_z``) and two lights."""
-    spec = mujoco.MjSpec()
-    spec.modelname = f"scene_{object_name}"
-    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
-    spec.visual.quality.shadowsize = SHADOW_MAP_SIZE
-
-    hx, hy, hz = config.table_half_size
-    spec.worldbody.add_geom(
-        name=TABLE_NAME,
-        type=mujoco.mjtGeom.mjGEOM_BOX,
-        size=[hx, hy, hz],
-        pos=[0.0, 0.0, config.table_top_z - hz],
-        friction=[config.table_friction, 0.005, 0.0001],
-        rgba=[0.55, 0.45, 0.35, 1.0],
-    )
-    spec.worldbody.add_light(
-        name="key", pos=[0.4, -0.4, 1.5], dir=[-0.3, 0.3, -1.0], diffuse=[0.7, 0.7, 0.7]
-    )
-    spec.worldbody.add_light(
-        name="fill", pos=[-0.5, 0.5, 1.2], dir=[0.4, -0.4, -1.0], diffuse=[0.3, 0.3, 0.3]
-    )
-    return spec
 
 
 def _rest_pose(

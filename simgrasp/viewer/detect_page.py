@@ -88,12 +88,16 @@ def input_cloud(path: Path, report: dict[str, Any]) -> Path:
 
 def _scene_points(cloud: Path, report: dict[str, Any]) -> tuple[NDArray[np.float64], Any]:
     """(N, 3) points (m) and, for a ``--segment`` detection, the segmentation labels (N,)."""
-    from simgrasp.perception.depth_image import DepthImageConfig, read_points
+    from simgrasp.perception.cloud_file import MeshReadConfig, read_object_cloud
+    from simgrasp.perception.depth_image import DepthImageConfig
 
-    settings = report["input"].get("segmentation")
-    depth = DepthImageConfig(**report["input"].get("depth", {}))
+    record = report["input"]
+    settings = record.get("segmentation")
+    depth = DepthImageConfig(**record.get("depth", {}))
     if settings is None:
-        points, _ = read_points(cloud, report["input"].get("units", "m"), depth)
+        mesh = MeshReadConfig(**record.get("mesh", {}))
+        units, seed = record.get("units", "m"), record.get("seed", 0)
+        points, _ = read_object_cloud(cloud, units, depth, mesh, seed)
         return points, None
     from simgrasp.perception.scene_cloud import read_scene
     from simgrasp.perception.segmentation.segment import segment_scene

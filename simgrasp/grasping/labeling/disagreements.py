@@ -108,14 +108,18 @@ def labeler_of(labels_dir: Path) -> GraspLabeler:
 def replay(labeler: GraspLabeler, grasps: GraspSet, index: int) -> tuple[list, dict]:
     """Rerun row ``index`` of ``grasps`` with ``labeler``, seen across the jaws at the TCP:
     (key frames as (H, W, 3) uint8 pictures, the trial record)."""
+    from simgrasp.scenes.kept_renderer import RendererKeeper
     from simgrasp.scenes.key_frames import FrameRecorder
 
     object_T_tcp = grasps.object_T_tcp[index]
     world_T_tcp = labeler.world_T_object @ object_T_tcp
     across = world_T_tcp[:3, 0]  # across the jaws, normal to the approach and the closing
     view = -across if across[2] > 0 else across  # from above
-    frames = FrameRecorder(VIEW_DISTANCE, aim_world=world_T_tcp[:3, 3], view_world=view)
-    record = labeler.label(index, object_T_tcp, grasps.width[index], frames)
+    with RendererKeeper() as renderers:
+        frames = FrameRecorder(
+            renderers, VIEW_DISTANCE, aim_world=world_T_tcp[:3, 3], view_world=view
+        )
+        record = labeler.label(index, object_T_tcp, grasps.width[index], frames)
     return frames.frames, record
 
 

@@ -72,7 +72,8 @@ and only runs whose physics changed are refused."""
 
 
 FILE_DIGESTS = ("mesh_sha256", "handles_sha256")
-"""The object's file digests, recorded since 6 December 2026 (``run.json``)."""
+"""The object's file digests (``run.json``); a directory written before they were recorded
+adopts them (:func:`_adopt_file_digests`)."""
 
 
 def _adopt_file_digests(path: Path, identity: dict[str, Any]) -> None:

@@ -27,8 +27,8 @@ from simgrasp.config import setting
 from simgrasp.config.checks import Checked, NonNegativeInt
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.labeling.grasp_sets import GraspSet
-from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, Protocol
-from simgrasp.grasping.trials.trial_config import TrialConfig, protocol_config
+from simgrasp.grasping.trials.protocol import DEFAULT_PROTOCOL, get_protocol, protocol_names
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
 from simgrasp.runs.engine import RunConfig, Work, run_tasks
 
@@ -53,9 +53,9 @@ class LabelConfig(Checked):
             (:mod:`simgrasp.assets.mesh_object`); may be left out for grasp files that name
             their object (ACRONYM, GraspGen).
         gripper: a registered gripper (:func:`simgrasp.grippers.gripper_names`).
-        protocol: trial protocol, ``"full"`` (as ``trial``/``evaluate``), ``"fast"``,
-            ``"acronym"`` (ACRONYM's free-floating close and shake) or ``"acronym-fast"`` (its
-            one-cycle shake).
+        protocol: a registered trial protocol (``simgrasp.grasping.trials.protocol``):
+            ``full`` (as ``trial``/``evaluate``), ``fast`` (for large grasp sets), ``acronym``
+            (ACRONYM's free-floating close and shake), ``acronym-fast`` (its one-cycle shake).
         seed: seed of the scene (the object's rest pose and yaw on the table).
         placement: ``"stable"`` or ``"upright"`` rest poses (:class:`SceneConfig`).
         free_floating: label in free space as ACRONYM does (``TrialConfig.free_floating``):
@@ -64,17 +64,22 @@ class LabelConfig(Checked):
     """
 
     object: str = setting("", positional=True, metavar="OBJECT")
-    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
-    protocol: Protocol = DEFAULT_PROTOCOL
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names, main=True)
+    protocol: str = setting(DEFAULT_PROTOCOL, choices=protocol_names, main=True)
     seed: NonNegativeInt = 0
-    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement")
+    placement: Placement = setting(DEFAULT_PLACEMENT, flag="--placement", main=True)
     free_floating: bool = False
 
     @property
     def trial(self) -> TrialConfig:
         """The trial settings of every grasp: the protocol's, in free space if asked."""
-        trial = protocol_config(self.protocol)
+        trial = get_protocol(self.protocol).config
         return replace(trial, free_floating=self.free_floating or trial.free_floating)
+
+    @property
+    def phases(self) -> tuple[str, ...]:
+        """The phases every grasp's trial runs: the protocol's."""
+        return get_protocol(self.protocol).phases
 
 
 class GraspLabeler:
@@ -89,6 +94,8 @@ class GraspLabeler:
 
         self.config = config
         self.trial_config = config.trial
+        self.phases = config.phases
+        """The trial phases run (names): change them with ``trial_config``."""
         self.gripper = make_gripper(config.gripper)
         scene_config = SceneConfig(placement=config.placement)
         self.scene: Scene = build_scene(object_model, self.gripper, scene_config, config.seed)
@@ -118,7 +125,9 @@ class GraspLabeler:
             opening,
             source=GRASP_SOURCE,
         )
-        result = run_trial(self.scene, grasp, self.trial_config, on_phase, starts=self.starts)
+        result = run_trial(
+            self.scene, grasp, self.trial_config, on_phase, starts=self.starts, phases=self.phases
+        )
         record = result.to_json()
         return {"index": int(index), "protocol": self.config.protocol, **record}
 

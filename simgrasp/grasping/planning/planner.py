@@ -31,7 +31,7 @@ from simgrasp.grasping.planning.clearance import (
 )
 from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
-from simgrasp.handles.detection import Handle
+from simgrasp.handles.core.detection import Handle
 from simgrasp.transforms import orthonormal
 
 

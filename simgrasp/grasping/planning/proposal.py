@@ -20,7 +20,7 @@ from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grasping.proposers import proposer_entry
 from simgrasp.grasping.trials.chain_config import ChainDetectorConfig
 from simgrasp.handles import detect
-from simgrasp.handles.detection import Detection
+from simgrasp.handles.core.detection import Detection
 from simgrasp.seeding import rng_for
 
 MIN_CLOUD_POINTS = 10

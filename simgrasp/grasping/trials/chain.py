@@ -7,6 +7,7 @@ detector's neighborhood sampling, the planner's approach jitter. The settings ar
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -18,6 +19,7 @@ from simgrasp.assets.model import ObjectModel
 from simgrasp.grasping.cloud_view import CloudView
 from simgrasp.grasping.grasp import Grasp
 from simgrasp.grasping.planning.proposal import MIN_CLOUD_POINTS, plan_grasps
+from simgrasp.grasping.session import Session
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.clutter_scoring import NeighborWatch, score_in_clutter
 from simgrasp.grasping.trials.result import Phase, TrialResult
@@ -25,8 +27,7 @@ from simgrasp.grasping.trials.trial import run_trial
 from simgrasp.grippers import make_gripper
 from simgrasp.grippers.base import Gripper
 from simgrasp.handles.accuracy import score_detection
-from simgrasp.handles.detection import Detection
-from simgrasp.scenes.kept_renderer import kept_renderer
+from simgrasp.handles.core.detection import Detection
 from simgrasp.scenes.observe import ObjectCloud, observe, viewpoint_normals
 from simgrasp.scenes.perceive import perceive_target
 from simgrasp.scenes.scene import Scene, build_scene
@@ -69,6 +70,16 @@ class ChainResult:
         return False if self.trial is None else self.trial.success
 
     @property
+    def failure(self) -> str | None:
+        """Why the chain did not succeed, as its record says: a neighbor's doing in clutter
+        (``wrong_object``, ``collision``), ``no_grasp`` when the detector and planner gave no
+        grasp to execute (no handle found included), else the trial's failure
+        (:data:`~simgrasp.grasping.trials.result.Failure`); None on success."""
+        if "failure" in self.scene_fields:
+            return str(self.scene_fields["failure"])
+        return "no_grasp" if self.trial is None else self.trial.failure
+
+    @property
     def on_handle(self) -> bool:
         return self.trial is not None and self.trial.on_handle and bool(self.trial.success)
 
@@ -79,6 +90,7 @@ class ChainResult:
         record = {**trial, **chain, **self.scene_fields}
         record["timings_s"] = {**trial.get("timings_s", {}), **self.timings_s}
         record["success"] = self.success
+        record["failure"] = self.failure
         record["on_handle"] = self.on_handle
         return record
 
@@ -122,9 +134,29 @@ def run_chain(
     seed: int,
     gripper: Gripper | None = None,
     on_phase: Callable[[Phase, Scene], None] | None = None,
+    session: Session | None = None,
 ) -> ChainResult:
     """Observe, detect, plan and execute the best-ranked grasp on ``object_model``;
-    ``on_phase`` is passed to :func:`run_trial` (e.g. to render key frames)."""
+    ``on_phase`` is passed to :func:`run_trial` (e.g. to render key frames). The depth views
+    are rendered with ``session``'s renderer (without one, a renderer made for this trial and
+    closed before it returns)."""
+    with contextlib.ExitStack() as owned:
+        if session is None:
+            session = owned.enter_context(Session())
+        return _chain(
+            object_model, config, seed, gripper or make_gripper(config.gripper), on_phase, session
+        )
+
+
+def _chain(
+    object_model: ObjectModel,
+    config: ChainConfig,
+    seed: int,
+    gripper: Gripper,
+    on_phase: Callable[[Phase, Scene], None] | None,
+    session: Session,
+) -> ChainResult:
+    """:func:`run_chain` with its gripper and session given."""
     timings: dict[str, float] = {}
     clock = time.perf_counter()
 
@@ -133,10 +165,10 @@ def run_chain(
         now = time.perf_counter()
         timings[name], clock = now - clock, now
 
-    gripper = gripper or make_gripper(config.gripper)
     scene = build_scene(object_model, gripper, config.scene, seed)
     lap("scene")
-    observation = observe(scene, kept_renderer(scene), config.noise, seed, config.sensor)
+    renderer = session.renderers.renderer_for(scene)
+    observation = observe(scene, renderer, config.noise, seed, config.sensor)
     if config.perception_mode == "mask":  # the mask's cut, fused in the render stage
         cloud = observation.cloud  # (our segmenter's cut never needs it)
     lap("render")

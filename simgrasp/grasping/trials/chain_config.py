@@ -16,8 +16,9 @@ from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grasping.proposers import DEFAULT_PROPOSER, proposer_names
 from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.grippers.registry import DEFAULT_GRIPPER, gripper_names
-from simgrasp.handles.config import QuadricDetectorConfig
+from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.detector_config import DetectorConfig
+from simgrasp.handles.presets import chain_quadric
 from simgrasp.perception.segmentation.segment_config import SegmentConfig
 from simgrasp.perception.sensors.settings import SensorSettings
 from simgrasp.scenes.config import SceneConfig
@@ -33,7 +34,7 @@ PERCEPTIONS: tuple[Perception, ...] = ("auto", "segment", "mask")
 class ChainDetectorConfig(DetectorConfig):
     """The grasp proposer: a handle detector, or a baseline planner that ignores handles.
 
-    The quadric detector's chain default is :meth:`QuadricDetectorConfig.two_scales` (the
+    The quadric detector's chain default is the preset ``two_scales`` (the
     defaults plus a fine Taubin pass for thin handles seen in fused depth views: a lying
     mug's strap); ``detect`` and ``detect-eval`` keep the plain defaults (one pass). They
     differ on purpose and say so in their ``--help``: each default produced its command's
@@ -41,12 +42,12 @@ class ChainDetectorConfig(DetectorConfig):
     default would change."""
 
     kind: str = setting(  # type: ignore[assignment]
-        DEFAULT_PROPOSER, flag="--detector", choices=proposer_names
+        DEFAULT_PROPOSER, flag="--detector", choices=proposer_names, main=True
     )
     """The grasp proposer (:mod:`simgrasp.grasping.proposers`): quadric: quadric fits with the
     paper's criteria; tenpas: ten Pas & Platt 2013's shells; centroid: top-down grasps at the
     cloud centroid; random: random antipodal point pairs."""
-    quadric: QuadricDetectorConfig = field(default_factory=QuadricDetectorConfig.two_scales)
+    quadric: QuadricDetectorConfig = field(default_factory=chain_quadric)
 
 
 def _chain_scene() -> SceneConfig:
@@ -62,7 +63,7 @@ class ChainConfig(Checked):
         exclude=("quadric.gripper_max_opening", "tenpas.gripper_max_opening"),
     )
     """The detectors' gripper opening is the chain gripper's."""
-    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names)
+    gripper: str = setting(DEFAULT_GRIPPER, choices=gripper_names, main=True)
     """The parallel-jaw gripper that executes the grasp."""
     noise: NoiseSigma = 0.0
     """The paper's multiplicative noise sigma on the observed cloud about its centroid

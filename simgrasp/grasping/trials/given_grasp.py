@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Literal
 
 import numpy as np
@@ -31,13 +31,16 @@ def trial_of_grasp(
     width: float | None = None,
     scene_config: SceneConfig | None = None,
     trial_config: TrialConfig | None = None,
+    phases: Sequence[str] | None = None,
     seed: int = 0,
     on_phase: Callable[[Phase, Scene], None] | None = None,
 ) -> TrialResult:
     """Execute the TCP pose ``pose7`` (``[x, y, z, qw, qx, qy, qz]``, meters, in ``frame``:
     the world, or the object's mesh frame placed where the trial starts it: its seeded scene
     pose, raised when free-floating, as label-grasps places its grasps) with the jaws opened
-    to ``width`` (m; default the gripper's maximum) on the scene of ``seed``."""
+    to ``width`` (m; default the gripper's maximum) on the scene of ``seed``; ``phases`` as
+    :func:`~simgrasp.grasping.trials.trial.run_trial` takes them (default: those of
+    ``trial_config``)."""
     trial_config = trial_config or TrialConfig()
     scene = build_scene(object_model, gripper, scene_config or SceneConfig(), seed)
     width = gripper.max_opening if width is None else width
@@ -52,4 +55,4 @@ def trial_of_grasp(
         grasp = Grasp.from_object_frame(pose, world_T_object, width, source="cli")
     else:
         grasp = Grasp(pose, width, source="cli")
-    return run_trial(scene, grasp, trial_config, on_phase)
+    return run_trial(scene, grasp, trial_config, on_phase, phases=phases)

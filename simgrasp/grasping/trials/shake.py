@@ -12,23 +12,21 @@ ones chosen on the tuning half of ``docs/results/acronym/``.
 Each label also gets a continuous ``score`` in [0, 1]: ``1 / (1 + motion / score_scale)`` of
 the object's largest motion in the jaws during the shake (its center of mass's displacement in
 the TCP frame plus its rotation times its bounding radius, m); 0 when it was let go.
+
+This module holds the motion and its settings, free of MuJoCo; the trial phase that runs it is
+:class:`simgrasp.grasping.trials.phases.shake.Shake`.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.config.checks import Checked, NonNegative, Positive, PositiveInt
 from simgrasp.transforms import rotations_to_quats_wxyz
-
-if TYPE_CHECKING:
-    from simgrasp.grasping.trials.result import Failure
-    from simgrasp.grasping.trials.trial import _Trial
 
 
 @dataclass(frozen=True)
@@ -110,47 +108,3 @@ def largest_motion(frames: NDArray[np.float64], radius: float) -> float:
     cosine = np.clip((np.trace(turn, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
     motion = np.linalg.norm(tcp_p_com - tcp_p_com[0], axis=1) + np.arccos(cosine) * radius
     return float(motion.max())
-
-
-def _record_frame(frames: NDArray[np.float64], row: int, trial: _Trial) -> None:
-    """Copy the TCP's and the object's poses now into ``frames[row]`` (see
-    :func:`largest_motion`)."""
-    data, site, body = trial.scene.data, trial.scene.gripper.tcp_site, trial.scene.object_body
-    frames[row, 0:3], frames[row, 3:12] = data.site_xpos[site], data.site_xmat[site]
-    frames[row, 12:15], frames[row, 15:24] = data.xipos[body], data.ximat[body]
-
-
-def shake_phase(trial: _Trial) -> Failure | None:
-    """5'. Shake the closed hand (the object still without gravity); unless both fingers still
-    touch the object afterwards, ``dropped_in_shaking``. Sets ``score`` and the contacts'
-    ``on_handle`` as the hold does."""
-    from simgrasp.grasping.trials.runner import Released
-    from simgrasp.grasping.trials.trial import score_contacts
-
-    scene, config, runner = trial.scene, trial.config, trial.runner
-    shake = config.shake
-    assert shake is not None, "the shake phase runs with a ShakeConfig"
-    data, mount = scene.data, scene.gripper
-    runner.watch_release = True
-    runner.use_hold_timestep()
-    steps = runner.chunks(2 * shake.cycles / shake.frequency)
-    positions, quats = shake_targets(
-        shake, mount.world_T_tcp(data), mount.tcp_T_root, runner.control_dt, steps
-    )
-    frames = np.empty((steps + 1, 24))
-    _record_frame(frames, 0, trial)
-    try:
-        for k in range(steps):
-            data.mocap_pos[mount.mocap_id], data.mocap_quat[mount.mocap_id] = positions[k], quats[k]
-            runner.step()
-            _record_frame(frames, k + 1, trial)
-    except Released:
-        trial.record["score"] = 0.0
-        trial.lap("shake")
-        return "dropped_in_shaking"
-    trial.lap("shake")
-    trial.moment("perturbed")
-    largest = largest_motion(frames, runner.object_radius)
-    trial.record["score"] = 1.0 / (1.0 + largest / shake.score_scale)
-    contacts = score_contacts(trial)
-    return None if contacts.both else "dropped_in_shaking"

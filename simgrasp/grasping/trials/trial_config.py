@@ -1,4 +1,5 @@
-"""Every parameter of a grasp trial (SI units: m, s, m/s, N); free of MuJoCo imports."""
+"""Every parameter of a grasp trial (SI units: m, s, m/s, N) and the settings of the
+registered protocols (:mod:`simgrasp.grasping.trials.protocol`); free of MuJoCo imports."""
 
 from __future__ import annotations
 
@@ -8,8 +9,6 @@ from typing import Annotated, Literal
 import numpy as np
 
 from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt, Range
-from simgrasp.errors import SimgraspError
-from simgrasp.grasping.trials.protocol import PROTOCOLS
 from simgrasp.grasping.trials.shake import ShakeConfig
 
 ON_HANDLE_THRESHOLD = 0.5
@@ -223,18 +222,3 @@ motion instead of two (a 1 s shake instead of 2 s, the rest unchanged), for labe
 sets. Its agreement with ``acronym`` and with FleX on ACRONYM's own grasps is in
 ``docs/results/acronym-fast/``: the second cycle shakes off a few grasps the first leaves held
 (most of them FleX failures), so use ``acronym`` for the figures compared with FleX."""
-
-
-def protocol_config(protocol: str) -> TrialConfig:
-    """The trial settings of ``protocol``: ``"full"`` (the default of ``trial``, ``evaluate``
-    and the env), ``"fast"`` (:data:`FAST_TRIAL`), ``"acronym"`` (:data:`ACRONYM_TRIAL`) or
-    ``"acronym-fast"`` (:data:`ACRONYM_FAST_TRIAL`)."""
-    if protocol == "full":
-        return TrialConfig()
-    if protocol == "fast":
-        return FAST_TRIAL
-    if protocol == "acronym":
-        return ACRONYM_TRIAL
-    if protocol == "acronym-fast":
-        return ACRONYM_FAST_TRIAL
-    raise SimgraspError(f"unknown protocol {protocol!r}; use one of {', '.join(PROTOCOLS)}")

@@ -62,8 +62,8 @@ class SegmentConfig(Checked):
     the mean of its object pixels, at the reference footprint (``reference_footprint``
     multiplies it for finer frames). 2 with window 3, step 1 and concave step 2 keeps about
     the same surface sizes on 4 x fewer blocks: osd-learn mean part IoU 0.933 against the
-    defaults' 0.925, simulated kinect clutter 0.736 against 0.748 (5 December 2026; not the
-    default)."""
+    defaults' 0.925, simulated kinect clutter 0.736 against 0.748 (not the default;
+    docs/results/segment-cv)."""
     normal_window_px: PositiveInt = 5
     """Edge of the window of blocks averaged before normals are taken (blocks)."""
     normal_step_px: PositiveInt = 2
@@ -104,7 +104,7 @@ class SegmentConfig(Checked):
     """Organized clouds: a segment under ``min_object_points`` joins the segment it touches
     most within ``attach_distance`` (a bumpy object's pieces between short creases), this
     many passes (:mod:`simgrasp.perception.segmentation.segment_fragments`; 0: fragments
-    are dropped, as before 4 December 2026). 2 chosen on osd-learn and simulated clutter
+    are dropped). 2 chosen on osd-learn and simulated clutter
     (``docs/results/segment-cv``)."""
     part_min_contact: NonNegativeInt = 10
     """Organized clouds: a segment of at most ``part_max_points`` whose height above the table

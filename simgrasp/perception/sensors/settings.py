@@ -17,7 +17,7 @@ class SensorSettings(Checked):
     """The simulated depth sensor the rendered depth images pass through, per view, before
     the object's pixels are taken (only the chosen model's parameters are used)."""
 
-    kind: str = setting(DEFAULT_SENSOR, flag="--sensor", choices=sensor_names)
+    kind: str = setting(DEFAULT_SENSOR, flag="--sensor", choices=sensor_names, main=True)
     """ideal: the renderer's exact depth; kinect: a structured-light camera calibrated on
     osd-learn; stereo: a D435-like active stereo camera."""
     kinect: KinectConfig = field(default_factory=KinectConfig)
