@@ -51,7 +51,7 @@ GENERATED_OBJECTS = tuple(
 """The procedurally generated tools (sizes of seed 0), the default without a YCB download."""
 
 FAMILY_OBJECTS = tuple(f"gen_{kind}" for kind in FAMILY_KINDS)
-"""The tool families' objects (sizes of the run's seed, as ``generated``'s), one per kind."""
+"""The tool families' objects (sizes of seed 0, as ``generated``'s), one per kind."""
 
 OBJECT_SETS: dict[str, tuple[str, ...]] = {
     "generated": GENERATED_OBJECTS,
