@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from simgrasp.assets.auto_handles import LABELER_VERSION
-from simgrasp.assets.generated import GENERATED_KINDS, generate_parts, generate_tool
+from simgrasp.assets.generated import ALL_GENERATED_KINDS, generate_parts, generate_tool
 from simgrasp.assets.object import ObjectAsset
 from simgrasp.autolabel.auto_label import auto_handle_label
 from simgrasp.autolabel.config import AutoLabelConfig
@@ -164,9 +164,9 @@ class Options(Checked):
 
 def run(options: Options) -> str:
     """Measure every (kind, seed) not yet in ``rows.jsonl`` under these settings; the table."""
-    unknown = [k for k in options.kinds if k not in GENERATED_KINDS]
+    unknown = [k for k in options.kinds if k not in ALL_GENERATED_KINDS]
     if unknown:
-        raise SimgraspError(f"unknown kinds {unknown}; known: {', '.join(GENERATED_KINDS)}")
+        raise SimgraspError(f"unknown kinds {unknown}; known: {', '.join(ALL_GENERATED_KINDS)}")
     key = settings_key(options.label)
     options.out.mkdir(parents=True, exist_ok=True)
     done_file = options.out / "rows.jsonl"
@@ -175,7 +175,7 @@ def run(options: Options) -> str:
         lambda r: (
             r.get("settings") == key
             and r.get("near_margin") == options.near
-            and r.get("kind") in GENERATED_KINDS
+            and r.get("kind") in ALL_GENERATED_KINDS
             and r.get("mesh") == mesh_key(generate_tool(r["kind"], r["seed"]))
         ),
     )

@@ -23,6 +23,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
+from simgrasp.assets.families import FAMILY_BUILDERS, FAMILY_KINDS
 from simgrasp.assets.generated_knife import knife
 from simgrasp.assets.generated_shapes import (
     DENSITY_ALUMINUM,
@@ -277,6 +278,11 @@ _BUILDERS: dict[
 }
 
 GENERATED_KINDS: tuple[str, ...] = tuple(_BUILDERS)
+"""The kinds of :mod:`simgrasp.assets.generated` itself (the tool families' are
+``FAMILY_KINDS``)."""
+ALL_GENERATED_KINDS: tuple[str, ...] = GENERATED_KINDS + FAMILY_KINDS
+"""Every loadable generated kind: these and the tool families'
+(:mod:`simgrasp.assets.families`)."""
 
 
 def generated_name(kind: str, seed: int) -> str:
@@ -299,11 +305,12 @@ def _shift_region(region: Region, offset: NDArray[np.float64]) -> Region:
 
 def generate_parts(kind: str, seed: int) -> GeneratedTool:
     """Build the parts and handle label of a generated tool (object frame, see module doc)."""
-    if kind not in _BUILDERS:
+    builder = _BUILDERS.get(kind) or FAMILY_BUILDERS.get(kind)
+    if builder is None:
         raise SimgraspError(
-            f"unknown generated object kind {kind!r}; known kinds: {', '.join(GENERATED_KINDS)}"
+            f"unknown generated object kind {kind!r}; known kinds: {', '.join(ALL_GENERATED_KINDS)}"
         )
-    parts, regions, whole = _BUILDERS[kind](rng_for(seed, "generated", kind))
+    parts, regions, whole = builder(rng_for(seed, "generated", kind))
     offset = _recenter(parts)
     for part in parts:
         part.mesh.apply_translation(offset)
@@ -313,7 +320,7 @@ def generate_parts(kind: str, seed: int) -> GeneratedTool:
 
 
 def generate_tool(kind: str, seed: int) -> ObjectAsset:
-    """A generated object ``gen_<kind>_s<seed>`` (kinds: ``GENERATED_KINDS``).
+    """A generated object ``gen_<kind>_s<seed>`` (kinds: ``ALL_GENERATED_KINDS``).
 
     The mesh is the concatenation of the watertight parts; mass is the sum of part volume x
     material density (``DENSITY_*``).

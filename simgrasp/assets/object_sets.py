@@ -1,13 +1,18 @@
-"""Named sets of objects (``generated``, ``paper``, ``ycb``, ``all``) and their expansion.
+"""Named sets of objects (``generated``, ``families``, ``paper``, ``ycb``, ``all``) and their
+expansion.
 
-One meaning everywhere: ``all`` is every object with a handle label (the generated tools and
-the labeled YCB objects); ``ycb`` the labeled YCB objects; ``paper`` the paper's eight.
+One meaning everywhere: ``all`` is every object with a handle label of the sets that came
+first (the generated tools and the labeled YCB objects); ``ycb`` the labeled YCB objects;
+``paper`` the paper's eight; ``families`` the procedural tool families
+(:mod:`simgrasp.assets.families`), kept out of ``all`` so that the committed sweeps of ``all``
+keep their objects.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 
+from simgrasp.assets.families import FAMILY_KINDS
 from simgrasp.assets.generated import GENERATED_KINDS
 
 PAPER_OBJECTS = (
@@ -45,8 +50,12 @@ GENERATED_OBJECTS = tuple(
 )
 """The procedurally generated tools (sizes of seed 0), the default without a YCB download."""
 
+FAMILY_OBJECTS = tuple(f"gen_{kind}" for kind in FAMILY_KINDS)
+"""The tool families' objects (sizes of seed 0, as ``generated``'s), one per kind."""
+
 OBJECT_SETS: dict[str, tuple[str, ...]] = {
     "generated": GENERATED_OBJECTS,
+    "families": FAMILY_OBJECTS,
     "paper": PAPER_OBJECTS,
     "ycb": PAPER_OBJECTS + LABELED_EXTRA,
     "all": GENERATED_OBJECTS + PAPER_OBJECTS + LABELED_EXTRA,

@@ -11,7 +11,7 @@ from urllib.parse import parse_qsl
 import trimesh
 
 from simgrasp.assets.catalog import catalog_entry
-from simgrasp.assets.generated import GENERATED_KINDS, generate_tool
+from simgrasp.assets.generated import ALL_GENERATED_KINDS, GENERATED_KINDS, generate_tool
 from simgrasp.assets.mesh_object import (
     is_mesh_spec,
     load_mesh_object,
@@ -31,7 +31,7 @@ __all__ = [
     "mesh_file_of",
 ]
 
-_GENERATED_NAMES = ", ".join(f"gen_{kind}" for kind in GENERATED_KINDS)
+_GENERATED_NAMES = ", ".join(f"gen_{kind}" for kind in ALL_GENERATED_KINDS)
 """Every loadable generated tool, for error messages (the ``generated`` set holds fewer)."""
 
 _GENERATED = re.compile(r"^gen_(?P<kind>[a-z]+(?:_[a-z]+)*)(?:_s(?P<seed>\d+))?$")
@@ -54,7 +54,7 @@ def load_object(
     match = _GENERATED.match(name)
     if match:
         kind = match["kind"]
-        if kind not in GENERATED_KINDS:
+        if kind not in ALL_GENERATED_KINDS:
             raise SimgraspError(
                 f"unknown generated object {name!r}; generated objects are {_GENERATED_NAMES}"
             )
@@ -62,7 +62,7 @@ def load_object(
     if name.startswith("gen_"):
         raise SimgraspError(
             f"bad generated object name {name!r}: expected gen_<kind> or gen_<kind>_s<seed> "
-            f"with kind one of {', '.join(GENERATED_KINDS)}"
+            f"with kind one of {', '.join(ALL_GENERATED_KINDS)}"
         )
     from simgrasp.assets.ycb import load_ycb_object
     from simgrasp.assets.ycb_catalog import find_ycb_entry

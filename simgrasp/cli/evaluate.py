@@ -47,7 +47,7 @@ EXAMPLES = (
 class Options(YcbSource, MeshObjectOptions):
     objects: tuple[str, ...] = setting(("generated",), main=True)
     """Object names, mesh files (read with --scale/--units/--mass/...) and/or the sets
-    generated, paper, ycb, all."""
+    generated, families, paper, ycb, all."""
     detector: tuple[str, ...] = setting(BUILTIN_PROPOSERS, choices=proposer_names, main=True)
     """Grasp proposers to sweep (:mod:`simgrasp.grasping.proposers`)."""
     gripper: tuple[str, ...] = setting(("builtin",), choices=gripper_names, main=True)

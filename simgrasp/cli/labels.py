@@ -18,7 +18,7 @@ EXAMPLES = ("simgrasp labels --objects gen_mug,025_mug --out out/labels",)
 @dataclass(frozen=True, kw_only=True)
 class Options(YcbSource):
     objects: tuple[str, ...] = setting(("all",), main=True)
-    """Object names and/or the sets generated, paper, ycb, all."""
+    """Object names and/or the sets generated, families, paper, ycb, all."""
     seed: int = 0
     """Sizes of generated tools named without _s<seed>."""
     out: Path = setting(Path("out/labels"), output="dir", main=True)
