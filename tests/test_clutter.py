@@ -56,13 +56,14 @@ def test_distractors_rest_on_the_table_around_the_target(hammer) -> None:
 
 
 def test_a_crowded_fifteen_distractor_scene_builds_settles_and_reproduces() -> None:
-    """Above the old cap of 12: seed 0 flings a distractor off an overlapping drop (without
-    ``FLUNG_HEIGHT`` it stayed in the scene, 500 km up); what is kept rests on the table."""
+    """Above the old cap of 12: what is kept rests on the table and stays there (a drop whose
+    simulation goes unstable, as seed 0's first does, is drawn again rather than kept with its
+    objects hanging where MuJoCo's reset put them)."""
     mug, gripper = model_for("gen_mug"), make_gripper("builtin")
     config = SceneConfig(num_views=1, clutter=15, clutter_objects="generated")
     scene = build_scene(mug, gripper, config, seed=0)
     again = build_scene(mug, gripper, config, seed=0)
-    assert 10 <= len(scene.distractors) < 15
+    assert 10 <= len(scene.distractors) <= 15
     assert scene.spec.to_xml() == again.spec.to_xml()
     for distractor in scene.distractors:
         mesh = distractor.model.asset.mesh.copy().apply_transform(distractor.world_T_object)

@@ -9,7 +9,9 @@ smaller than N), each in a seeded stable pose and yaw, on a ring around the targ
 rests (``SETTLE_LIMIT`` at most); the settled poses, the target's too, are the scene's initial
 state. A target of which no default camera sees ``MIN_VISIBLE`` of what it would see without
 the distractors (rays to ``VISIBILITY_POINTS`` seeded surface points) is redrawn, up to
-``MAX_DRAWS`` times (the most visible draw is kept). Every choice flows from the scene's seed.
+``MAX_DRAWS`` times (the most visible draw is kept). A drop whose simulation goes unstable
+(MuJoCo's bad-acceleration warning: it then resets the state to the drop poses, objects in the
+air at rest) is no layout and is drawn again. Every choice flows from the scene's seed.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from numpy.typing import NDArray
 from simgrasp._mujoco import mujoco
 from simgrasp.assets.model import ObjectModel, model_for
 from simgrasp.assets.stable import sample_rest_pose
+from simgrasp.errors import SimgraspError
 from simgrasp.scenes.camera import default_viewpoints
 from simgrasp.scenes.clutter_sets import distractor_pool
 from simgrasp.scenes.config import SceneConfig
@@ -101,11 +104,17 @@ def clutter_layout(
         models = [distractor_model(name) for name in names]
         dropped = _drop_poses(target, world_T_target, models, rng, config)
         layout = _settled(target, world_T_target, models, dropped, config, seed, draw)
+        if layout is None:  # the drop went unstable
+            continue
         if layout.visible_share >= MIN_VISIBLE:
             return layout
         if best is None or layout.visible_share > best.visible_share:
             best = layout
-    assert best is not None
+    if best is None:
+        raise SimgraspError(
+            f"clutter of {config.clutter} around {target.asset.name!r}, seed {seed}: every one of "
+            f"{MAX_DRAWS} drops went unstable in simulation; try fewer distractors"
+        )
     return best
 
 
@@ -196,14 +205,17 @@ def _settled(
     config: SceneConfig,
     seed: int,
     draw: int,
-) -> ClutterLayout:
-    """Step the drop until everything rests; the settled layout and its target visibility."""
+) -> ClutterLayout | None:
+    """Step the drop until everything rests; the settled layout and its target visibility, or
+    None when the simulation went unstable (module docstring)."""
     model, bodies = _settle_model(target, world_T_target, models, dropped, config)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     min_steps = int(round(SETTLE_MIN / SETTLE_TIMESTEP))
     for step in range(int(round(SETTLE_LIMIT / SETTLE_TIMESTEP))):
         mujoco.mj_step(model, data)
+        if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
+            return None
         if step >= min_steps and np.abs(data.qvel).max() < SETTLE_SPEED:
             break
     poses = [make_transform(data.xmat[b].reshape(3, 3), data.xpos[b]) for b in bodies]
