@@ -19,6 +19,7 @@ from typing import Any
 
 from simgrasp.bench.scene_task import AnswerSource, scene_record
 from simgrasp.bench.suites import BenchScene, SuiteDefinition, check_suite_data
+from simgrasp.grasping.session import close_worker_sessions
 from simgrasp.runs.engine import RunConfig, Work, run_resumable, run_tasks
 from simgrasp.runs.identity import claim_identity
 from simgrasp.runs.out_dir import LOG_FILE, claim_out_dir
@@ -57,15 +58,18 @@ def score_suite(
         identity = {"suite": suite.name, "suite_sha256": suite.digest(), **source.identity()}
         claim_identity(out / "run.json", identity, what="records of another run")
         work = Work(scene_record, (suite, source))
-        finished = run_resumable(
-            [s.id for s in scenes],
-            lambda item: item,
-            RecordLog(out / LOG_FILE, _scene_key),
-            lambda todo: run_tasks(work, todo, run),
-            progress=run.progress,
-            desc=f"bench {suite.name}",
-            unit="scene",
-        )
+        try:
+            finished = run_resumable(
+                [s.id for s in scenes],
+                lambda item: item,
+                RecordLog(out / LOG_FILE, _scene_key),
+                lambda todo: run_tasks(work, todo, run),
+                progress=run.progress,
+                desc=f"bench {suite.name}",
+                unit="scene",
+            )
+        finally:  # the scenes run here (one local worker) used this process's session
+            close_worker_sessions()
     return [finished[s.id] for s in scenes]
 
 
@@ -96,13 +100,16 @@ def oracle_records(suite: SuiteDefinition, run: RunConfig) -> dict[str, dict[str
             what="the oracle of another suite",
         )
         work = Work(oracle_task, (whole,))
-        finished = run_resumable(
-            list(worlds.values()),
-            lambda scene: scene.world,
-            RecordLog(folder / ORACLE_LOG, _world_key),
-            lambda todo: run_tasks(work, todo, run),
-            progress=run.progress,
-            desc=f"oracle {suite.name}",
-            unit="scene",
-        )
+        try:
+            finished = run_resumable(
+                list(worlds.values()),
+                lambda scene: scene.world,
+                RecordLog(folder / ORACLE_LOG, _world_key),
+                lambda todo: run_tasks(work, todo, run),
+                progress=run.progress,
+                desc=f"oracle {suite.name}",
+                unit="scene",
+            )
+        finally:
+            close_worker_sessions()
     return {str(world): record for world, record in finished.items()}

@@ -5,13 +5,13 @@ placement, its neighbors dropped and settled, the suite's views around it, seen 
 scene's depth sensor; the target is cut by the renderer's segmentation (the same cut for every
 method: the bench scores grasping, not segmentation). The same definition and scene build the
 same scene on every call, so a method run in process and one scored from its files meet the
-same scene. Object models and the renderer are kept per process in one
-:class:`~simgrasp.grasping.session.Session`, and the gripper.
+same scene. Object models and the renderer are kept in the process's worker session
+(:func:`~simgrasp.grasping.session.worker_session`, closed at the end of a run's tasks here),
+and the gripper.
 """
 
 from __future__ import annotations
 
-import atexit
 from dataclasses import replace
 from functools import lru_cache
 
@@ -20,7 +20,7 @@ import numpy as np
 from simgrasp.assets.model import ObjectModel
 from simgrasp.bench.observation import BenchObservation, BenchView, gripper_description
 from simgrasp.bench.suites import BenchScene, SuiteDefinition
-from simgrasp.grasping.session import Session
+from simgrasp.grasping.session import worker_session
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.protocol import get_protocol
 from simgrasp.grippers import make_gripper
@@ -47,18 +47,10 @@ def chain_config(suite: SuiteDefinition, scene: BenchScene) -> ChainConfig:
     return replace(config, trial=get_protocol(suite.protocol).config)
 
 
-@lru_cache(maxsize=1)
-def bench_session() -> Session:
-    """This process's session: the object models built and the renderer kept across scenes
-    (closed when the process ends)."""
-    session = Session()
-    atexit.register(session.close)
-    return session
-
-
 def object_model(name: str) -> ObjectModel:
-    """The simulation model of object ``name``, built once per process."""
-    return bench_session().model(name)
+    """The simulation model of object ``name``, built once per process (its worker
+    session's)."""
+    return worker_session().model(name)
 
 
 @lru_cache(maxsize=4)
@@ -81,7 +73,7 @@ def observe_bench_scene(
     scene's sensor, the target cut by the segmentation, the neighbors' points and the whole
     scene's points (voxels of ``CLOUD_VOXEL``)."""
     config = chain_config(suite, scene)
-    renderer = bench_session().renderers.renderer_for(built)
+    renderer = worker_session().renderers.renderer_for(built)
     seen = observe(built, renderer, 0.0, scene.seed, config.sensor)
     cloud = seen.cloud
     obstacles = np.zeros((0, 3))

@@ -93,22 +93,17 @@ def plan_trials(
     ]
 
 
-@functools.cache
-def worker_session(ycb_dir: str | None):  # -> Session (lazy mujoco import)
-    """The session of this worker process's trials (module docstring)."""
-    from simgrasp.grasping.session import Session
-
-    return Session(ycb_dir)
-
-
 def prepare_object(name: str, ycb_dir: str | None) -> str:
     """Build (or load from the cache) the model of ``name`` in this process; returns the name."""
+    from simgrasp.grasping.session import worker_session
+
     worker_session(ycb_dir).model(name)
     return name
 
 
 def run_spec(spec: TrialSpec, ycb_dir: str | None) -> dict[str, Any]:
     """Run one full-chain trial; the flat chain record with the spec's summary fields."""
+    from simgrasp.grasping.session import worker_session
     from simgrasp.grasping.trials.chain import run_chain
 
     session = worker_session(ycb_dir)
@@ -151,8 +146,9 @@ def run_sweep(
             on_record=on_record,
         )
     finally:  # the trials run here (one local worker) used this process's session
-        worker_session(ycb_dir).close()
-        worker_session.cache_clear()
+        from simgrasp.grasping.session import close_worker_sessions
+
+        close_worker_sessions()
     return [finished[spec.key] for spec in specs]
 
 

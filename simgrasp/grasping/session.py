@@ -57,3 +57,22 @@ class Session:
 
     def __exit__(self, *exc_info: object) -> None:
         self.close()
+
+
+_WORKER_SESSIONS: dict[str | None, Session] = {}
+"""This process's worker sessions, by YCB folder (:func:`worker_session`)."""
+
+
+def worker_session(ycb_dir: str | None = None) -> Session:
+    """The session of the run engine's tasks in this process (its trials share the renderer
+    and the object models). A spawned worker's session lives as long as the worker process;
+    a run whose tasks ran in this process closes it with :func:`close_worker_sessions`."""
+    if ycb_dir not in _WORKER_SESSIONS:
+        _WORKER_SESSIONS[ycb_dir] = Session(ycb_dir)
+    return _WORKER_SESSIONS[ycb_dir]
+
+
+def close_worker_sessions() -> None:
+    """Close and forget this process's worker sessions (the end of a run's tasks here)."""
+    while _WORKER_SESSIONS:
+        _WORKER_SESSIONS.popitem()[1].close()
