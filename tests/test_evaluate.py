@@ -384,6 +384,8 @@ def test_demo_prints_the_report_and_writes_it(tmp_path: Path) -> None:
     for name in REPORT_FILES:
         assert (out / name).exists(), name
     assert "[view.html](view.html)" in report  # the report links its views
+    assert "## What was possible: the oracle" in report  # every object has its oracle row
+    assert all(f"| {name} | " in report.split("the oracle")[1] for name in GENERATED_OBJECTS)
     page = (out / "view.html").read_text(encoding="utf-8")
     assert page.count('<tr class="trial"') == trials and page.count("<figure><img") == 2
 
@@ -429,3 +431,14 @@ def test_camera_views_are_part_of_a_trials_identity(reference: Path) -> None:
     # Logs written before views were recorded hold two-camera trials.
     old = {k: v for k, v in two[0].summary_fields().items() if k not in ("views", "settings")}
     assert trial_key(old) == two[0].key
+
+
+def test_the_oracle_column_counts_handle_holds_in_the_solvable_scenes() -> None:
+    from simgrasp.cli.demo import oracle_section
+
+    records = [
+        {"object": "gen_mug", "detector": "quadric", "seed": seed, "on_handle": held}
+        for seed, held in ((0, True), (0, False), (1, True))
+    ]
+    lines = oracle_section(records, {("gen_mug", 0): True, ("gen_mug", 1): False})
+    assert lines[-1] == "| gen_mug | 1/2 | 1/2 (2/3) |"

@@ -125,10 +125,11 @@ def oracle_candidates(
 
 
 def _on_handle(scene: Scene, object_T_tcp: NDArray[np.float64], width: float) -> bool:
-    """Whether both contacts of a sampled grasp (object frame) lie on the labeled handle."""
+    """Whether both contacts of a sampled grasp (object frame) lie on the labeled handle (any
+    grasp does on an object graspable as a handle everywhere: a can, a fruit)."""
     label = scene.object_model.asset.handle
-    if not label.has_handle:
-        return False
+    if label.whole_object or not label.has_handle:
+        return label.whole_object
     half = max(width / 2 - AntipodalConfig().width_margin, 0.0)
     closing = object_T_tcp[:3, 1]
     contacts = object_T_tcp[:3, 3] + np.outer([half, -half], closing)
