@@ -6,14 +6,12 @@ scene's depth sensor; the target is cut by the renderer's segmentation (the same
 method: the bench scores grasping, not segmentation). The same definition and scene build the
 same scene on every call, so a method run in process and one scored from its files meet the
 same scene. Object models and the renderer are kept in the process's worker session
-(:func:`~simgrasp.grasping.session.worker_session`, closed at the end of a run's tasks here),
-and the gripper.
+(:func:`~simgrasp.grasping.session.worker_session`, closed at the end of a run's tasks here).
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import lru_cache
 
 import numpy as np
 
@@ -24,7 +22,6 @@ from simgrasp.grasping.session import worker_session
 from simgrasp.grasping.trials.chain_config import ChainConfig
 from simgrasp.grasping.trials.protocol import get_protocol
 from simgrasp.grippers import make_gripper
-from simgrasp.grippers.base import Gripper
 from simgrasp.perception.voxel import voxel_downsample
 from simgrasp.scenes.observe import CLOUD_VOXEL, observe
 from simgrasp.scenes.perceive import perceive_target, world_pixels
@@ -53,16 +50,10 @@ def object_model(name: str) -> ObjectModel:
     return worker_session().model(name)
 
 
-@lru_cache(maxsize=4)
-def bench_gripper(name: str) -> Gripper:
-    """The gripper ``name``, made once per process."""
-    return make_gripper(name)
-
-
 def build_bench_scene(suite: SuiteDefinition, scene: BenchScene) -> Scene:
     """The compiled scene of ``scene`` (its neighbors settled), at its initial state."""
     config = chain_config(suite, scene)
-    gripper = bench_gripper(suite.gripper)
+    gripper = make_gripper(suite.gripper)
     return build_scene(object_model(scene.object), gripper, config.scene, scene.seed)
 
 
