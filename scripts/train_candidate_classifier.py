@@ -8,8 +8,8 @@ stereo sensor models (:mod:`simgrasp.evaluation.sim_views`), as captured and mad
 its center lies in the object's handle label; boosted trees (scikit-learn) are fitted
 with every view weighted alike and written as JSON. Needs scikit-learn and ``SIMGRASP_YCB_DIR``.
 
-    python scripts/train_candidate_classifier.py --family-seeds 5 --degradations quarter noise2mm \
-        --cache out/rows --workers 2 --out models/handles/candidate_classifier.json
+    python scripts/train_candidate_classifier.py --family-seeds 5 --seeds 1 --cache out/rows \
+        --workers 2 --out out/families.json
 
 Family objects ``gen_<kind>_s0`` .. ``s<N-1>`` (``--family-seeds N``) are trained on; seeds from
 :data:`FIRST_UNTRAINED_SEED` on never are (tune and held-out seeds,
