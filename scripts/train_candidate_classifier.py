@@ -376,6 +376,47 @@ def evaluate(options: Options) -> None:
             print(f"{model} {sensor} {kind}: accuracy {accuracy:.3f}, tops {tops}/{len(got)}")
 
 
+def training_set(
+    options: Options, strap_mugs: int
+) -> tuple[list[str], tuple[tuple[Pose, float, float, str], ...], list[tuple[SimView, int, str]]]:
+    """The objects, the views of each and every (view, seed, degradation) trained on."""
+    objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
+    objects += list(DRILLS) if options.with_drills else []
+    seen = VIEWS
+    families = [f"gen_{k}_s{s}" for k in FAMILY_KINDS for s in range(options.family_seeds)]
+    if options.family_seeds:
+        objects += [*YCB_TOOLS, *families]
+        seen = VIEWS + IDEAL_VIEWS
+    jobs = training_views(
+        objects,
+        list(options.azimuths),
+        options.seeds,
+        options.degradations,
+        seen,
+        frozenset(families),
+    )
+    return objects, seen, jobs
+
+
+def rendered_rows(
+    options: Options, jobs: list[tuple[SimView, int, str]]
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Every job's features and labels (rendered by ``--workers`` processes, or read from
+    ``--cache``), each job's counts printed."""
+    if options.cache is not None:
+        options.cache.mkdir(parents=True, exist_ok=True)
+    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
+        copies = 1 + len(options.degradations)  # a view's copies in one chunk: one render
+        cached = [(*job, options.cache) for job in jobs]
+        results = pool.starmap(cached_rows, cached, chunksize=4 * copies)
+    for (sim, seed, kind), (_, on_handle) in zip(jobs, results, strict=True):
+        print(
+            f"{sim.name} seed {seed} {kind}: {len(on_handle)} candidates, "
+            f"{on_handle.sum()} on handle"
+        )
+    return [x for x, _ in results], [y for _, y in results]
+
+
 def run(options: Options) -> None:
     """Write the ensemble (``--combine``), print the leave-one-out figures, or train and write
     the model."""
@@ -390,29 +431,8 @@ def run(options: Options) -> None:
         evaluate(options)
         return
     strap_mugs = 0 if options.first_objects else options.strap_mugs
-    objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
-    objects += list(DRILLS) if options.with_drills else []
-    azimuths, seen = list(options.azimuths), VIEWS
-    families = [f"gen_{k}_s{s}" for k in FAMILY_KINDS for s in range(options.family_seeds)]
-    if options.family_seeds:
-        objects += [*YCB_TOOLS, *families]
-        seen = VIEWS + IDEAL_VIEWS
-    jobs = training_views(
-        objects, azimuths, options.seeds, options.degradations, seen, frozenset(families)
-    )
-    if options.cache is not None:
-        options.cache.mkdir(parents=True, exist_ok=True)
-    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
-        copies = 1 + len(options.degradations)  # a view's copies in one chunk: one render
-        cached = [(*job, options.cache) for job in jobs]
-        results = pool.starmap(cached_rows, cached, chunksize=4 * copies)
-    rows = [features for features, _ in results]
-    labels = [on_handle for _, on_handle in results]
-    for (sim, seed, kind), on_handle in zip(jobs, labels, strict=True):
-        print(
-            f"{sim.name} seed {seed} {kind}: {len(on_handle)} candidates, "
-            f"{on_handle.sum()} on handle"
-        )
+    objects, seen, jobs = training_set(options, strap_mugs)
+    rows, labels = rendered_rows(options, jobs)
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
     if options.leave_one_out or options.ensemble_leave_one_out:
@@ -433,7 +453,7 @@ def run(options: Options) -> None:
     model["trained_on"] = {
         "objects": objects,
         "views": [list(v) for v in seen],
-        "azimuths_deg": azimuths,
+        "azimuths_deg": list(options.azimuths),
         "seeds": options.seeds,
         "family_seeds": options.family_seeds,
         "degradations": list(options.degradations),
