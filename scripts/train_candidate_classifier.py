@@ -1,30 +1,32 @@
 """Train the single-view candidate classifier (``models/handles/candidate_classifier.json``)
-on simulated views with exact handle labels: generated tools and labeled YCB objects, upright
-and lying, through the kinect and stereo sensor models at several distances and elevations
-(:mod:`simgrasp.evaluation.sim_views`). No real cloud is used. Each candidate of
+on simulated views with exact handle labels: the procedural tool families, generated mugs and
+tools and the labeled YCB objects, upright and lying, near and far, through the ideal, kinect and
+stereo sensor models (:mod:`simgrasp.evaluation.sim_views`), as captured and made worse
+(:mod:`simgrasp.evaluation.capture_degradations`). No real cloud is used. Each candidate of
 :func:`~simgrasp.handles.single_view.detector.single_view_candidates` is a row of
 :func:`~simgrasp.handles.single_view.candidate_features.candidate_features`, labeled by whether
 its center lies in the object's handle label; boosted trees (scikit-learn) are fitted
 with every view weighted alike and written as JSON. Needs scikit-learn and ``SIMGRASP_YCB_DIR``.
 
-    python scripts/train_candidate_classifier.py --seeds 2 --workers 2 \
-        --out models/handles/candidate_classifier.json
+    python scripts/train_candidate_classifier.py --family-seeds 5 --seeds 1 --cache out/rows \
+        --workers 2 --out out/families.json
 
-``--first-objects`` trains on the 13 objects of the first classifier (its runs:
-docs/results/real-detect/README.md),
-``--with-drills`` adds ten generated drills (a model tried and not shipped);
-``--degradations half quarter noise1mm noise2mm holes`` adds every view made worse as
-``scripts/real_robustness.py`` makes captures worse (a model tried on 7 December 2026 and not
-shipped: docs/results/real-detect/README.md); ``--leave-one-out`` prints, per object, how a
-model trained on the others does on its views (``--ensemble-leave-one-out``: with and without
-the drills and the two as one ensemble); ``--combine A.json:0.7 B.json:0.6 --out E.json``
-writes an ensemble that keeps a candidate where any of its models keeps it
-(docs/results/real-detect).
+Family objects ``gen_<kind>_s0`` .. ``s<N-1>`` (``--family-seeds N``) are trained on; seeds from
+:data:`FIRST_UNTRAINED_SEED` on never are (tune and held-out seeds,
+docs/results/data-engine). ``--evaluate A.json B.json`` scores models instead of training: the
+default detector with each on the views of the untrained family seeds ``--eval-seeds``.
+``--cache DIR`` keeps every view's rows, so a rerun renders nothing it rendered before.
+``--first-objects`` trains on the 13 objects of the first classifier, ``--with-drills`` adds ten
+generated drills; ``--leave-one-out`` prints, per object, how a model trained on the others does
+on its views (``--ensemble-leave-one-out``: with and without the drills and the two as one
+ensemble); ``--combine A.json:0.7 B.json:0.6 --out E.json`` writes an ensemble that keeps a
+candidate where any of its models keeps it (tried models: docs/results/real-detect).
 """
 
 from __future__ import annotations
 
 import functools
+import hashlib
 import itertools
 import json
 import multiprocessing
@@ -34,6 +36,7 @@ from typing import Annotated
 
 import numpy as np
 
+from simgrasp.assets.families import FAMILY_KINDS
 from simgrasp.config import Checked, setting
 from simgrasp.config.arguments import script_main
 from simgrasp.config.checks import MinLength, NonNegativeInt, Positive, PositiveInt, Range
@@ -59,8 +62,12 @@ OBJECTS = (
     "019_pitcher_base",
     "037_scissors",
 )
-"""The first classifier's objects; the shipped model adds the flat-strap mugs of seeds 0-9
+"""The first classifier's objects; the flat-strap mugs of seeds 0-9 are added
 (``--strap-mugs 10``)."""
+YCB_TOOLS = ("031_spoon", "032_knife", "042_adjustable_wrench", "043_phillips_screwdriver")
+"""The other labeled YCB objects with a handle, added with ``--family-seeds``."""
+FIRST_UNTRAINED_SEED = 5
+"""Family seeds from here on are never trained on: 5-6 tune, 100-102 held out."""
 DRILLS = tuple(f"gen_drill_s{seed}" for seed in range(10))
 """Generated pistol-grip drills, added with ``--with-drills`` (a model tried and not shipped:
 docs/results/real-detect)."""
@@ -74,6 +81,11 @@ VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
 )
 """(pose, distance m, elevation deg, sensor) of every view; the kinect sees nothing nearer
 0.5 m."""
+IDEAL_VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
+    ("upright", 0.6, 45.0, "ideal"),
+    ("lying", 0.45, 70.0, "ideal"),
+)
+"""Views through the ideal sensor, added with ``--family-seeds``."""
 
 
 @functools.lru_cache(maxsize=1)
@@ -102,6 +114,25 @@ def view_rows(
     centers = np.stack([c.center for c in raw.candidates])
     in_mesh = centers @ shot.object_T_cam[:3, :3].T + shot.object_T_cam[:3, 3]
     return features, shot.label.contains(in_mesh)
+
+
+def cached_rows(
+    view: SimView, seed: int, degradation: str, cache: Path | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`view_rows`, kept in ``cache`` (a folder, None: not kept) as one ``.npz`` per
+    view, seed and degradation, named by them and the features and candidate settings."""
+    if cache is None:
+        return view_rows(view, seed, degradation)
+    given = [repr(view), seed, degradation, FEATURES, repr(SingleViewConfig())]
+    key = hashlib.sha256(json.dumps(given).encode()).hexdigest()[:20]
+    path = cache / f"{key}.npz"
+    if path.exists():
+        kept = np.load(path)
+        return kept["x"], kept["y"]
+    x, y = view_rows(view, seed, degradation)
+    np.savez(cache / f"{key}.part.npz", x=x, y=y)
+    (cache / f"{key}.part.npz").replace(path)  # whole or absent if killed
+    return x, y
 
 
 def weights(y: np.ndarray, views: np.ndarray, view_weight: np.ndarray | None = None) -> np.ndarray:
@@ -247,6 +278,16 @@ class Options(Checked):
     own threshold) for the settings' --threshold; train nothing."""
     threshold: Annotated[float, Range(gt=0, lt=1)] = 0.7
     """With --combine: the threshold the ensemble's settings apply."""
+    family_seeds: Annotated[int, Range(ge=0, le=FIRST_UNTRAINED_SEED)] = 0
+    """Also train on every family kind's ``gen_<kind>_s0`` .. ``s<N-1>``, seen from an azimuth
+    drawn from the seed, the other labeled YCB tools (:data:`YCB_TOOLS`) and, for every
+    object, the ideal sensor's views (:data:`IDEAL_VIEWS`)."""
+    cache: Path | None = None
+    """Folder keeping every view's rows (a rerun renders nothing it rendered before)."""
+    evaluate: tuple[Path, ...] = setting((), many=True, metavar="FILE")
+    """Score these models on the views of the family seeds --eval-seeds; train nothing."""
+    eval_seeds: tuple[int, ...] = (5, 6)
+    """With --evaluate: the family seeds (never trained on) whose views are scored."""
     out: Path | None = None
     """The JSON file written: the model, or with --combine the ensemble."""
 
@@ -254,9 +295,11 @@ class Options(Checked):
         """The combinations the command line refuses."""
         if self.combine and self.out is None:
             raise SimgraspError("--combine needs --out")
-        if self.out is None and not (self.leave_one_out or self.ensemble_leave_one_out):
+        if self.out is None and not (
+            self.leave_one_out or self.ensemble_leave_one_out or self.evaluate
+        ):
             raise SimgraspError(
-                "--out is required unless --leave-one-out or --ensemble-leave-one-out"
+                "--out is required unless --leave-one-out, --ensemble-leave-one-out or --evaluate"
             )
         unknown = sorted(set(self.degradations) - set(DEGRADATIONS[1:]))
         if unknown:
@@ -266,20 +309,112 @@ class Options(Checked):
             )
         if self.ensemble_leave_one_out and not self.with_drills:
             raise SimgraspError("--ensemble-leave-one-out needs --with-drills")
+        if any(seed < FIRST_UNTRAINED_SEED for seed in self.eval_seeds):
+            raise SimgraspError(
+                f"--eval-seeds: family seeds below {FIRST_UNTRAINED_SEED} are trained on"
+            )
+
+
+def drawn_azimuth(obj: str, seed: int) -> float:
+    """The azimuth (whole degrees) a family object is seen from in its views of ``seed``."""
+    return float(rng_for(seed, "train_azimuth", obj).integers(360))
 
 
 def training_views(
-    objects: list[str], azimuths: list[float], seeds: int, degradations: tuple[str, ...]
+    objects: list[str],
+    azimuths: list[float],
+    seeds: int,
+    degradations: tuple[str, ...],
+    views: tuple[tuple[Pose, float, float, str], ...] = VIEWS,
+    turned: frozenset[str] = frozenset(),
 ) -> list[tuple[SimView, int, str]]:
-    """Every (view, seed, degradation) trained on: each object in each of :data:`VIEWS` from
-    each azimuth and seed, as captured and made worse by each of ``degradations``."""
+    """Every (view, seed, degradation) trained on: each object in each of ``views`` from each
+    azimuth (the ``turned`` objects: from :func:`drawn_azimuth`) and seed, as captured and made
+    worse by each of ``degradations``."""
     kinds = ["as captured", *degradations]
     return [
         (SimView(obj, pose, distance, elevation, sensor, azimuth_deg=azimuth), seed, kind)
-        for obj, (pose, distance, elevation, sensor), azimuth, seed, kind in itertools.product(
-            objects, VIEWS, azimuths, range(seeds), kinds
+        for obj, (pose, distance, elevation, sensor), seed in itertools.product(
+            objects, views, range(seeds)
         )
+        for azimuth in ([drawn_azimuth(obj, seed)] if obj in turned else azimuths)
+        for kind in kinds
     ]
+
+
+def scored_view(view: SimView, model: Path) -> tuple[int, int, bool]:
+    """Candidates, candidates on the handle and whether the top handle is on it, when the
+    default detector (``simgrasp detect``) runs with the classifier ``model`` on ``view``."""
+    from simgrasp.evaluation.sim_views import score_view
+    from simgrasp.handles.presets import single_view_preset
+
+    single = single_view_preset(classifier_file=str(model))
+    row = score_view(view, "default", 0, single_view=single)
+    return row.candidates, row.on_handle, row.top_on_handle
+
+
+def evaluate(options: Options) -> None:
+    """Print, per model, sensor and family kind, pooled accuracy and top handles on the
+    views of the family seeds ``--eval-seeds`` (every view of :data:`VIEWS` and
+    :data:`IDEAL_VIEWS`, from :func:`drawn_azimuth`)."""
+    names = [f"gen_{kind}_s{seed}" for kind in FAMILY_KINDS for seed in options.eval_seeds]
+    views = [
+        v for v, _, _ in training_views(names, [], 1, (), VIEWS + IDEAL_VIEWS, frozenset(names))
+    ]
+    for model in options.evaluate:
+        with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
+            rows = pool.starmap(scored_view, [(view, model) for view in views])
+        cells: dict[tuple[str, str], list[tuple[int, int, bool]]] = {}
+        for view, row in zip(views, rows, strict=True):
+            kind = view.object.rsplit("_s", 1)[0]
+            for key in ((view.sensor, kind), (view.sensor, "all"), ("all", "all")):
+                cells.setdefault(key, []).append(row)
+        for (sensor, kind), got in sorted(cells.items()):
+            candidates, on_handle = sum(r[0] for r in got), sum(r[1] for r in got)
+            accuracy = on_handle / candidates if candidates else float("nan")
+            tops = sum(r[2] for r in got)
+            print(f"{model} {sensor} {kind}: accuracy {accuracy:.3f}, tops {tops}/{len(got)}")
+
+
+def training_set(
+    options: Options, strap_mugs: int
+) -> tuple[list[str], tuple[tuple[Pose, float, float, str], ...], list[tuple[SimView, int, str]]]:
+    """The objects, the views of each and every (view, seed, degradation) trained on."""
+    objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
+    objects += list(DRILLS) if options.with_drills else []
+    seen = VIEWS
+    families = [f"gen_{k}_s{s}" for k in FAMILY_KINDS for s in range(options.family_seeds)]
+    if options.family_seeds:
+        objects += [*YCB_TOOLS, *families]
+        seen = VIEWS + IDEAL_VIEWS
+    jobs = training_views(
+        objects,
+        list(options.azimuths),
+        options.seeds,
+        options.degradations,
+        seen,
+        frozenset(families),
+    )
+    return objects, seen, jobs
+
+
+def rendered_rows(
+    options: Options, jobs: list[tuple[SimView, int, str]]
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Every job's features and labels (rendered by ``--workers`` processes, or read from
+    ``--cache``), each job's counts printed."""
+    if options.cache is not None:
+        options.cache.mkdir(parents=True, exist_ok=True)
+    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
+        copies = 1 + len(options.degradations)  # a view's copies in one chunk: one render
+        cached = [(*job, options.cache) for job in jobs]
+        results = pool.starmap(cached_rows, cached, chunksize=4 * copies)
+    for (sim, seed, kind), (_, on_handle) in zip(jobs, results, strict=True):
+        print(
+            f"{sim.name} seed {seed} {kind}: {len(on_handle)} candidates, "
+            f"{on_handle.sum()} on handle"
+        )
+    return [x for x, _ in results], [y for _, y in results]
 
 
 def run(options: Options) -> None:
@@ -292,21 +427,12 @@ def run(options: Options) -> None:
         )
         print(f"wrote {options.out}")
         return
+    if options.evaluate:
+        evaluate(options)
+        return
     strap_mugs = 0 if options.first_objects else options.strap_mugs
-    objects = [*OBJECTS, *(f"gen_strap_mug_s{seed}" for seed in range(strap_mugs))]
-    objects += list(DRILLS) if options.with_drills else []
-    azimuths = list(options.azimuths)
-    jobs = training_views(objects, azimuths, options.seeds, options.degradations)
-    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
-        copies = 1 + len(options.degradations)  # a view's copies in one chunk: one render
-        results = pool.starmap(view_rows, jobs, chunksize=4 * copies)
-    rows = [features for features, _ in results]
-    labels = [on_handle for _, on_handle in results]
-    for (sim, seed, kind), on_handle in zip(jobs, labels, strict=True):
-        print(
-            f"{sim.name} seed {seed} {kind}: {len(on_handle)} candidates, "
-            f"{on_handle.sum()} on handle"
-        )
+    objects, seen, jobs = training_set(options, strap_mugs)
+    rows, labels = rendered_rows(options, jobs)
     x, y = np.concatenate(rows), np.concatenate(labels)
     views = np.concatenate([np.full(len(label), i) for i, label in enumerate(labels)])
     if options.leave_one_out or options.ensemble_leave_one_out:
@@ -326,9 +452,10 @@ def run(options: Options) -> None:
     model = fit(x, y, views, view_weight)
     model["trained_on"] = {
         "objects": objects,
-        "views": [list(v) for v in VIEWS],
-        "azimuths_deg": azimuths,
+        "views": [list(v) for v in seen],
+        "azimuths_deg": list(options.azimuths),
         "seeds": options.seeds,
+        "family_seeds": options.family_seeds,
         "degradations": list(options.degradations),
         "candidates": int(len(y)),
         "on_handle": int(y.sum()),
