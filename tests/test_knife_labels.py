@@ -1,8 +1,11 @@
 """A knife's automatic label ends where its handle's even run ends
-(simgrasp.autolabel.handle_run): a blade as thick as the handle and a bolster stay off it, on
-generated knives with exact labels and on section profiles whose answer is known."""
+(simgrasp.autolabel.handle_run): a blade as thick as the handle stays off it (and, with the
+bolster cut, a bolster), on generated knives with exact labels and on section profiles whose
+answer is known."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 
@@ -27,11 +30,11 @@ def _iou(found: HandleLabel, exact: HandleLabel, mesh: object) -> float:
     return float((a & b).sum() / max((a | b).sum(), 1))
 
 
-def _label_and_blade(kind: str, seed: int) -> tuple[float, float]:
+def _label_and_blade(kind: str, seed: int, config: AutoLabelConfig = FAST) -> tuple[float, float]:
     """The IoU of a generated knife's automatic label with its exact one, and the share of its
     blade's surface the label holds."""
     asset = generate_tool(kind, seed)
-    label = auto_handle_label(asset.mesh, asset.name, FAST).label
+    label = auto_handle_label(asset.mesh, asset.name, config).label
     blade = next(p.mesh for p in generate_parts(kind, seed).parts if p.name == "blade")
     return _iou(label, asset.handle, asset.mesh), float(
         label.contains(blade.sample(4000, seed=0)).mean()
@@ -44,8 +47,12 @@ def test_a_blade_as_thick_as_its_handle_stays_off_the_label() -> None:
     assert on_blade <= 0.1
 
 
-def test_a_bolster_stays_off_a_chef_knife_label() -> None:
-    iou, on_blade = _label_and_blade("chef_knife", 11)  # 0.85 before: the bolster labeled
+def test_a_bolster_stays_off_a_chef_knife_label_with_the_bolster_cut() -> None:
+    iou, on_blade = _label_and_blade("chef_knife", 11)  # by default the bolster is labeled
+    assert iou >= 0.8
+    assert on_blade <= 0.15
+    section = replace(FAST.cross_section, bolster_reach=0.02)
+    iou, on_blade = _label_and_blade("chef_knife", 11, replace(FAST, cross_section=section))
     assert iou >= 0.92
     assert on_blade <= 0.05
 
@@ -75,12 +82,14 @@ def test_a_tapering_blade_as_thick_as_the_handle_is_cut_at_the_handle_even_run()
 
 
 def test_a_bolster_before_a_thin_blade_is_cut_a_bar_between_heads_is_not() -> None:
+    config = replace(CONFIG, bolster_reach=0.02)
     thickness = [0.0015] * 40 + [0.021] * 5 + [0.018] * 50  # blade, bolster, handle
     width = [0.03] * 40 + [0.025] * 5 + [0.021] * 50
     profile = _profile(thickness, width)
     region = _at(np.arange(40, 95))  # the handle and the bolster
-    keep = handle_span(_at(np.arange(95)), region, profile, CONFIG)
+    assert handle_span(_at(np.arange(95)), region, profile, CONFIG).all()  # off by default
+    keep = handle_span(_at(np.arange(95)), region, profile, config)
     assert keep[45:].all() and not keep[40:45].any()
     heads = [0.02] * 10 + [0.008] * 60 + [0.02] * 10  # a wrench: no blade, no end run
     bar = _profile(heads, [0.04] * 10 + [0.012] * 60 + [0.04] * 10)
-    assert handle_span(_at(np.arange(80)), _at(np.arange(5, 75)), bar, CONFIG).all()
+    assert handle_span(_at(np.arange(80)), _at(np.arange(5, 75)), bar, config).all()

@@ -76,10 +76,11 @@ class CrossSectionConfig(Checked):
     """... each smoothed by the median over this length along the axis ..."""
     end_reach: NonNegative = 0.01
     """... the run reaching this close to an end of the tool ..."""
-    bolster_reach: NonNegative = 0.02
-    """... and a region shorter than that is cut there too when the tool thins to a blade
-    (``min_ratio``) within this distance past the run's inner end: a bolster or a blade's
-    root between them (0: off)."""
+    bolster_reach: NonNegative = 0.0
+    """... and, when this is positive, a region shorter than that is cut there too when the tool
+    thins to a blade (``min_ratio``) within this distance past the run's inner end: a bolster
+    or a blade's root between them (0: off; at 0.02 it kept the bolster off generated chef's
+    knives but cut 3-5 % of generated spatulas' handles, docs/results/handle-labels/README.md)."""
 
 
 @dataclass(frozen=True)

@@ -9,9 +9,10 @@ does, so such a region is cut (:func:`handle_span`) to the handle's **even run**
 unbroken run of slabs whose thickness and width (each smoothed over ``even_window``) stay
 within ``even_ratio`` of the run's own medians, that reaches an end of the tool (within
 ``end_reach``) and is at least ``min_run`` long, plus the slabs beyond it to that end (a
-rounded butt). A region that does not run the tool's length is cut there too when the tool
-thins to a blade within ``bolster_reach`` past the run's inner end (a bolster, a blade's
-root). Meters, slabs of a :class:`~simgrasp.autolabel.cross_section.SectionProfile`.
+rounded butt). Optionally (``bolster_reach``, off by default), a region that does not run
+the tool's length is cut there too when the tool thins to a blade within that distance past
+the run's inner end (a bolster, a blade's root). Meters, slabs of a
+:class:`~simgrasp.autolabel.cross_section.SectionProfile`.
 """
 
 from __future__ import annotations

@@ -49,7 +49,7 @@ def part_surfaces(
     its own (the rest of a flat handle), keeps the slabs about as thick as where it was
     found (:mod:`simgrasp.autolabel.cross_section`: not a knife's blade past its guard) and
     leaves out the slabs both wider and thicker than it (a head), and a region that runs the
-    tool's length or reaches past a knife's bolster is cut to the handle's even run
+    tool's length (a blade as thick as the handle) is cut to the handle's even run
     (:mod:`simgrasp.autolabel.handle_run`); ``profile`` is the
     surface's section profile (None: not a long tool)."""
     section = config.cross_section
