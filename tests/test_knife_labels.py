@@ -18,8 +18,9 @@ from simgrasp.autolabel.virtual_scan import ScanConfig
 from simgrasp.labels import HandleLabel
 from simgrasp.perception import sample_surface
 
-FAST = AutoLabelConfig(scan=ScanConfig(views=12))
-CONFIG = CrossSectionConfig()
+CONFIG = CrossSectionConfig(span_share=0.75)
+"""The span cut on (it is off by default)."""
+FAST = AutoLabelConfig(scan=ScanConfig(views=12), cross_section=CONFIG)
 SLAB = 0.002
 
 
@@ -42,13 +43,13 @@ def _label_and_blade(kind: str, seed: int, config: AutoLabelConfig = FAST) -> tu
 
 
 def test_a_blade_as_thick_as_its_handle_stays_off_the_label() -> None:
-    iou, on_blade = _label_and_blade("table_knife", 10)  # 0.59 and 0.96 of the blade before
+    iou, on_blade = _label_and_blade("table_knife", 10)  # 0.59 and 0.96 of the blade without
     assert iou >= 0.85
     assert on_blade <= 0.1
 
 
 def test_a_bolster_stays_off_a_chef_knife_label_with_the_bolster_cut() -> None:
-    iou, on_blade = _label_and_blade("chef_knife", 11)  # by default the bolster is labeled
+    iou, on_blade = _label_and_blade("chef_knife", 11)  # without it the bolster is labeled
     assert iou >= 0.8
     assert on_blade <= 0.15
     section = replace(FAST.cross_section, bolster_reach=0.02)
@@ -79,6 +80,7 @@ def test_a_tapering_blade_as_thick_as_the_handle_is_cut_at_the_handle_even_run()
     assert keep[50:].all() and not keep[:45].any()
     half = _at(np.arange(60, 100))  # a region on the handle only: nothing to cut
     assert handle_span(every, half, profile, CONFIG).all()
+    assert handle_span(every, every, profile, CrossSectionConfig()).all()  # off by default
 
 
 def test_a_bolster_before_a_thin_blade_is_cut_a_bar_between_heads_is_not() -> None:
@@ -87,7 +89,7 @@ def test_a_bolster_before_a_thin_blade_is_cut_a_bar_between_heads_is_not() -> No
     width = [0.03] * 40 + [0.025] * 5 + [0.021] * 50
     profile = _profile(thickness, width)
     region = _at(np.arange(40, 95))  # the handle and the bolster
-    assert handle_span(_at(np.arange(95)), region, profile, CONFIG).all()  # off by default
+    assert handle_span(_at(np.arange(95)), region, profile, CONFIG).all()  # off unless asked
     keep = handle_span(_at(np.arange(95)), region, profile, config)
     assert keep[45:].all() and not keep[40:45].any()
     heads = [0.02] * 10 + [0.008] * 60 + [0.02] * 10  # a wrench: no blade, no end run

@@ -34,8 +34,7 @@ LABELER_VERSION = 8
 settings (2: bodies of revolution; 3: a long tool's thin sections left out; 4: the k-means
 pieces' seeding and fallback; 5: k-means started from the slabs, no random draw; 6: a long
 tool's heads left out; 7: a part on a blade is told by a thicker run 3 cm long, not by the
-tool's median slab; 8: a region running a long tool's length is cut to the handle's even
-run), so no stale label is read."""
+tool's median slab; 8: the handle's even-run cuts, off by default), so no stale label is read."""
 
 
 def automatic_handle_label(mesh: trimesh.Trimesh, name: str) -> HandleLabel:

@@ -65,11 +65,13 @@ class CrossSectionConfig(Checked):
     this long: a handle is a stretch of even section a pad can hold along (a 20 mm pad and
     5 mm either side, fixed before any run), while a blade's tapering tip or a wrench's head
     runs a few millimetres (0: off; docs/results/handle-labels/README.md)."""
-    span_share: NonNegative = 0.75
-    """A part's region that runs at least this share of the tool's length (no knife handle
-    does: the label ran on over a blade as thick as the handle) is cut to the handle's even
-    run and the slabs beyond it to the tool's end (:mod:`simgrasp.autolabel.handle_run`;
-    0: off) ..."""
+    span_share: NonNegative = 0.0
+    """When positive, a part's region that runs at least this share of the tool's length (no
+    knife handle does: the label ran on over a blade as thick as the handle) is cut to the
+    handle's even run and the slabs beyond it to the tool's end
+    (:mod:`simgrasp.autolabel.handle_run`). Off (0) by default: at 0.75 it kept generated table
+    knives' blades off, but cut the YCB Phillips screwdriver's label to nothing and one pair of
+    generated pliers' to its jaws' side (docs/results/handle-labels/README.md) ..."""
     even_ratio: Positive = 1.15
     """... the run's slabs' thickness and width within this factor of one slab's ..."""
     even_window: Positive = 0.01

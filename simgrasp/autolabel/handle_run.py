@@ -11,7 +11,8 @@ within ``even_ratio`` of the run's own medians, that reaches an end of the tool 
 ``end_reach``) and is at least ``min_run`` long, plus the slabs beyond it to that end (a
 rounded butt). Optionally (``bolster_reach``, off by default), a region that does not run
 the tool's length is cut there too when the tool thins to a blade within that distance past
-the run's inner end (a bolster, a blade's root). Meters, slabs of a
+the run's inner end (a bolster, a blade's root). Both cuts are off by default
+(``span_share`` 0: see its note). Meters, slabs of a
 :class:`~simgrasp.autolabel.cross_section.SectionProfile`.
 """
 
