@@ -34,7 +34,7 @@ from simgrasp.assets.object import ObjectAsset
 from simgrasp.autolabel.auto_label import auto_handle_label
 from simgrasp.autolabel.config import AutoLabelConfig
 from simgrasp.config.arguments import script_main
-from simgrasp.config.checks import Checked, Positive, PositiveInt
+from simgrasp.config.checks import Checked, NonNegativeInt, Positive, PositiveInt
 from simgrasp.config.tree import flatten
 from simgrasp.errors import SimgraspError
 from simgrasp.perception import sample_surface
@@ -154,7 +154,9 @@ class Options(Checked):
     kinds: tuple[str, ...] = ("knife",)
     """Generated kinds to measure."""
     seeds: PositiveInt = 20
-    """Seeds 0 .. N-1 of each kind."""
+    """N seeds of each kind, from ``first_seed`` ..."""
+    first_seed: NonNegativeInt = 0
+    """... to ``first_seed`` + N - 1 (a tune set and a held-out set of seeds apart)."""
     near: Positive = 0.005
     """Margin (m) around the labeled surface counted as on the label."""
     out: Path = Path("docs/results/generated-labels")
@@ -181,14 +183,15 @@ def run(options: Options) -> str:
     )
     have = {(r["kind"], r["seed"]) for r in done}
     for kind in options.kinds:
-        for seed in range(options.seeds):
+        for seed in range(options.first_seed, options.first_seed + options.seeds):
             if (kind, seed) in have:
                 continue
             row = measure_one(kind, seed, options.label, options.near)
             row.update(settings=key, near_margin=options.near)
             done.append(row)
             add_row(done_file, row)
-    wanted = [r for r in done if r["kind"] in options.kinds and r["seed"] < options.seeds]
+    seeds = range(options.first_seed, options.first_seed + options.seeds)
+    wanted = [r for r in done if r["kind"] in options.kinds and r["seed"] in seeds]
     text = table(wanted)
     (options.out / "generated_labels.md").write_text(text)
     return text
