@@ -28,13 +28,13 @@ from simgrasp.labels import HandleLabel, load_label_file, write_label_file
 
 log = logging.getLogger(__name__)
 
-LABELER_VERSION = 8
+LABELER_VERSION = 7
 """Part of every entry's key with the labeler's settings: raised whenever
 :func:`simgrasp.autolabel.auto_label.auto_handle_label` finds other labels with the same
 settings (2: bodies of revolution; 3: a long tool's thin sections left out; 4: the k-means
 pieces' seeding and fallback; 5: k-means started from the slabs, no random draw; 6: a long
 tool's heads left out; 7: a part on a blade is told by a thicker run 3 cm long, not by the
-tool's median slab; 8: the handle's even-run cuts, off by default), so no stale label is read."""
+tool's median slab), so no stale label is read."""
 
 
 def automatic_handle_label(mesh: trimesh.Trimesh, name: str) -> HandleLabel:

@@ -65,24 +65,6 @@ class CrossSectionConfig(Checked):
     this long: a handle is a stretch of even section a pad can hold along (a 20 mm pad and
     5 mm either side, fixed before any run), while a blade's tapering tip or a wrench's head
     runs a few millimetres (0: off; docs/results/handle-labels/README.md)."""
-    span_share: NonNegative = 0.0
-    """When positive, a part's region that runs at least this share of the tool's length (no
-    knife handle does: the label ran on over a blade as thick as the handle) is cut to the
-    handle's even run and the slabs beyond it to the tool's end
-    (:mod:`simgrasp.autolabel.handle_run`). Off (0) by default: at 0.75 it kept generated table
-    knives' blades off, but cut the YCB Phillips screwdriver's label to nothing and one pair of
-    generated pliers' to its jaws' side (docs/results/handle-labels/README.md) ..."""
-    even_ratio: Positive = 1.15
-    """... the run's slabs' thickness and width within this factor of one slab's ..."""
-    even_window: Positive = 0.01
-    """... each smoothed by the median over this length along the axis ..."""
-    end_reach: NonNegative = 0.01
-    """... the run reaching this close to an end of the tool ..."""
-    bolster_reach: NonNegative = 0.0
-    """... and, when this is positive, a region shorter than that is cut there too when the tool
-    thins to a blade (``min_ratio``) within this distance past the run's inner end: a bolster
-    or a blade's root between them (0: off; at 0.02 it kept the bolster off generated chef's
-    knives but cut 3-5 % of generated spatulas' handles, docs/results/handle-labels/README.md)."""
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,6 @@ from simgrasp.autolabel.axis_reach import (
 )
 from simgrasp.autolabel.config import AutoLabelConfig, Candidates
 from simgrasp.autolabel.cross_section import SectionProfile, off_head, section_run, thick_enough
-from simgrasp.autolabel.handle_run import handle_span
 from simgrasp.autolabel.revolution import Revolution, standoff_pieces, standoff_points
 from simgrasp.labels import Box
 
@@ -48,9 +47,7 @@ def part_surfaces(
     their whole region. On a long tool, a part takes the runs of slabs whose section stays like
     its own (the rest of a flat handle), keeps the slabs about as thick as where it was
     found (:mod:`simgrasp.autolabel.cross_section`: not a knife's blade past its guard) and
-    leaves out the slabs both wider and thicker than it (a head), and a region that runs the
-    tool's length (a blade as thick as the handle) is cut to the handle's even run
-    (:mod:`simgrasp.autolabel.handle_run`); ``profile`` is the
+    leaves out the slabs both wider and thicker than it (a head); ``profile`` is the
     surface's section profile (None: not a long tool)."""
     section = config.cross_section
     regions = []
@@ -65,7 +62,6 @@ def part_surfaces(
             if section.min_ratio > 0:
                 region &= thick_enough(surface, own, profile, section)
             region &= off_head(surface, own, profile, section)
-            region &= handle_span(surface, surface[region], profile, section)
         regions.append(region)
     return tuple(regions)
 
