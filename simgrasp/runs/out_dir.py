@@ -12,7 +12,8 @@ descriptor, so the kernel releases it when its holder exits in any way, ``kill -
 a dead run never leaves the directory locked. The holder writes its pid, host, start time and
 command line into the file, so a second run on the directory names the one that holds it; the
 file outlives the run, so it also says which command wrote the directory last
-(:func:`claim_out_dir`'s ``check`` reads it before the new run's replaces it).
+(:func:`claim_out_dir`'s ``check`` reads it before the new run's replaces it). The holder also
+records the library versions it runs under (:mod:`simgrasp.runs.versions`).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from simgrasp.errors import SimgraspError
+from simgrasp.runs.versions import record_versions
 
 LOCK_FILE = ".simgrasp.lock"
 LOG_FILE = "trials.jsonl"
@@ -190,6 +192,7 @@ def claim_out_dir(
         os.ftruncate(fd, 0)
         os.write(fd, _holder_text(command).encode())
         os.fsync(fd)
+        record_versions(out)
         yield out
     finally:
         os.close(fd)  # releases the lock
