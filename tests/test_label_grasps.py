@@ -182,8 +182,7 @@ def test_a_run_goes_on_over_more_of_the_same_grasps(known_set: Path, tmp_path: P
 
 def test_only_acronym_runs_name_their_soft_friction_and_integrator(known_set: Path) -> None:
     """run.json of an ``acronym`` run holds its ``impratio`` (0.45), finger ``solimp`` width
-    (7 mm), ``integrator`` (discrete) and light-object contacts (below 6 g), so a directory
-    labeled with other physics is refused;
+    (7 mm) and ``integrator`` (discrete), so a directory labeled with other physics is refused;
     the other protocols' values are those every run had before the settings existed, left out
     so their directories still resume."""
     grasps = read_grasp_set(known_set)
@@ -198,9 +197,8 @@ def test_only_acronym_runs_name_their_soft_friction_and_integrator(known_set: Pa
             trials[protocol]["integrator"],
         )
         assert physics == (0.45, 0.007, "discrete")
-        assert trials[protocol]["light_contacts"]["below"] == 0.006
     for protocol in ("fast", "full"):
-        for setting in ("impratio", "integrator", "finger_solimp_width", "light_contacts"):
+        for setting in ("impratio", "integrator", "finger_solimp_width"):
             assert setting not in trials[protocol]
 
 

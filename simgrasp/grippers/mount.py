@@ -133,7 +133,6 @@ class GripperHandles:
             pad_depth=float(model.geom_size[pads[0][0], 1] + model.geom_size[pads[1][0], 1]),
             root_T_tcp=root_T_tcp(g),
             finger_solimp=model.geom_solimp[list(finger_geoms[0] + finger_geoms[1])].copy(),
-            finger_friction=model.geom_friction[list(finger_geoms[0] + finger_geoms[1])].copy(),
         )
 
 
@@ -160,10 +159,6 @@ class BoundGripper:
     finger_solimp: NDArray[np.float64] = field(repr=False)
     """(n, 5) the compiled ``solimp`` of the ``finger_geoms`` (left then right), as the gripper
     model sets them: what a trial restores when its config keeps the model's own."""
-    finger_friction: NDArray[np.float64] = field(repr=False)
-    """(n, 3) the compiled ``friction`` (sliding, torsional, rolling) of the ``finger_geoms``,
-    as the gripper model sets them: what a trial restores when its config keeps the model's
-    own."""
 
     @cached_property
     def tcp_T_root(self) -> NDArray[np.float64]:

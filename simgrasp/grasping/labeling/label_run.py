@@ -65,7 +65,6 @@ SETTINGS_ADDED = {
     "impratio": MOUNT_IMPRATIO,
     "integrator": "implicitfast",
     "finger_solimp_width": None,
-    "light_contacts": None,
 }
 """Trial settings added after label runs existed, with the value every earlier run had:
 ``run.json`` leaves a setting out while it holds that value, so earlier directories resume

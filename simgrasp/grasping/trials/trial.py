@@ -50,7 +50,7 @@ from simgrasp.grasping.trials.result import Failure, Phase, TrialResult
 from simgrasp.grasping.trials.runner import Diverged, Runner
 from simgrasp.grasping.trials.start_states import StartStates
 from simgrasp.grasping.trials.state import TrialState
-from simgrasp.grasping.trials.trial_config import LightContacts, TrialConfig
+from simgrasp.grasping.trials.trial_config import TrialConfig
 from simgrasp.scenes.scene import Scene
 
 INTEGRATORS = {
@@ -58,11 +58,6 @@ INTEGRATORS = {
     "discrete": mujoco.mjtIntegrator.mjINT_DISCRETE,
 }
 """MuJoCo's integrator of each ``TrialConfig.integrator`` name."""
-
-
-CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL, "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
-"""MuJoCo's friction cone of each name; every mounted scene has the elliptic one
-(:func:`simgrasp.grippers.mount.attach_gripper`), which a trial restores."""
 
 
 def initial_object_pose(scene: Scene, config: TrialConfig) -> NDArray[np.float64]:
@@ -94,48 +89,22 @@ def _start(scene: Scene, config: TrialConfig) -> None:
     options.timestep = config.timestep
     options.impratio = config.impratio
     options.integrator = INTEGRATORS[config.integrator]
-    light = light_contacts(scene, config)
-    options.noslip_iterations = 0 if light is None else light.noslip_iterations
-    options.cone = CONES["elliptic" if light is None else light.cone]
-    _set_finger_contacts(scene, config, light)
-    _set_spin_damping(scene, light)
+    _set_finger_solimp(scene, config)
     scene.model.body_gravcomp[scene.object_body] = 1.0 if config.free_floating else 0.0
     if config.free_floating:
         scene.data.qpos[scene.object_qpos + 2] += config.float_height
         mujoco.mj_forward(scene.model, scene.data)
 
 
-def light_contacts(scene: Scene, config: TrialConfig) -> LightContacts | None:
-    """``config.light_contacts`` where ``scene``'s object is lighter than its ``below``."""
-    light = config.light_contacts
-    if light is None or float(scene.model.body_mass[scene.object_body]) >= light.below:
-        return None
-    return light
-
-
-def _set_spin_damping(scene: Scene, light: LightContacts | None) -> None:
-    """The damping (N m s/rad) of the object free joint's rotational dofs: its largest
-    principal moment of inertia over ``light.spin_decay_time`` for a light object, none (the
-    mounted scene's) otherwise."""
-    turn = slice(scene.object_dof + 3, scene.object_dof + 6)
-    moment = float(scene.model.body_inertia[scene.object_body].max())
-    scene.model.dof_damping[turn] = 0.0 if light is None else moment / light.spin_decay_time
-
-
-def _set_finger_contacts(scene: Scene, config: TrialConfig, light: LightContacts | None) -> None:
-    """The fingers' ``solimp`` and ``friction`` for this trial: the gripper model's own, with
-    the ramp width of ``config.finger_solimp_width`` and the sliding friction of ``light``
-    where they are set (the same scene may run trials of several configs)."""
+def _set_finger_solimp(scene: Scene, config: TrialConfig) -> None:
+    """The fingers' ``solimp`` for this trial: the gripper model's own, with the ramp width
+    of ``config.finger_solimp_width`` where it is set (the same scene may run trials of
+    several configs)."""
     left, right = scene.gripper.finger_geoms
     solimp = scene.gripper.finger_solimp.copy()
     if config.finger_solimp_width is not None:
         solimp[:, 2] = config.finger_solimp_width
-    friction = scene.gripper.finger_friction.copy()
-    if light is not None:
-        friction[:, 0] = light.finger_friction
-    geoms = list(left + right)
-    scene.model.geom_solimp[geoms] = solimp
-    scene.model.geom_friction[geoms] = friction
+    scene.model.geom_solimp[list(left + right)] = solimp
 
 
 def run_trial(

@@ -25,36 +25,6 @@ _DIRECTIONS = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -
 
 
 @dataclass(frozen=True)
-class LightContacts(Checked):
-    """Friction without creep for an object lighter than ``below`` (kg, N).
-
-    MuJoCo's soft friction lets a grip creep under any steady sideways load, at a speed that
-    grows as one over the object's mass (the contacts' regularization scales with the inverse
-    inertia): the jaws' own squeeze on faces that are not parallel pushes a 1-5 g knife out of
-    them within the shake. For such objects the trial solves friction without creep (MuJoCo's
-    noslip solver) at the pads' Coulomb limit ``finger_friction``: the object slides out only
-    where the sideways share of the contact force exceeds it, as in a rigid-contact simulator."""
-
-    below: Positive = 0.006
-    """Objects lighter than this (kg) get these contacts; heavier ones the trial's own."""
-    noslip_iterations: PositiveInt = 5
-    """MuJoCo's ``opt.noslip_iterations`` for them."""
-    finger_friction: Positive = 0.5
-    """The fingers' sliding friction coefficient for them (the finger geoms take priority
-    over the object's, so it is the contacts')."""
-    cone: Literal["pyramidal", "elliptic"] = "elliptic"
-    """MuJoCo's friction cone for them. The pyramidal one lets more knives slip out while
-    the jaws close (docs/results/knives-shake)."""
-    spin_decay_time: Positive = 0.1
-    """s. The object's free joint gets angular damping of its largest principal moment of
-    inertia over this time (N m s/rad) on its three rotational degrees of freedom: a spin
-    decays within it, while the shake's own turning (under 3 rad/s) meets under 1e-3 N m, about
-    1 % of what the pads' friction holds. Without it the noslip solver spun sub-gram knives to
-    hundreds of rad/s in some shakes (15 of the tune half's 2,500 knife trials diverged, 3
-    without these contacts, 1 with the damping; docs/results/knives-shake)."""
-
-
-@dataclass(frozen=True)
 class TrialConfig(Checked):
     """Every parameter of a grasp trial (SI units: m, s, m/s, N)."""
 
@@ -84,10 +54,6 @@ class TrialConfig(Checked):
     stiffest (MuJoCo's ``solimp[2]`` of the finger geoms) during the trial; None: the gripper
     model's own (1 mm for the built-in and Franka fingers). ``acronym``'s 7 mm, chosen with
     its ``impratio`` on the tune half, raised FleX agreement (docs/results/acronym)."""
-    light_contacts: LightContacts | None = None
-    """With it, an object lighter than its ``below`` gets friction without creep at its
-    Coulomb limit (``acronym``: docs/results/knives-shake); None: every object the contacts
-    above."""
     settle_time: NonNegative = 0.5
     """Time the object rests on the table before the grasp (s)."""
     pregrasp_distance: Positive = 0.10
@@ -239,7 +205,6 @@ ACRONYM_TRIAL = TrialConfig(
     squeeze_time=0.1,
     start_tolerance=0.005,
     shake=ShakeConfig(),
-    light_contacts=LightContacts(),
 )
 """The ``acronym`` protocol (Eppner et al. 2021, :mod:`simgrasp.grasping.trials.shake`): the object
 floats without gravity, the hand appears at the grasp and closes, squeezes 0.1 s once both
@@ -249,11 +214,7 @@ in contact without it, 13 of them FleX successes). Contacts and the fingers' dam
 together (``integrator`` discrete): a finger closing on a 15 g mug pushes it, not throws it.
 Friction is soft (``impratio`` 0.45) and so are the fingers' contacts (a 7 mm ``solimp`` ramp;
 all three chosen on the tune half's files): a grip on a sloping surface slides out as in FleX,
-and fewer light knives creep out of the jaws than with 1 mm and 0.25. Objects under 6 g (knives)
-get friction without creep at a Coulomb limit of 0.5 instead, with a damped spin
-(:class:`LightContacts`): the soft friction's creep, fast on a light object, otherwise shakes
-out knives FleX holds (docs/results/knives-shake). The gate is on mass alone: a knife of 6 g
-or more gets the soft contacts, a mug under 6 g the light ones."""
+and fewer light knives creep out of the jaws than with 1 mm and 0.25."""
 
 ACRONYM_FAST_TRIAL = replace(ACRONYM_TRIAL, shake=ShakeConfig(cycles=1))
 """The ``acronym-fast`` protocol: :data:`ACRONYM_TRIAL` with one sine cycle of each shaking
