@@ -13,10 +13,9 @@ import numpy as np
 from simgrasp.assets.family_kitchen import frying_pan, ladle, saucepan, spoon
 from simgrasp.assets.family_tools import brush, chef_knife, pliers, scissors, table_knife
 from simgrasp.assets.family_vessels import cup, jug, kettle
-from simgrasp.assets.generated_shapes import Part
-from simgrasp.labels import Region
+from simgrasp.assets.generated_shapes import Built
 
-Builder = Callable[[np.random.Generator], tuple[list[Part], tuple[Region, ...], bool]]
+Builder = Callable[[np.random.Generator], Built]
 
 FAMILIES: dict[str, tuple[str, ...]] = {
     "spoons and ladles": ("spoon", "ladle"),

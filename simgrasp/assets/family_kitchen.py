@@ -15,12 +15,10 @@ from simgrasp.assets.generated_shapes import (
     DENSITY_PLASTIC,
     DENSITY_STEEL,
     DENSITY_WOOD,
+    Built,
     Part,
     uniform,
 )
-from simgrasp.labels import Region
-
-Built = tuple[list[Part], tuple[Region, ...], bool]
 
 
 def _dish(depth: float, thickness: float, power: float) -> trimesh.Trimesh:

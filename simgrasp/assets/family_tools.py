@@ -15,12 +15,12 @@ from simgrasp.assets.generated_shapes import (
     DENSITY_PLASTIC,
     DENSITY_STEEL,
     DENSITY_WOOD,
+    Built,
     Part,
     uniform,
 )
 from simgrasp.labels import Region
 
-Built = tuple[list[Part], tuple[Region, ...], bool]
 DENSITY_BRISTLES = 450.0
 """kg/m^3: a bundle of nylon bristles with the air between them."""
 

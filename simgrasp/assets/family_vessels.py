@@ -16,14 +16,13 @@ from simgrasp.assets.generated_shapes import (
     DENSITY_ALUMINUM,
     DENSITY_CERAMIC,
     DENSITY_PLASTIC,
+    Built,
     Part,
     arc_capsules,
     torus_arc,
     uniform,
 )
 from simgrasp.labels import Region
-
-Built = tuple[list[Part], tuple[Region, ...], bool]
 
 
 def _section(rng: np.random.Generator, round_radius: tuple[float, float]) -> tuple[float, float]:

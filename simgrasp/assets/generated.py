@@ -34,6 +34,7 @@ from simgrasp.assets.generated_shapes import (
     DENSITY_STEEL,
     DENSITY_WOOD,
     LABEL_MARGIN,
+    Built,
     Part,
     arc_capsules,
     torus_arc,
@@ -70,7 +71,7 @@ def _mug_parts(
     bottom: float,
     loop: tuple[float, float],
     section: tuple[float, float],
-) -> tuple[list[Part], tuple[Region, ...], bool]:
+) -> Built:
     """A ceramic mug: an open body of ``radius`` and ``height`` with a ``wall`` and a
     ``bottom`` thickness, and a handle on a loop (``loop``: its radius and how far its center
     lies outside the wall) whose section has semi-axes ``section`` (in the loop's plane,
@@ -95,7 +96,7 @@ def _mug_parts(
     return parts, regions, False
 
 
-def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _mug(rng: np.random.Generator) -> Built:
     """A mug whose handle is a round tube (2-2.5 cm thick) on a loop of 28-34 mm."""
     radius = uniform(rng, 0.037, 0.043)
     height = uniform(rng, 0.085, 0.105)
@@ -107,7 +108,7 @@ def _mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
     return _mug_parts(radius, height, wall, bottom, (major, offset), (minor, minor))
 
 
-def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _strap_mug(rng: np.random.Generator) -> Built:
     """A mug whose handle is a flat strap (4-7 mm thick in the loop's plane, 9-16 mm wide
     across it) on a loop of 22-34 mm, as most real mugs' handles are, on a body of 3.3-4.5 cm
     radius with a 2.5-4 mm wall."""
@@ -122,7 +123,7 @@ def _strap_mug(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...]
     return _mug_parts(radius, height, wall, bottom, (major, offset), (thickness / 2, width / 2))
 
 
-def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _drill(rng: np.random.Generator) -> Built:
     """A cordless drill standing on its battery: a pistol grip (an elliptic bar 3.2-4 cm deep
     and 2.6-3.2 cm wide, 8-11 cm long, leaning 8-20 degrees back) between a battery box and
     a motor housing (a cylinder along x) with a chuck in front; the grip is the handle."""
@@ -163,7 +164,7 @@ def _drill(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bo
     return parts, (region,), False
 
 
-def _hammer(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _hammer(rng: np.random.Generator) -> Built:
     length = uniform(rng, 0.22, 0.30)
     half_z = uniform(rng, 0.013, 0.018)  # elliptic grip: 2.6-3.6 cm tall
     half_y = uniform(rng, 0.011, 0.014)  # 2.2-2.8 cm wide
@@ -181,7 +182,7 @@ def _hammer(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], b
     return parts, (x_box_region(0.0, length, half_y, half_z, z_axis),), False
 
 
-def _spatula(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _spatula(rng: np.random.Generator) -> Built:
     handle_length = uniform(rng, 0.15, 0.20)
     handle_radius = uniform(rng, 0.010, 0.014)
     blade_length = uniform(rng, 0.08, 0.11)
@@ -199,7 +200,7 @@ def _spatula(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], 
     return parts, (region,), False
 
 
-def _screwdriver(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _screwdriver(rng: np.random.Generator) -> Built:
     handle_length = uniform(rng, 0.09, 0.12)
     handle_radius = uniform(rng, 0.012, 0.017)
     shaft_length = uniform(rng, 0.08, 0.15)
@@ -221,7 +222,7 @@ def _screwdriver(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ..
     return parts, (region,), False
 
 
-def _pan(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _pan(rng: np.random.Generator) -> Built:
     radius = uniform(rng, 0.09, 0.12)
     height = uniform(rng, 0.035, 0.05)
     wall = uniform(rng, 0.003, 0.004)
@@ -243,7 +244,7 @@ def _pan(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
     return parts, (region,), False
 
 
-def _can(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _can(rng: np.random.Generator) -> Built:
     radius = uniform(rng, 0.030, 0.040)
     height = uniform(rng, 0.08, 0.14)
     body = trimesh.creation.cylinder(radius=radius, height=height, sections=64)
@@ -251,7 +252,7 @@ def _can(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool
     return [Part("body", body, DENSITY_FILLED_CAN, True)], (), True
 
 
-def _fruit(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bool]:
+def _fruit(rng: np.random.Generator) -> Built:
     semi_axes = np.array(
         [uniform(rng, 0.030, 0.038), uniform(rng, 0.028, 0.036), uniform(rng, 0.027, 0.035)]
     )
@@ -261,9 +262,7 @@ def _fruit(rng: np.random.Generator) -> tuple[list[Part], tuple[Region, ...], bo
     return [Part("body", body, DENSITY_FRUIT, True)], (), True
 
 
-_BUILDERS: dict[
-    str, Callable[[np.random.Generator], tuple[list[Part], tuple[Region, ...], bool]]
-] = {
+_BUILDERS: dict[str, Callable[[np.random.Generator], Built]] = {
     "mug": _mug,
     "hammer": _hammer,
     "spatula": _spatula,

@@ -10,7 +10,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from simgrasp.labels import Box, Capsule
+from simgrasp.labels import Box, Capsule, Region
 
 # Densities (kg/m^3) of the materials the parts are made of.
 DENSITY_WOOD = 700.0
@@ -32,6 +32,12 @@ class Part:
     mesh: trimesh.Trimesh
     density: float
     is_handle: bool
+
+
+Built = tuple[list[Part], tuple[Region, ...], bool]
+"""What an object builder returns: its parts, the exact label regions of its handle, and
+whether the whole object counts as its handle (a can, a fruit:
+:class:`~simgrasp.labels.HandleLabel`'s ``whole``)."""
 
 
 def uniform(rng: np.random.Generator, low: float, high: float) -> float:
