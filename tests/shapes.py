@@ -38,9 +38,9 @@ def _sample(
     return LabeledCloud(np.concatenate(points), np.concatenate(normals), np.concatenate(flags))
 
 
-def mug_like(seed: int = 0, density: float = 4e6) -> LabeledCloud:
-    """A 4 cm-radius open cylindrical mug body with a bottom and a half-torus handle
-    (minor radius 7 mm) in the x-z plane on the +x side."""
+def mug_parts() -> list[tuple[trimesh.Trimesh, bool]]:
+    """A 4 cm-radius open cylindrical mug body, its bottom and a torus handle (minor radius
+    7 mm) in the x-z plane on the +x side, each with whether it is the handle part."""
     wall = trimesh.creation.annulus(r_min=0.037, r_max=0.040, height=0.09)
     wall.apply_translation([0, 0, 0.045])
     bottom = trimesh.creation.cylinder(radius=0.037, height=0.005)
@@ -48,7 +48,12 @@ def mug_like(seed: int = 0, density: float = 4e6) -> LabeledCloud:
     torus = trimesh.creation.torus(major_radius=0.028, minor_radius=0.007)
     torus.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
     torus.apply_translation([0.040, 0, 0.045])
-    return _sample([(wall, False), (bottom, False), (torus, True)], density, seed, min_x=0.0405)
+    return [(wall, False), (bottom, False), (torus, True)]
+
+
+def mug_like(seed: int = 0, density: float = 4e6) -> LabeledCloud:
+    """:func:`mug_parts` sampled; the handle keeps its half outside the wall (a half-torus)."""
+    return _sample(mug_parts(), density, seed, min_x=0.0405)
 
 
 def hammer_like(seed: int = 0, density: float = 4e6) -> LabeledCloud:

@@ -20,7 +20,7 @@ from simgrasp.errors import SimgraspError
 from simgrasp.perception.cloud_file import MeshReadConfig, is_mesh_file, read_object_cloud
 from simgrasp.perception.cloud_io import ReadNote, read_cloud
 
-from shapes import mug_like
+from shapes import mug_like, mug_parts
 
 HANDLE_X = 0.0405
 """The mug_like handle lies at x > this (m); its body within 4 cm of the z axis."""
@@ -69,16 +69,9 @@ def zero_normals_ply(tmp_path_factory, mug) -> tuple[Path, np.ndarray]:
 
 @pytest.fixture(scope="module")
 def mug_mesh(tmp_path_factory) -> Path:
-    """A mug as one OBJ mesh: body, bottom and loop handle (mug_like's parts)."""
-    wall = trimesh.creation.annulus(r_min=0.037, r_max=0.040, height=0.09)
-    wall.apply_translation([0, 0, 0.045])
-    bottom = trimesh.creation.cylinder(radius=0.037, height=0.005)
-    bottom.apply_translation([0, 0, 0.0025])
-    torus = trimesh.creation.torus(major_radius=0.028, minor_radius=0.007)
-    torus.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
-    torus.apply_translation([0.040, 0, 0.045])
+    """A mug as one OBJ mesh: body, bottom and loop handle (:func:`shapes.mug_parts`)."""
     path = tmp_path_factory.mktemp("real_files") / "mug_scan.obj"
-    trimesh.util.concatenate([wall, bottom, torus]).export(path)
+    trimesh.util.concatenate([mesh for mesh, _ in mug_parts()]).export(path)
     return path
 
 
