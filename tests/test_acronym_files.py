@@ -138,7 +138,8 @@ def test_a_finger_touching_a_light_object_pushes_it_and_does_not_throw_it(tmp_pa
 def test_graspgen_file_labels_without_object_and_exports(tmp_path: Path) -> None:
     grasp_file = _graspgen_file(tmp_path, "box.json", 2)
     assert read_grasp_set(grasp_file).fmt == "graspgen"
-    assert carried_object(grasp_file).endswith("box.stl?scale=1.0")
+    carried = carried_object(grasp_file)
+    assert carried is not None and carried.endswith("box.stl?scale=1.0")
     out = tmp_path / "out"
     done = _cli(
         "label-grasps",
@@ -297,6 +298,7 @@ def test_acronym_file_mapped_success_and_failure(acronym_dir: Path) -> None:
     the held grasp closes on the mug with both pads."""
     grasp_file = acronym_dir / EXAMPLE
     name = carried_object(grasp_file)
+    assert name is not None
     assert "scale=0.0002682458" in name and "mass=0.0130879738" in name
     grasps = read_grasp_set(grasp_file)
     with h5py.File(grasp_file) as handle:

@@ -47,7 +47,7 @@ def bad_last_row() -> np.ndarray:
 
 def test_run_trial_refuses_an_unknown_grasp_frame() -> None:
     refused(
-        lambda: simgrasp.run_trial("gen_hammer", grasp=GRASP, grasp_frame="camera"),
+        lambda: simgrasp.run_trial("gen_hammer", grasp=GRASP, grasp_frame="camera"),  # type: ignore[arg-type]
         "grasp_frame: 'camera' is not one of world, object",
     )
 
@@ -68,7 +68,7 @@ def test_run_trial_refuses_a_grasp_that_is_no_rigid_pose(grasp: Any, message: st
 
 def test_run_trial_refuses_a_width_that_is_no_number() -> None:
     refused(
-        lambda: simgrasp.run_trial("gen_hammer", grasp=GRASP, width="wide"),
+        lambda: simgrasp.run_trial("gen_hammer", grasp=GRASP, width="wide"),  # type: ignore[arg-type]
         "width must be a number (m), got str",
     )
 
@@ -77,28 +77,28 @@ def test_run_trial_refuses_a_width_that_is_no_number() -> None:
     ("call", "message"),
     [
         (
-            lambda: simgrasp.run_trial("gen_hammer", grasp=GRASP, config=simgrasp.TrialConfig()),
+            lambda: simgrasp.run_trial("gen_hammer", grasp=GRASP, config=simgrasp.TrialConfig()),  # type: ignore[arg-type]
             "config must be a ChainConfig, got TrialConfig",
         ),
         (
-            lambda: simgrasp.label_grasps("gen_hammer", GRASP[None], config=simgrasp.ChainConfig()),
+            lambda: simgrasp.label_grasps("gen_hammer", GRASP[None], config=simgrasp.ChainConfig()),  # type: ignore[arg-type]
             "config must be a LabelConfig, got ChainConfig",
         ),
         (
-            lambda: simgrasp.detect_handles(np.zeros((10, 3)), config=simgrasp.ChainConfig()),
+            lambda: simgrasp.detect_handles(np.zeros((10, 3)), config=simgrasp.ChainConfig()),  # type: ignore[arg-type]
             "config must be a DetectorConfig, QuadricDetectorConfig or TenPasConfig, "
             "got ChainConfig",
         ),
         (
-            lambda: simgrasp.detect_handles(np.zeros((10, 3)), config="quadric"),
+            lambda: simgrasp.detect_handles(np.zeros((10, 3)), config="quadric"),  # type: ignore[arg-type]
             "config must be a DetectorConfig, QuadricDetectorConfig or TenPasConfig, got str",
         ),
         (
-            lambda: simgrasp.segment_scene(np.zeros((10, 3)), {"max_range": 2}),
+            lambda: simgrasp.segment_scene(np.zeros((10, 3)), {"max_range": 2}),  # type: ignore[arg-type]
             "config must be a SegmentConfig, got dict",
         ),
         (
-            lambda: simgrasp.segment_scene("scene.png", depth={"intrinsics": (60, 60, 32, 24)}),
+            lambda: simgrasp.segment_scene("scene.png", depth={"intrinsics": (60, 60, 32, 24)}),  # type: ignore[arg-type]
             "depth must be a DepthImageConfig, got dict",
         ),
     ],
@@ -109,7 +109,7 @@ def test_a_config_of_the_wrong_type_is_named(call: Callable[[], Any], message: s
 
 def test_label_grasps_refuses_an_object_that_is_no_name() -> None:
     refused(
-        lambda: simgrasp.label_grasps(5, GRASP[None]),
+        lambda: simgrasp.label_grasps(5, GRASP[None]),  # type: ignore[arg-type]
         "obj must be an object name (str), got int",
     )
 

@@ -3,6 +3,7 @@ their file round trip, bad input, and one ACRONYM mug whose handle grasps are kn
 
 from __future__ import annotations
 
+import functools
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -11,6 +12,7 @@ from typing import cast
 import numpy as np
 import pytest
 import trimesh
+from data_needs import require_data
 
 from simgrasp.assets.generated import generate_tool
 from simgrasp.autolabel.auto_label import auto_handle_label
@@ -22,7 +24,6 @@ from simgrasp.autolabel.virtual_scan import ScanConfig
 from simgrasp.cli import main
 from simgrasp.labels import HandleLabel, load_handle_label, write_label_file
 from simgrasp.perception import sample_surface
-from tests.data_needs import require_data
 
 FAST = AutoLabelConfig(scan=ScanConfig(views=12))
 """Fewer views than the default 24 keep the tests fast; the labels still match."""
@@ -269,17 +270,17 @@ def test_free_space_is_empty_around_a_free_tube_and_full_beside_a_wall() -> None
 
     tube = _tube_points(0.005, 0.06)
     axis, center, semi = np.array([[0.0, 0.0, 1.0]]), np.zeros((1, 3)), np.array([0.005])
-    rings = {"slab": 0.003, "gap": 0.003, "ring": 0.008}
-    assert sideways_occupancy(tube, center, axis, semi, **rings)[0] == 0.0
+    occupancy = functools.partial(sideways_occupancy, slab=0.003, gap=0.003, ring=0.008)
+    assert occupancy(tube, center, axis, semi)[0] == 0.0
     y, z = np.meshgrid(np.linspace(-0.03, 0.03, 61), np.linspace(-0.03, 0.03, 61))
     wall = np.column_stack([np.full(y.size, 0.012), y.ravel(), z.ravel()])
-    beside = sideways_occupancy(np.vstack([tube, wall]), center, axis, semi, **rings)[0]
+    beside = occupancy(np.vstack([tube, wall]), center, axis, semi)[0]
     assert beside >= 3 / 12
     # A plate continuing from the candidate's edge (a blade, a rim's wall) fills one side.
     plate = np.column_stack([0.005 + y.ravel() + 0.03, np.zeros(y.size), z.ravel()])
-    edge = sideways_occupancy(np.vstack([tube, plate]), center, axis, semi, **rings)[0]
+    edge = occupancy(np.vstack([tube, plate]), center, axis, semi)[0]
     assert 0.0 < edge < beside
-    nan_semi = sideways_occupancy(tube, center, axis, np.array([np.nan]), **rings)
+    nan_semi = occupancy(tube, center, axis, np.array([np.nan]))
     assert nan_semi[0] == 1.0
 
 

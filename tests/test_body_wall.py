@@ -124,6 +124,7 @@ def test_no_kept_candidate_lies_on_the_wall_of_a_rendered_mug() -> None:
     config = single_view_preset()
     assert config.body_wall.enabled  # the default since 7 December 2026
     detection = detect_single_view(points, config, 0, np.zeros(3))
+    assert detection.points is not None
     wall = fit_body_wall(detection.points, config.body_wall, 0)
     assert wall is not None and 0.035 <= wall.radius <= 0.045
     centers = np.stack([c.center for c in detection.candidates])
@@ -140,6 +141,7 @@ def test_a_tube_mug_with_its_handle_turned_away_has_its_wall_found() -> None:
     points = np.asarray(capture(view, 0).points_cam, dtype=np.float64)
     config = single_view_preset()
     detection = detect_single_view(points, config, 0, np.zeros(3))
+    assert detection.points is not None
     wall = fit_body_wall(detection.points, config.body_wall, 0)
     assert wall is not None and 0.035 <= wall.radius <= 0.045
     assert wall.wall_share >= config.body_wall.min_wall_share

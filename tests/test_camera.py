@@ -35,7 +35,8 @@ def test_from_fovy_matches_mujoco_pinhole() -> None:
     assert (intrinsics.cx, intrinsics.cy) == (319.5, 239.5)
     assert intrinsics.fovy_deg == pytest.approx(58.0)
     np.testing.assert_allclose(
-        intrinsics.matrix, [[intrinsics.fx, 0, 319.5], [0, intrinsics.fy, 239.5], [0, 0, 1]]
+        intrinsics.matrix,
+        [[intrinsics.fx, 0.0, 319.5], [0.0, intrinsics.fy, 239.5], [0.0, 0.0, 1.0]],
     )
 
 

@@ -203,6 +203,7 @@ def test_full_chain_grasps_the_generated_hammer_by_its_handle(hammer_chain) -> N
     result = hammer_chain
     assert isinstance(result, simgrasp.ChainResult)
     assert result.cloud_points > 500
+    assert result.detection_accuracy is not None
     assert result.candidates > 0 and result.detection_accuracy >= 0.8
     assert result.handle_recall
     assert result.success and result.on_handle, result.failure
@@ -231,6 +232,7 @@ def test_a_chain_result_names_its_failure_as_its_record_does(hammer_chain) -> No
 def test_full_chain_holds_an_upright_mug_by_its_handle(gripper: str) -> None:
     config = ChainConfig.of(gripper=gripper, scene__placement="upright")
     result = run_chain(model_for("gen_mug"), config, seed=0)
+    assert result.detection_accuracy is not None
     assert result.detection_accuracy >= 0.9 and result.handle_recall
     assert result.success and result.on_handle, result.to_json()["failure"]
 

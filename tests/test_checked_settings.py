@@ -12,8 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_parsers import command_parser
 
-from simgrasp.cli import build_parser, main
+from simgrasp.cli import main
 from simgrasp.config.checks import SettingError
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.cloud_view import CloudView
@@ -96,16 +97,16 @@ def test_a_config_made_directly_names_its_class_and_field() -> None:
 @pytest.mark.parametrize(
     ("make", "message"),
     [
-        (lambda: TrialConfig(free_floating="no"), "TrialConfig.free_floating: 'no' is not true"),
+        (lambda: TrialConfig(free_floating="no"), "TrialConfig.free_floating: 'no' is not true"),  # type: ignore[arg-type]
         (
-            lambda: SceneConfig(table_half_size=(1.0,)),
+            lambda: SceneConfig(table_half_size=(1.0,)),  # type: ignore[arg-type]
             "table_half_size: (1.0,) has 1 values, not 3",
         ),
-        (lambda: SceneConfig(table_half_size="big"), "table_half_size: 'big' is not a sequence"),
+        (lambda: SceneConfig(table_half_size="big"), "table_half_size: 'big' is not a sequence"),  # type: ignore[arg-type]
         (lambda: SceneConfig(table_top_z=float("nan")), "SceneConfig.table_top_z: nan is not a"),
-        (lambda: TrialConfig(hold_time="2"), "TrialConfig.hold_time: '2' is not a number"),
-        (lambda: ChainConfig(sensor="kinect"), "ChainConfig.sensor: 'kinect' is not a SensorSet"),
-        (lambda: SensorSettings(kind=None), "SensorSettings.kind: None is not"),
+        (lambda: TrialConfig(hold_time="2"), "TrialConfig.hold_time: '2' is not a number"),  # type: ignore[arg-type]
+        (lambda: ChainConfig(sensor="kinect"), "ChainConfig.sensor: 'kinect' is not a SensorSet"),  # type: ignore[arg-type]
+        (lambda: SensorSettings(kind=None), "SensorSettings.kind: None is not"),  # type: ignore[arg-type]
     ],
     ids=["bool", "length", "text-tuple", "nan", "text-number", "nested", "none"],
 )
@@ -155,8 +156,7 @@ def test_the_command_line_refuses_in_one_line_without_a_traceback() -> None:
 
 
 def test_help_shows_what_each_setting_allows() -> None:
-    parser = build_parser("trial")
-    sub = next(a for a in parser._actions if a.dest == "command").choices["trial"]
+    sub = command_parser("trial")
     text = re.sub(r"\s+", " ", sub.format_help())
     assert "--sensor.kind {ideal,kinect,stereo}, --sensor {ideal,kinect,stereo}" in text
     assert "(str: one of ideal, kinect, stereo; default: ideal)" in text
@@ -233,8 +233,7 @@ def test_detect_and_trial_detector_defaults_differ_by_the_stated_fine_pass_only(
     chain, plain = ChainConfig().detector.quadric, DetectorConfig().quadric
     assert chain != plain and replace(chain, fine_half_size=0.0) == plain
     for command in ("detect", "trial"):
-        parser = build_parser(command)
-        sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+        sub = command_parser(command)
         text = re.sub(r"\s+", " ", sub.format_help())
         assert "--detector.quadric.fine-half-size" in text and "0.012" in text
         assert "Detector defaults" in text or "chain default" in text

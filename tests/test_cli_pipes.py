@@ -21,6 +21,7 @@ def test_a_closed_stdout_ends_detect_without_a_traceback(tmp_path: Path) -> None
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
     )
+    assert process.stdout is not None
     process.stdout.close()  # the reader is gone before the first line is written
     _, err = process.communicate(timeout=120)
     assert "Traceback" not in err.decode() and "BrokenPipeError" not in err.decode(), err

@@ -25,10 +25,10 @@ VARIANTS = ["ply-binary", "ply-ascii", "pcd-binary", "pcd-ascii", "xyz", "npy"]
 def cloud(seed: int, count: int, with_normals: bool) -> tuple[np.ndarray, np.ndarray | None]:
     rng = np.random.default_rng(seed)
     points = rng.uniform(-0.1, 0.1, (count, 3))
-    normals = rng.normal(size=(count, 3)) if with_normals else None
-    return points, (
-        normals / np.linalg.norm(normals, axis=1, keepdims=True) if with_normals else None
-    )
+    if not with_normals:
+        return points, None
+    normals = rng.normal(size=(count, 3))
+    return points, normals / np.linalg.norm(normals, axis=1, keepdims=True)
 
 
 def write_variant(path_stem: Path, variant: str, points, normals) -> Path:
@@ -38,7 +38,7 @@ def write_variant(path_stem: Path, variant: str, points, normals) -> Path:
         pc = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
         if normals is not None:
             pc.normals = o3d.utility.Vector3dVector(normals)
-        assert o3d.io.write_point_cloud(str(path), pc, write_ascii=True)
+        assert o3d.io.write_point_cloud(path, pc, write_ascii=True)
     else:
         write_cloud(path, points, normals)
     return path
@@ -100,7 +100,7 @@ def test_detect_json_prints_only_the_json_object(tmp_path: Path) -> None:
     points, _ = cloud(0, 50, with_normals=False)
     broken = tmp_path / "broken.pcd"
     pc = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
-    assert o3d.io.write_point_cloud(str(broken), pc, compressed=True)
+    assert o3d.io.write_point_cloud(broken, pc, compressed=True)
     data = bytearray(broken.read_bytes())
     body = data.index(b"binary_compressed\n") + len(b"binary_compressed\n") + 8
     data[body] = 0xFF  # an LZF back-reference before the start of the output

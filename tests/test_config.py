@@ -9,8 +9,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from cli_parsers import command_parser
 
-from simgrasp.cli import COMMANDS, build_parser, command_module, main
+from simgrasp.cli import COMMANDS, command_module, main
 from simgrasp.config import Checked, setting
 from simgrasp.config.arguments import flag_name, script_main
 from simgrasp.config.checks import PositiveInt
@@ -131,8 +132,7 @@ def test_bad_config_files(tmp_path: Path, capsys) -> None:
 def test_every_flag_is_in_help_with_its_default(command: str) -> None:
     """Each generated flag is listed by --help with its default (or 'required'), and every
     setting has a docstring."""
-    parser = build_parser(command)
-    sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+    sub = command_parser(command)
     text = re.sub(r"\s+", " ", sub.format_help())
     for leaf in leaves(command_module(command).Options):
         name = leaf.key.upper() if leaf.spec.positional else flag_name(leaf.key)
@@ -202,7 +202,7 @@ class _ManyOptions(Checked):
 def _many(argv: list[str]) -> tuple[int, _ManyOptions | None]:
     """Exit status of a script on ``_ManyOptions`` and the options its run got (None: not run)."""
     got: list[_ManyOptions] = []
-    return script_main(_ManyOptions, got.append, "test", argv), (got or [None])[0]
+    return script_main(_ManyOptions, got.append, "test", argv), got[0] if got else None
 
 
 def test_a_many_setting_takes_several_values(tmp_path: Path, capsys) -> None:

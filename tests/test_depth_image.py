@@ -36,6 +36,12 @@ def _intrinsics(frame: DepthFrame) -> list[str]:
     return [str(v) for v in (k.fx, k.fy, k.cx, k.cy)]
 
 
+def _intrinsic_values(frame: DepthFrame) -> tuple[float, float, float, float]:
+    """fx, fy, cx, cy (px) as the command line reads them from :func:`_intrinsics`."""
+    fx, fy, cx, cy = map(float, _intrinsics(frame))
+    return fx, fy, cx, cy
+
+
 def test_a_png_frame_back_projects_as_the_renderer_camera_does(frame, tmp_path):
     png = _png(tmp_path / "depth.png", frame.depth)
     k = frame.intrinsics
@@ -56,7 +62,7 @@ def test_a_png_frame_back_projects_as_the_renderer_camera_does(frame, tmp_path):
 
 def test_segment_reads_a_png_frame_as_its_organized_cloud(frame, tmp_path, capsys):
     png = _png(tmp_path / "depth.png", frame.depth)
-    grid = read_scene(png, DepthImageConfig(intrinsics=tuple(map(float, _intrinsics(frame)))))
+    grid = read_scene(png, DepthImageConfig(intrinsics=_intrinsic_values(frame)))
     np.save(tmp_path / "cloud.npy", grid.grid())
     args = ["--labels"]
     assert main(["segment", str(png), "--depth.intrinsics", *_intrinsics(frame), *args,
@@ -68,7 +74,7 @@ def test_segment_reads_a_png_frame_as_its_organized_cloud(frame, tmp_path, capsy
     capsys.readouterr()
     import simgrasp
 
-    depth = simgrasp.DepthImageConfig(intrinsics=tuple(map(float, _intrinsics(frame))))
+    depth = simgrasp.DepthImageConfig(intrinsics=_intrinsic_values(frame))
     assert np.array_equal(simgrasp.segment_scene(png, depth=depth).labels, from_png)
     assert np.array_equal(simgrasp.segment_scene(grid.grid()).labels, from_png)
 

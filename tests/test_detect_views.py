@@ -28,6 +28,7 @@ from simgrasp.handles.single_view.detector import (
     SINGLE_VIEW_DETECTOR,
     _keep,
 )
+from simgrasp.labels import Box
 from simgrasp.quadric.quadric import Quadric
 from simgrasp.resources import model_path
 
@@ -90,7 +91,9 @@ def test_detect_segment_on_a_real_pot_scene_puts_the_top_handle_on_a_labeled_tab
     assert main(["detect", str(scene), "--segment", "--config", config, "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
     label = load_scene_labels()["learn36"].label
-    tab = label.regions[0].center
+    tab_region = label.regions[0]
+    assert isinstance(tab_region, Box)
+    tab = tab_region.center
     objects = report["segmentation"]["objects"]
     nearest = min(objects, key=lambda o: float(np.linalg.norm(np.subtract(o["center"], tab))))
     on_pot = [h for h in report["handles"] if h["object"] == nearest["part_of"]]
@@ -110,11 +113,13 @@ def test_detect_segment_with_its_default_detector_holds_a_real_pot_by_its_tab(
     scene = default_real_dir() / "osd-learn" / "learn37.pcd"
     flags = ["--segment", "--segmentation.rim-band", "0.005", "--json"]
     label = load_scene_labels()["learn37"].label
+    tab_region = label.regions[0]
+    assert isinstance(tab_region, Box)
 
     def top_on_tab(extra: list[str]) -> tuple[bool, set[str]]:
         assert main(["detect", str(scene), *flags, *extra]) == 0
         report = json.loads(capsys.readouterr().out)
-        tab = label.regions[0].center
+        tab = tab_region.center
         objects = report["segmentation"]["objects"]
         pot = min(objects, key=lambda o: float(np.linalg.norm(np.subtract(o["center"], tab))))
         on_pot = [h for h in report["handles"] if h["object"] == pot["part_of"]]

@@ -40,7 +40,7 @@ def test_surface_anchor_puts_handle_centers_on_the_cloud() -> None:
 )
 def test_bad_option_values_are_refused(field: str, value: object) -> None:
     with pytest.raises(ValueError, match=field):
-        QuadricDetectorConfig(**{field: value})
+        QuadricDetectorConfig(**{field: value})  # type: ignore[arg-type]  # a bad value on purpose
 
 
 def test_real_depth_preset_keeps_overrides() -> None:
@@ -51,6 +51,7 @@ def test_real_depth_preset_keeps_overrides() -> None:
 def test_own_normals_replace_the_given_directions_and_keep_their_signs() -> None:
     cloud = mug_like()
     points, outward = voxel_downsample(cloud.points, 0.003, normals=cloud.normals)
+    assert outward is not None
     # Given normals on the right side of the surface but tilted at random by up to ~60 deg.
     rng = np.random.default_rng(0)
     tilted = outward + rng.normal(size=outward.shape) * 0.7

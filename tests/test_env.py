@@ -6,11 +6,13 @@ from __future__ import annotations
 import subprocess
 import sys
 from dataclasses import replace
+from typing import TypedDict
 
 import gymnasium
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
+from gymnasium.vector import AsyncVectorEnv
 
 import simgrasp  # noqa: F401  (registers the env)
 from simgrasp.assets.model import model_for
@@ -33,12 +35,23 @@ ENV_ID = "simgrasp/HandleGrasp-v0"
 SMALL_CAMERA = CameraSpec(
     "view0", pos=(0.3, -0.35, 0.4), lookat=(0.0, 0.0, 0.03), width=160, height=120
 )
-SMALL = {
-    "objects": ("gen_hammer", "gen_can"),
-    "max_points": 1024,
-    "scene": SceneConfig(cameras=(SMALL_CAMERA,)),
-    "trial": TrialConfig(hold_time=0.2, perturb_directions=((0.0, 0.0, -1.0),)),
-}
+
+
+class SmallEnv(TypedDict):
+    """The :class:`HandleGraspConfig` fields the API checks override."""
+
+    objects: tuple[str, ...]
+    max_points: int
+    scene: SceneConfig
+    trial: TrialConfig
+
+
+SMALL = SmallEnv(
+    objects=("gen_hammer", "gen_can"),
+    max_points=1024,
+    scene=SceneConfig(cameras=(SMALL_CAMERA,)),
+    trial=TrialConfig(hold_time=0.2, perturb_directions=((0.0, 0.0, -1.0),)),
+)
 AIR_GRASP = np.array([0.4, 0.4, 0.3, 0.0, 1.0, 0.0, 0.0, 0.08])
 """Top-down (TCP +z along world -z), far from the object: closes on nothing."""
 
@@ -118,7 +131,7 @@ def test_observation_is_the_chains_cloud_and_images(
 
 
 def test_large_clouds_are_subsampled_with_the_episode_seed() -> None:
-    env = HandleGraspEnv(**{**SMALL, "max_points": 100})
+    env = HandleGraspEnv(**(SMALL | {"max_points": 100}))
     try:
         options = {"object": "gen_hammer", "episode_seed": 5}
         first, info = env.reset(seed=0, options=options)
@@ -200,7 +213,7 @@ def test_bad_configuration_and_options_are_rejected(small_env: HandleGraspEnv) -
     with pytest.raises(TypeError, match="unknown HandleGraspEnv option"):
         HandleGraspEnv(num_view=2)
     with pytest.raises(ValueError, match="reward"):
-        HandleGraspConfig(reward="lifted")
+        HandleGraspConfig(reward="lifted")  # type: ignore[arg-type]  # refused on purpose
     mixed = SceneConfig(cameras=(SMALL_CAMERA, replace(SMALL_CAMERA, name="view1", width=320)))
     with pytest.raises(ValueError, match="one image size"):
         HandleGraspEnv(scene=mixed)
@@ -235,6 +248,7 @@ def test_reward_kinds() -> None:
 @pytest.mark.parametrize("seed", [1, 0])
 def test_env_and_detector_policy_reproduce_the_chain(seed: int) -> None:
     chain = run_chain(model_for("gen_hammer"), ChainConfig.of(detector__kind="quadric"), seed=seed)
+    assert chain.trial is not None
     env = gymnasium.make(f"simgrasp:{ENV_ID}")
     try:
         obs, info = env.reset(seed=99, options={"object": "gen_hammer", "episode_seed": seed})
@@ -279,12 +293,13 @@ def test_rgb_array_render(small_env: HandleGraspEnv) -> None:
     finally:
         env.close()
         env.close()
+    assert image is not None
     assert image.shape == (480, 640, 3) and image.dtype == np.uint8
     assert image.std() > 10, "the picture should show the scene, not a blank image"
 
 
 def test_async_vector_env_matches_sequential_envs() -> None:
-    seeds = [21, 22]
+    seeds: list[int | None] = [21, 22]
     expected = []
     actions = []
     for seed in seeds:
@@ -304,6 +319,7 @@ def test_async_vector_env_matches_sequential_envs() -> None:
         vector_kwargs={"context": "spawn"},
         **SMALL,
     )
+    assert isinstance(vector_env, AsyncVectorEnv)
     try:
         obs, infos = vector_env.reset(seed=seeds)
         _, rewards, terminated, truncated, step_infos = vector_env.step(np.stack(actions))
@@ -326,7 +342,7 @@ def test_the_sensor_field_gives_seeded_sensed_depth() -> None:
     options = {"object": "gen_hammer", "episode_seed": 5}
     observations = []
     for sensor in ("kinect", "kinect", "ideal"):
-        env = HandleGraspEnv(**{**SMALL, "sensor": SensorSettings(kind=sensor)})
+        env = HandleGraspEnv(sensor=SensorSettings(kind=sensor), **SMALL)
         try:
             observations.append(env.reset(seed=0, options=options)[0])
         finally:

@@ -20,7 +20,9 @@ import pytest
 import trimesh
 
 from simgrasp.assets.fetch import (
+    ArchiveKind,
     FetchError,
+    FetchResult,
     archive_url,
     fetch_object,
     resolve_object_ids,
@@ -122,8 +124,10 @@ def server() -> Iterator[ArchiveServer]:
     httpd.server_close()
 
 
-def _fetch(server: ArchiveServer, dest: Path, object_id: str = "025_mug", **kwargs: object):
-    return fetch_object(object_id, dest, base_url=server.url, progress=False, timeout=5, **kwargs)
+def _fetch(
+    server: ArchiveServer, dest: Path, object_id: str = "025_mug", kind: ArchiveKind = "google_16k"
+) -> FetchResult:
+    return fetch_object(object_id, dest, kind, base_url=server.url, progress=False, timeout=5)
 
 
 def _assert_nothing_unpacked(dest: Path, object_id: str = "025_mug") -> None:

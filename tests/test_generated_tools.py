@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 import pytest
 import trimesh
@@ -39,7 +41,8 @@ def test_label_contains_handle_part_and_not_the_rest(kind: str, seed: int) -> No
     assert inside_handle.mean() == 1.0, f"{kind}: {1 - inside_handle.mean():.1%} handle missed"
     assert not inside_rest.any(), f"{kind}: {inside_rest.mean():.1%} of the rest labeled"
     # and overall (the rest's exposed surface, by area), the label is the handle, not the object
-    rest = trimesh.util.concatenate([p.mesh for p in rest_parts]).sample(8000, seed=seed)
+    rest_mesh = cast(trimesh.Trimesh, trimesh.util.concatenate([p.mesh for p in rest_parts]))
+    rest = rest_mesh.sample(8000, seed=seed)
     exposed = ~np.any([p.mesh.contains(rest) for p in tool.parts if p.is_handle], axis=0)
     assert tool.handle.contains(rest[exposed]).mean() < 0.1
 

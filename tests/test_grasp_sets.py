@@ -4,11 +4,13 @@ bad row reported by index and kept out of the valid set."""
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
+from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from simgrasp.grasping.labeling.grasp_sets import (
@@ -20,7 +22,7 @@ from simgrasp.grasping.labeling.grasp_sets import (
 from simgrasp.transforms import matrix_to_pose7
 
 
-def rigid(rotvec: list[float], translation: list[float]) -> np.ndarray:
+def rigid(rotvec: ArrayLike, translation: ArrayLike) -> np.ndarray:
     transform = np.eye(4)
     transform[:3, :3] = Rotation.from_rotvec(rotvec).as_matrix()
     transform[:3, 3] = translation
@@ -205,7 +207,7 @@ def test_compare_labels_confusion_leaves_out_unscored(tmp_path: Path) -> None:
     from simgrasp.grasping.labeling.label_compare import compare_labels
     from simgrasp.grasping.labeling.label_run import write_label_arrays
 
-    def records(outcomes: list[tuple[bool, str | None]]) -> list[dict]:
+    def records(outcomes: Sequence[tuple[bool | None, str | None]]) -> list[dict]:
         return [
             {"success": s, "on_handle": s, "failure": f, "handle_fraction": 0.0,
              "lift_height": 0.0}

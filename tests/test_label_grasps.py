@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -260,7 +261,7 @@ def test_labels_picture_is_the_same_from_run_to_run(tmp_path: Path) -> None:
 
     mesh = trimesh.creation.box((0.04, 0.06, 0.1))
     grasps = np.tile(np.eye(4), (2, 1, 1))
-    records = [
+    records: list[dict[str, Any]] = [
         {"success": True, "failure": None, "on_handle": False},
         {"success": False, "failure": "missed", "on_handle": False},
     ]

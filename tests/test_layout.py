@@ -156,8 +156,8 @@ def package_graph() -> dict[str, set[str]]:
         targets = {top_level_unit(name) for name in imported_modules(path)}
         graph.setdefault(source, set())
         graph[source] |= {t for t in targets if t is not None and t != source}
-    for targets in list(graph.values()):
-        for target in targets:
+    for imported in list(graph.values()):
+        for target in imported:
             graph.setdefault(target, set())
     return graph
 

@@ -79,7 +79,8 @@ def test_non_watertight_mesh_loads_with_hull_mass(
         (lambda p: p.write_text(""), "no triangles|cannot read"),
         (
             lambda p: trimesh.Trimesh(
-                [[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0]], [[0, 1, 2], [1, 3, 2]]
+                [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.1, 0.1, 0.0]],
+                [[0, 1, 2], [1, 3, 2]],
             ).export(p),
             "zero volume",
         ),

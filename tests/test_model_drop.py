@@ -155,6 +155,7 @@ def test_scan_texture_is_downscaled_keeping_its_colors(ycb_dir: str) -> None:
     from PIL import Image
 
     asset = load_object("048_hammer", ycb_dir)
+    assert asset.texture_file is not None
     with Image.open(asset.texture_file) as image:
         assert max(image.size) > MAX_TEXTURE_SIDE  # else this test checks nothing
         original_mean = np.asarray(image.convert("RGB"), dtype=float).mean(axis=(0, 1))

@@ -141,6 +141,7 @@ def _world_mesh(model: mujoco.MjModel, data: mujoco.MjData, geom: str) -> trimes
 def test_ycb_mug_cloud_lies_on_the_mesh(ycb_dir: str) -> None:
     mesh_path, _ = ycb_mesh_path(ycb_dir, "025_mug")
     mug = trimesh.load(mesh_path, force="mesh")
+    assert isinstance(mug, trimesh.Trimesh)
     spec = mujoco.MjSpec()
     spec.add_mesh(name="mug", uservert=mug.vertices.ravel(), userface=mug.faces.ravel())
     spec.worldbody.add_geom(

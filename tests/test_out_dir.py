@@ -83,6 +83,7 @@ def test_a_second_run_on_the_same_out_refuses_at_once_naming_the_first(tmp_path:
         start_new_session=True,
     )  # fmt: skip
     try:
+        assert first.stderr is not None
         deadline = time.monotonic() + TIMEOUT_S
         while not (out / LOCK_FILE).exists() or str(first.pid) not in (out / LOCK_FILE).read_text():
             assert first.poll() is None, first.stderr.read().decode()[-2000:]

@@ -30,6 +30,7 @@ def test_round_trip(tmp_path: Path, suffix: str, with_normals: bool) -> None:
     atol = 1e-7 if suffix in (".ply", ".pcd") else 1e-15  # Open3D stores float32
     np.testing.assert_allclose(read_points, points, rtol=0, atol=atol)
     if with_normals:
+        assert read_normals is not None
         np.testing.assert_allclose(read_normals, normals, rtol=0, atol=atol)
     else:
         assert read_normals is None
@@ -100,7 +101,9 @@ def test_a_pcd_pixel_with_no_return_is_left_out(tmp_path: Path) -> None:
     rows = ["0 0 1 0 0 -1", "nan nan nan nan nan nan", "0.1 0 1 0 0 -1", "0 0.1 1 1 0 0"]
     path.write_text(_ascii_pcd(rows, "x y z normal_x normal_y normal_z"))
     points, normals = read_cloud(path)
-    np.testing.assert_allclose(points, [[0, 0, 1], [0.1, 0, 1], [0, 0.1, 1]], atol=1e-7)
+    np.testing.assert_allclose(
+        points, [[0.0, 0.0, 1.0], [0.1, 0.0, 1.0], [0.0, 0.1, 1.0]], atol=1e-7
+    )
     np.testing.assert_array_equal(normals, [[0, 0, -1], [0, 0, -1], [1, 0, 0]])
     path.write_text(_ascii_pcd(["0 0 1", "nan 0 1", "0.1 0 1", "nan nan nan"]))
     with pytest.raises(ValueError, match="1 of 3 points have NaN or inf"):

@@ -14,12 +14,13 @@ from simgrasp.perception import (
     sample_surface,
     voxel_count,
 )
+from simgrasp.perception.neighborhoods import NeighborhoodShape
 from simgrasp.seeding import rng_for
 
 
 def _cloud(count: int = 20000, size: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
     mesh = trimesh.creation.box([size, 0.6 * size, 0.4 * size])
-    return sample_surface(mesh, count, rng_for(0, "test_neighborhoods", count, size))
+    return sample_surface(mesh, count, rng_for(0, "test_neighborhoods", count, str(size)))
 
 
 def _brute_force(points: np.ndarray, center: np.ndarray, half: float, shape: str) -> set[int]:
@@ -29,7 +30,7 @@ def _brute_force(points: np.ndarray, center: np.ndarray, half: float, shape: str
 
 
 @pytest.mark.parametrize("shape", ["cube", "sphere"])
-def test_neighborhoods_hold_exactly_the_brute_force_points(shape: str) -> None:
+def test_neighborhoods_hold_exactly_the_brute_force_points(shape: NeighborhoodShape) -> None:
     points, normals = _cloud(4000)
     rng = rng_for(1, "centers")
     centers = points[sample_centers(points, rng, count=50)]

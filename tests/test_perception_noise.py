@@ -28,7 +28,7 @@ def test_depth_noise_follows_the_kinect_model() -> None:
         points_cam = np.column_stack(
             [np.full(40000, 0.1), np.full(40000, -0.05), np.full(40000, depth)]
         )
-        noisy, kept = depth_camera_noise(points_cam, rng_for(0, "depth", depth), config)
+        noisy, kept = depth_camera_noise(points_cam, rng_for(0, "depth", str(depth)), config)
         assert len(kept) == len(noisy) == 40000
         # axial: along the viewing ray, sigma_z(z) = a + b (z - c)^2
         dz = noisy[:, 2] - depth

@@ -3,6 +3,8 @@ normals, including concave parts (a mug's inside, a handle's inner side) and a t
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 import pytest
 import trimesh
@@ -26,7 +28,7 @@ def _mug_like() -> trimesh.Trimesh:
     torus.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
     torus.apply_translation([0.040, 0, 0.045])
     handle = torus.submesh([np.flatnonzero(torus.triangles_center[:, 0] > 0.046)], append=True)
-    return trimesh.util.concatenate([cup, handle])
+    return cast(trimesh.Trimesh, trimesh.util.concatenate([cup, handle]))
 
 
 SHAPES = {

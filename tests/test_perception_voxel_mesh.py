@@ -17,6 +17,7 @@ def _box_cloud(count: int = 20000) -> tuple[np.ndarray, np.ndarray]:
 def test_voxel_downsample_matches_the_voxel_count_and_keeps_voxel_means() -> None:
     points, normals = _box_cloud()
     down, down_normals = voxel_downsample(points, 0.005, normals=normals)
+    assert down_normals is not None
     assert len(down) == voxel_count(points, 0.005) == len(down_normals)
     np.testing.assert_allclose(np.linalg.norm(down_normals, axis=1), 1.0, atol=1e-9)
     origin = points.min(axis=0) - 0.0025
@@ -39,6 +40,7 @@ def test_cancelled_normals_fall_back_to_the_nearest_input_normal() -> None:
     points = np.array([[0.0, 0, 0], [0.0001, 0, 0], [1.0, 0, 0]])
     normals = np.array([[0, 0, 1.0], [0, 0, -1.0], [0, 1.0, 0]])
     down, down_normals = voxel_downsample(points, 0.01, normals)
+    assert down_normals is not None
     assert len(down) == 2
     np.testing.assert_allclose(np.abs(down_normals[:, 2]) + np.abs(down_normals[:, 1]), 1.0)
 

@@ -34,6 +34,7 @@ def _alive(pid: int) -> bool:
 def test_workers_exit_when_the_parent_is_killed() -> None:
     parent = subprocess.Popen([sys.executable, "-c", PARENT], stdout=subprocess.PIPE, text=True)
     try:
+        assert parent.stdout is not None
         worker = int(parent.stdout.readline())
         assert _alive(worker)
     finally:

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from simgrasp.quadric import HANDLE_KINDS, Quadric, QuadricKind, analyze_quadrics
@@ -245,7 +246,8 @@ def test_evaluate_gradient_shapes_and_single_points() -> None:
     quadric = Quadric(canonical_form(QuadricKind.REAL_ELLIPSOID, 1, 2, 3).coefficients)
     assert quadric.evaluate([1.0, 0.0, 0.0]) == pytest.approx(0.0)
     assert isinstance(quadric.evaluate([0.0, 0.0, 0.0]), float)
-    assert quadric.evaluate(np.zeros((4, 3))).shape == (4,)
+    values = quadric.evaluate(np.zeros((4, 3)))
+    assert isinstance(values, np.ndarray) and values.shape == (4,)
     np.testing.assert_allclose(quadric.gradient([1.0, 0.0, 0.0]), [2.0, 0.0, 0.0])
     assert quadric.gradient(np.zeros((5, 3))).shape == (5, 3)
     np.testing.assert_allclose(Quadric.from_matrix(quadric.Q).coefficients, quadric.coefficients)
@@ -264,7 +266,7 @@ def test_evaluate_gradient_shapes_and_single_points() -> None:
         ("abc", "10 numbers"),
     ],
 )
-def test_invalid_coefficients_are_rejected_clearly(coefficients: object, message: str) -> None:
+def test_invalid_coefficients_are_rejected_clearly(coefficients: ArrayLike, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         Quadric.from_coefficients(coefficients)
 
@@ -337,7 +339,7 @@ def test_loose_rtol_reads_a_nearly_cylindrical_fit_near_its_reference_point() ->
     coefficients = np.array([1, 1, -1 / 400**2, 0, 0, 0, 0, 0, 0, 1.0])
     z = 400 * np.sqrt(1 + 2.0**2)  # the radius at this height is 2
     at_center = Quadric(coefficients, rtol=1e-2)
-    near_data = Quadric(coefficients, rtol=1e-2, reference_point=[0.0, 0.0, z])
+    near_data = Quadric(coefficients, rtol=1e-2, reference_point=np.array([0.0, 0.0, z]))
     assert Quadric(coefficients).kind is QuadricKind.HYPERBOLOID_TWO_SHEETS
     assert at_center.kind is QuadricKind.IMAGINARY_ELLIPTIC_CYLINDER
     assert near_data.kind is QuadricKind.REAL_ELLIPTIC_CYLINDER

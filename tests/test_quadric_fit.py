@@ -26,6 +26,7 @@ from simgrasp.quadric import (
     analyze_quadrics,
     fit_quadrics,
 )
+from simgrasp.quadric.fit import FitMethod
 from simgrasp.quadric.fit_systems import FLAT_TOL
 
 FIT_RTOL = 1e-2
@@ -111,7 +112,7 @@ class FitErrors:
     axis_angle: float  # degrees between handle axes
 
 
-def evaluate(patches: Patches, method: str) -> FitErrors:
+def evaluate(patches: Patches, method: FitMethod) -> FitErrors:
     fit = fit_quadrics(patches.points, patches.normals, method=method)
     analysis = analyze_quadrics(fit.coefficients, rtol=FIT_RTOL, reference_points=fit.centroids)
     handle = np.isin(analysis.kinds, list(HANDLE_KINDS)) & fit.valid
@@ -142,7 +143,7 @@ SHAPES = (
 
 
 @pytest.fixture(scope="module")
-def error_table() -> dict[tuple[QuadricKind, float, str], FitErrors]:
+def error_table() -> dict[tuple[QuadricKind, float, FitMethod], FitErrors]:
     table = {}
     for s, kind in enumerate(SHAPES):
         for n, noise in enumerate(NOISE_LEVELS):
@@ -164,7 +165,7 @@ def error_table() -> dict[tuple[QuadricKind, float, str], FitErrors]:
 @pytest.mark.parametrize("kind", SHAPES)
 @pytest.mark.parametrize("method", ["taubin", "algebraic"])
 def test_exact_patches_are_recovered_exactly_by_the_point_only_methods(
-    error_table: dict, kind: QuadricKind, method: str
+    error_table: dict, kind: QuadricKind, method: FitMethod
 ) -> None:
     errors = error_table[kind, 0.0, method]
     assert errors.kind_rate == 1.0
@@ -230,7 +231,7 @@ def _degenerate_batch() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("method", METHODS)
-def test_degenerate_neighborhoods_are_flagged_not_raised(method: str) -> None:
+def test_degenerate_neighborhoods_are_flagged_not_raised(method: FitMethod) -> None:
     points, normals, mask = _degenerate_batch()
     fit = fit_quadrics(points, normals, method=method, mask=mask)
     assert fit.failure == (
@@ -264,7 +265,7 @@ def test_masked_padding_is_ignored_and_ragged_lists_match_dense_input() -> None:
 
 @pytest.mark.parametrize("method", METHODS)
 def test_fits_do_not_depend_on_how_the_batch_is_chunked(
-    method: str, monkeypatch: pytest.MonkeyPatch
+    method: FitMethod, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     patches = make_patches(QuadricKind.REAL_ELLIPSOID, 0.02, seed=16)
     points, normals = patches.points.copy(), patches.normals.copy()
@@ -330,7 +331,7 @@ def test_flat_flags_follow_the_standardized_covariance_eigenvalues() -> None:
 
 
 @pytest.mark.parametrize("method", METHODS)
-def test_fits_do_not_depend_on_units_or_position(method: str) -> None:
+def test_fits_do_not_depend_on_units_or_position(method: FitMethod) -> None:
     patches = make_patches(QuadricKind.HYPERBOLOID_ONE_SHEET, 0.02, seed=13)
     base = fit_quadrics(patches.points, patches.normals, method=method)
     moved = fit_quadrics(1000 * patches.points + 250.0, patches.normals, method=method)

@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 from test_quadric_classification import Motion, canonical_form
 
 from simgrasp.quadric import FAILURES, METHODS, QuadricKind, analyze_quadrics, fit_quadrics
+from simgrasp.quadric.fit import FitMethod
 
 unit = st.floats(-1.0, 1.0)
 
@@ -55,7 +56,7 @@ finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
     data=st.data(),
 )
 def test_fit_never_raises_on_finite_input(
-    points: np.ndarray, method: str, data: st.DataObject
+    points: np.ndarray, method: FitMethod, data: st.DataObject
 ) -> None:
     normals = data.draw(arrays(np.float64, points.shape, elements=finite))
     fit = fit_quadrics(points, normals, method=method)
@@ -78,7 +79,7 @@ def test_fit_never_raises_on_finite_input(
     method=st.sampled_from(METHODS),
 )
 def test_non_finite_input_is_flagged(
-    points: np.ndarray, row: int, column: int, bad: float, method: str
+    points: np.ndarray, row: int, column: int, bad: float, method: FitMethod
 ) -> None:
     points = points.copy()
     points[row, column, 1] = bad

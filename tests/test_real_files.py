@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from numpy.typing import ArrayLike
 
 import simgrasp
 from simgrasp.cli import main
@@ -46,7 +47,7 @@ def write_ply(path: Path, points: np.ndarray, normals: np.ndarray, faces=None) -
     path.write_bytes(("\n".join([*header, "end_header"]) + "\n").encode() + body)
 
 
-def on_handle(centers: np.ndarray) -> np.ndarray:
+def on_handle(centers: ArrayLike) -> np.ndarray:
     return np.asarray(centers)[:, 0] > HANDLE_X
 
 
@@ -107,6 +108,7 @@ def test_a_pcd_with_nan_normals_and_one_with_none_usable(tmp_path: Path) -> None
     write_pcd(path := tmp_path / "plane.pcd", points, some)
     with pytest.warns(ReadNote, match="50 of 200 normals"):
         _, read = read_cloud(path)
+    assert read is not None
     np.testing.assert_allclose(read, up, atol=1e-6)
     write_pcd(path, points, np.full((200, 3), np.nan))
     with pytest.warns(ReadNote, match="no normal in the file is usable: estimated"):
@@ -145,6 +147,7 @@ def test_a_mesh_file_is_detected_in_python_by_surface_or_vertices(mug_mesh) -> N
     assert detection.handles and on_handle(detection.handles[0].center[None]).all()
     surface, _ = read_object_cloud(mug_mesh, seed=1)
     loaded = trimesh.load(mug_mesh, force="mesh", process=False)
+    assert isinstance(loaded, trimesh.Trimesh)
     assert abs(len(surface) - loaded.area / MeshReadConfig().spacing ** 2) < 1
     vertices, normals = read_object_cloud(mug_mesh, mesh=MeshReadConfig(points="vertices"))
     np.testing.assert_allclose(vertices, loaded.vertices)

@@ -11,6 +11,7 @@ from simgrasp.assets.scene_labels import load_scene_labels
 from simgrasp.evaluation.real_pots import POT_SEGMENTATION, labeled_pot, score_pot
 from simgrasp.handles import QuadricDetectorConfig
 from simgrasp.handles.presets import quadric_preset
+from simgrasp.labels import Box
 
 REAL_DIR = default_real_dir()
 needs_real = pytest.mark.real  # skipped without the scenes (tests/data_needs.py)
@@ -22,6 +23,7 @@ def test_pot_labels_load_in_the_sensor_frame() -> None:
     assert sum(len(v.label.regions) for v in labels.values()) == 12
     for label in labels.values():
         for region in label.label.regions:  # a pot on a table 0.6-1.2 m in front of the sensor
+            assert isinstance(region, Box)
             assert 0.5 < region.center[2] < 1.2
             assert np.all(region.half_extents < 0.05)
 

@@ -33,7 +33,7 @@ def _surface(mesh: trimesh.Trimesh, count: int = 40000) -> tuple[NDArray, NDArra
 
 def _tilted(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     """``mesh`` moved by :data:`TURN`."""
-    return cast(trimesh.Trimesh, mesh.copy().apply_transform(TURN))
+    return mesh.copy().apply_transform(TURN)
 
 
 def _cup_with_ring() -> tuple[trimesh.Trimesh, trimesh.Trimesh]:

@@ -150,6 +150,7 @@ def test_read_scene_keeps_the_organized_grid_and_viewpoint() -> None:
     scene = read_scene(OSD / "learn0.pcd")
     assert (scene.width, scene.height) == (640, 480) and len(scene.points) == 307200
     np.testing.assert_array_equal(scene.viewpoint, [0.0, 0.0, 0.0])
+    assert scene.labels is not None
     assert (scene.labels[~scene.valid] == 0).all() and (scene.labels[scene.valid] > 0).all()
     grid = scene.grid()
     rows, cols = np.nonzero(np.isfinite(grid[..., 2]))
@@ -162,6 +163,7 @@ def test_read_scene_keeps_the_organized_grid_and_viewpoint() -> None:
 def test_osd_scene_matches_its_labels(name: str) -> None:
     scene = read_scene(OSD / f"{name}.pcd")
     result = segment_scene(scene)
+    assert scene.labels is not None
     ious = part_ious(scene.labels, result.labels)
     assert ious.min() >= 0.8, ious
     table = scene.labels[(result.labels == 1)]
@@ -191,6 +193,7 @@ def test_a_box_lying_across_another_is_two_objects() -> None:
     one-pixel gaps and ends a pixel short of the outline, so the traced cuts leave the two
     boxes one segment. Closing the cuts' gaps (``cut_close_px``) separates them."""
     scene = read_scene(OSD / "learn25.pcd")
+    assert scene.labels is not None
     traced = part_ious(scene.labels, segment_scene(scene, SegmentConfig(cut_close_px=0)).labels)
     closed = part_ious(scene.labels, segment_scene(scene, SegmentConfig(cut_close_px=1)).labels)
     assert traced.max() < 0.6, traced
@@ -282,9 +285,9 @@ def test_a_side_part_claims_the_raised_table_pixels_at_its_edge() -> None:
         labels, points, height, parents, SegmentConfig(), _object_pixels(labels)
     )
     assert claims is not None
-    rows, cols, window = claims
+    row_span, col_span, window = claims
     claimed = labels.copy()
-    claimed[rows, cols] = window
+    claimed[row_span, col_span] = window
     gained = (claimed == 3) & (labels == 1)
     expected = np.zeros_like(gained)
     expected[2:18, 20:23] = True

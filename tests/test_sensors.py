@@ -197,7 +197,9 @@ def test_stereo_noise_follows_intels_rms_formula() -> None:
         depth = np.full(SHAPE, z)
         out = apply_sensor(depth, K, config, rng_for(1, "stereo", str(z)))
         assert np.all(out > 0)
-        assert (out - depth).std() == pytest.approx(config.axial_sigma(z), rel=0.02)
+        assert (out - depth).std() == pytest.approx(
+            float(config.axial_sigma(np.asarray(z))), rel=0.02
+        )
 
 
 def test_stereo_oblique_dropout_matches_its_ramp() -> None:

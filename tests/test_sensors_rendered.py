@@ -37,7 +37,9 @@ def test_rendered_table_is_the_analytic_plane(table_frame) -> None:
     cam_T_world = np.linalg.inv(table_frame.world_T_cam)
     normal = cam_T_world[:3, :3] @ [0.0, 0.0, 1.0]
     d = -normal @ cam_T_world[:3, 3]
-    analytic = plane_depth(table_frame.intrinsics.matrix, table_frame.depth.shape, (normal, d))
+    analytic = plane_depth(
+        table_frame.intrinsics.matrix, table_frame.depth.shape, (normal, float(d))
+    )
     hit = table_frame.depth > 0
     assert hit.mean() > 0.99
     assert np.abs(table_frame.depth - analytic)[hit].max() < 5e-4

@@ -62,7 +62,7 @@ def test_family_objects_are_seen_from_an_azimuth_drawn_from_the_seed(script: Mod
     views = script.training_views(
         ["gen_spoon_s0", "gen_hammer"], [0.0], 2, (), script.VIEWS, frozenset({"gen_spoon_s0"})
     )
-    turns = {(v.object, seed): set() for v, seed, _ in views}
+    turns: dict[tuple[str, int], set[float]] = {(v.object, seed): set() for v, seed, _ in views}
     for view, seed, _ in views:
         turns[view.object, seed].add(view.azimuth_deg)
     assert turns["gen_hammer", 0] == turns["gen_hammer", 1] == {0.0}

@@ -125,6 +125,7 @@ def test_too_wide_head_is_not_lifted(hammer_scene: Scene) -> None:
     point, axis, head_length = head_point(hammer_scene)
     assert head_length > hammer_scene.gripper.gripper.max_opening
     label = hammer_scene.object_model.asset.handle.regions[0]
+    assert isinstance(label, Box)
     head_middle = point.copy()
     head_middle -= ((point - label.center) @ np.cross([0.0, 0.0, 1.0], axis)) * np.cross(
         [0.0, 0.0, 1.0], axis

@@ -21,7 +21,7 @@ import importlib
 from dataclasses import dataclass
 from typing import Any
 
-from simgrasp.errors import SimgraspError
+from simgrasp.registry import Registry
 
 
 @dataclass(frozen=True)
@@ -41,9 +41,9 @@ class ProposerEntry:
         return getattr(importlib.import_module(module), function)
 
 
-PROPOSERS: dict[str, ProposerEntry] = {
-    entry.name: entry
-    for entry in (
+PROPOSERS: Registry[ProposerEntry] = Registry(
+    "proposer",
+    (
         ProposerEntry(
             "quadric",
             "simgrasp.grasping.planning.proposal:propose_on_handles",
@@ -66,8 +66,8 @@ PROPOSERS: dict[str, ProposerEntry] = {
             "simgrasp.grasping.planning.proposal:propose_antipodal",
             "baseline: random antipodal point pairs",
         ),
-    )
-}
+    ),
+)
 """Registered grasp proposers by name; the first is the default."""
 
 DEFAULT_PROPOSER = "quadric"
@@ -77,19 +77,15 @@ BUILTIN_PROPOSERS = tuple(PROPOSERS)
 
 def proposer_names() -> tuple[str, ...]:
     """Names of the registered proposers, the default first."""
-    return tuple(PROPOSERS)
+    return PROPOSERS.names()
 
 
 def proposer_entry(name: str) -> ProposerEntry:
     """The entry of the proposer ``name``, else an error naming the choices."""
-    if name not in PROPOSERS:
-        raise SimgraspError(f"unknown proposer {name!r}; choose one of {', '.join(PROPOSERS)}")
-    return PROPOSERS[name]
+    return PROPOSERS.entry(name)
 
 
 def register_proposer(entry: ProposerEntry) -> None:
     """Add a proposer at run time (its name must be new); it is then a choice of
     ``detector.kind`` in every settings tree built afterwards in this process."""
-    if entry.name in PROPOSERS:
-        raise SimgraspError(f"proposer {entry.name!r} is registered already")
-    PROPOSERS[entry.name] = entry
+    PROPOSERS.register(entry)

@@ -9,7 +9,7 @@ import importlib
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from simgrasp.errors import SimgraspError
+from simgrasp.registry import Registry
 
 if TYPE_CHECKING:
     from simgrasp.grippers.base import Gripper
@@ -30,9 +30,9 @@ class GripperEntry:
         return gripper
 
 
-GRIPPERS: dict[str, GripperEntry] = {
-    entry.name: entry
-    for entry in (
+GRIPPERS: Registry[GripperEntry] = Registry(
+    "gripper",
+    (
         GripperEntry(
             "builtin",
             "simgrasp.grippers.builtin:builtin",
@@ -48,8 +48,8 @@ GRIPPERS: dict[str, GripperEntry] = {
             "simgrasp.grippers.franka_panda:franka_panda",
             "the Franka Emika Panda hand of ACRONYM / GraspGen, 0-8 cm, 70 N",
         ),
-    )
-}
+    ),
+)
 """Registered grippers by name; the first is the default."""
 
 DEFAULT_GRIPPER = "builtin"
@@ -57,16 +57,14 @@ DEFAULT_GRIPPER = "builtin"
 
 def gripper_names() -> tuple[str, ...]:
     """Names of the registered grippers, the default first."""
-    return tuple(GRIPPERS)
+    return GRIPPERS.names()
 
 
 def check_gripper_name(name: str) -> str:
     """``name`` if it is a registered gripper, else a ``ValueError`` naming the choices."""
-    if name not in GRIPPERS:
-        raise SimgraspError(f"unknown gripper {name!r}; choose one of {', '.join(GRIPPERS)}")
-    return name
+    return GRIPPERS.entry(name).name
 
 
 def make_gripper(name: str) -> Gripper:
     """The gripper called ``name`` (one of :func:`gripper_names`), its module loaded now."""
-    return GRIPPERS[check_gripper_name(name)].load()
+    return GRIPPERS.entry(name).load()

@@ -21,6 +21,7 @@ from simgrasp.handles.baselines.tenpas_config import TenPasConfig
 from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.single_view.body_wall import BodyWallConfig
 from simgrasp.handles.single_view.detector import SingleViewConfig
+from simgrasp.registry import Registry
 
 DetectorSetting = QuadricDetectorConfig | TenPasConfig | SingleViewConfig
 """The settings of one handle detector."""
@@ -83,9 +84,9 @@ def _learned() -> SingleViewConfig:
     )
 
 
-PRESETS: dict[str, Preset] = {
-    preset.name: preset
-    for preset in (
+PRESETS: Registry[Preset] = Registry(
+    "detector preset",
+    (
         Preset(
             "default",
             QuadricDetectorConfig,
@@ -161,8 +162,9 @@ PRESETS: dict[str, Preset] = {
             "wall dropped, the `real_depth` quadric detector where nothing is kept",
             "real-detect",
         ),
-    )
-}
+    ),
+    choose="choose from",
+)
 """The shipped presets by name."""
 
 CHAIN_PRESET = "two_scales"
@@ -173,14 +175,12 @@ SINGLE_VIEW_PRESET = "learned"
 
 def preset_names() -> tuple[str, ...]:
     """The registered presets' names."""
-    return tuple(PRESETS)
+    return PRESETS.names()
 
 
 def preset(name: str) -> DetectorSetting:
     """The preset ``name``, built now; one line naming the choices when it is unknown."""
-    if name not in PRESETS:
-        raise SimgraspError(f"unknown detector preset {name!r}; choose from {', '.join(PRESETS)}")
-    return PRESETS[name].build()
+    return PRESETS.entry(name).build()
 
 
 def typed_preset(name: str, kind: type[Setting], **overrides: Any) -> Setting:
@@ -210,6 +210,4 @@ def chain_quadric() -> QuadricDetectorConfig:
 
 def register_preset(entry: Preset) -> None:
     """Add a preset at run time (its name must be new)."""
-    if entry.name in PRESETS:
-        raise SimgraspError(f"detector preset {entry.name!r} is registered already")
-    PRESETS[entry.name] = entry
+    PRESETS.register(entry)

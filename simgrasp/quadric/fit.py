@@ -50,7 +50,7 @@ from simgrasp.quadric.fit_systems import (
 )
 
 FitMethod = Literal["birdal", "taubin", "algebraic"]
-METHODS: tuple[str, ...] = ("birdal", "taubin", "algebraic")
+METHODS: tuple[FitMethod, ...] = ("birdal", "taubin", "algebraic")
 
 MIN_POINTS = {"birdal": 3, "taubin": 9, "algebraic": 9}
 """Fewest points per neighborhood: 9 determine a quadric; with normals each point gives 4

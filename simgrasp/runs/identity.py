@@ -13,7 +13,7 @@ from typing import Any
 from simgrasp.errors import SimgraspError
 
 
-def file_digest(path: Path) -> str:
+def file_digest(path: str | Path) -> str:
     """SHA-256 of a file's bytes (hex): how a run records which input file it was made from.
     A file unchanged since it was last hashed in this process (same size and modification
     time) is not read again: a command checks its output folder's identity before it runs

@@ -308,8 +308,8 @@ def _load_numpy(path: Path) -> Any:
 
 def write_grasp_set(
     path: Path | str,
-    object_T_tcp: NDArray,
-    width: NDArray,
+    object_T_tcp: ArrayLike,
+    width: ArrayLike,
     made_by: dict[str, Any] | None = None,
 ) -> Path:
     """Save grasps as our ``.npz`` (``object_T_grasp``, ``width``; with ``made_by``, also

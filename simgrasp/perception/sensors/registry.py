@@ -16,7 +16,7 @@ import importlib
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from simgrasp.errors import SimgraspError
+from simgrasp.registry import Registry
 
 if TYPE_CHECKING:
     from simgrasp.perception.sensors.base import SensorConfig
@@ -46,9 +46,9 @@ class SensorEntry:
         return resolve(self.model)
 
 
-SENSOR_MODELS: dict[str, SensorEntry] = {
-    entry.name: entry
-    for entry in (
+SENSOR_MODELS: Registry[SensorEntry] = Registry(
+    "sensor",
+    (
         SensorEntry(
             "ideal",
             "simgrasp.perception.sensors.ideal:IdealConfig",
@@ -67,8 +67,8 @@ SENSOR_MODELS: dict[str, SensorEntry] = {
             "simgrasp.perception.sensors.stereo:apply_stereo",
             "a D435-like active stereo camera",
         ),
-    )
-}
+    ),
+)
 """Registered sensor models by name; the first is the default."""
 
 DEFAULT_SENSOR = "ideal"
@@ -76,18 +76,14 @@ DEFAULT_SENSOR = "ideal"
 
 def sensor_names() -> tuple[str, ...]:
     """Names of the registered sensor models, the default first."""
-    return tuple(SENSOR_MODELS)
+    return SENSOR_MODELS.names()
 
 
 def sensor_entry(name: str) -> SensorEntry:
     """The entry of the sensor model ``name``, else an error naming the choices."""
-    if name not in SENSOR_MODELS:
-        raise SimgraspError(f"unknown sensor {name!r}; choose one of {', '.join(SENSOR_MODELS)}")
-    return SENSOR_MODELS[name]
+    return SENSOR_MODELS.entry(name)
 
 
 def register_sensor(entry: SensorEntry) -> None:
     """Add a sensor model at run time (its name must be new)."""
-    if entry.name in SENSOR_MODELS:
-        raise SimgraspError(f"sensor {entry.name!r} is registered already")
-    SENSOR_MODELS[entry.name] = entry
+    SENSOR_MODELS.register(entry)
