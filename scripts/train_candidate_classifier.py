@@ -86,6 +86,12 @@ IDEAL_VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
     ("lying", 0.45, 70.0, "ideal"),
 )
 """Views through the ideal sensor, added with ``--family-seeds``."""
+TOP_VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
+    ("upright", 0.85, 90.0, "stereo"),
+    ("upright", 0.7, 90.0, "kinect"),
+)
+"""Views from straight above the object's own pose (a flat tool lying flat, as a camera over a
+workbench sees it), added with ``--top-views``."""
 
 
 @functools.lru_cache(maxsize=1)
@@ -282,6 +288,9 @@ class Options(Checked):
     """Also train on every family kind's ``gen_<kind>_s0`` .. ``s<N-1>``, seen from an azimuth
     drawn from the seed, the other labeled YCB tools (:data:`YCB_TOOLS`) and, for every
     object, the ideal sensor's views (:data:`IDEAL_VIEWS`)."""
+    top_views: bool = False
+    """Also train on (and with --evaluate, score) the views from straight above
+    (:data:`TOP_VIEWS`)."""
     cache: Path | None = None
     """Folder keeping every view's rows (a rerun renders nothing it rendered before)."""
     evaluate: tuple[Path, ...] = setting((), many=True, metavar="FILE")
@@ -356,11 +365,11 @@ def scored_view(view: SimView, model: Path) -> tuple[int, int, bool]:
 def evaluate(options: Options) -> None:
     """Print, per model, sensor and family kind, pooled accuracy and top handles on the
     views of the family seeds ``--eval-seeds`` (every view of :data:`VIEWS` and
-    :data:`IDEAL_VIEWS`, from :func:`drawn_azimuth`)."""
+    :data:`IDEAL_VIEWS`, and with ``--top-views`` :data:`TOP_VIEWS`, from
+    :func:`drawn_azimuth`)."""
     names = [f"gen_{kind}_s{seed}" for kind in FAMILY_KINDS for seed in options.eval_seeds]
-    views = [
-        v for v, _, _ in training_views(names, [], 1, (), VIEWS + IDEAL_VIEWS, frozenset(names))
-    ]
+    seen = VIEWS + IDEAL_VIEWS + (TOP_VIEWS if options.top_views else ())
+    views = [v for v, _, _ in training_views(names, [], 1, (), seen, frozenset(names))]
     for model in options.evaluate:
         with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
             rows = pool.starmap(scored_view, [(view, model) for view in views])
@@ -387,6 +396,7 @@ def training_set(
     if options.family_seeds:
         objects += [*YCB_TOOLS, *families]
         seen = VIEWS + IDEAL_VIEWS
+    seen += TOP_VIEWS if options.top_views else ()
     jobs = training_views(
         objects,
         list(options.azimuths),
