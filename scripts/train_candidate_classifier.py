@@ -127,8 +127,8 @@ def cached_rows(
     key = hashlib.sha256(json.dumps(given).encode()).hexdigest()[:20]
     path = cache / f"{key}.npz"
     if path.exists():
-        kept = np.load(path)
-        return kept["x"], kept["y"]
+        with np.load(path) as kept:
+            return kept["x"], kept["y"]
     x, y = view_rows(view, seed, degradation)
     np.savez(cache / f"{key}.part.npz", x=x, y=y)
     (cache / f"{key}.part.npz").replace(path)  # whole or absent if killed
@@ -361,9 +361,9 @@ def evaluate(options: Options) -> None:
     views = [
         v for v, _, _ in training_views(names, [], 1, (), VIEWS + IDEAL_VIEWS, frozenset(names))
     ]
-    for model in options.evaluate:
-        with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
-            rows = pool.starmap(scored_view, [(view, model) for view in views])
+    with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
+        scored = [pool.starmap(scored_view, [(v, m) for v in views]) for m in options.evaluate]
+    for model, rows in zip(options.evaluate, scored, strict=True):
         cells: dict[tuple[str, str], list[tuple[int, int, bool]]] = {}
         for view, row in zip(views, rows, strict=True):
             kind = view.object.rsplit("_s", 1)[0]
