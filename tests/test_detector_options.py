@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
+from simgrasp.errors import SimgraspError
 from simgrasp.handles import QuadricDetectorConfig, detect
 from simgrasp.handles.presets import quadric_preset
 from simgrasp.perception import estimate_normals, voxel_downsample
@@ -66,3 +67,12 @@ def test_own_normals_replace_the_given_directions_and_keep_their_signs() -> None
     expected = detect(points, fresh, QuadricDetectorConfig(voxel_size=0, normal_radius=6e-3))
     assert np.array_equal(own.candidate_centers, expected.candidate_centers)
     assert cloud.handle_share(own.handles[0].center[None]) == 1.0
+
+
+@pytest.mark.parametrize("with_config", [False, True])
+def test_an_unknown_detector_name_is_refused_in_one_line(with_config: bool) -> None:
+    config = QuadricDetectorConfig() if with_config else None
+    with pytest.raises(
+        SimgraspError, match=r"^unknown detector 'gpd'; choose one of quadric, tenpas$"
+    ):
+        detect(hammer_like().points, config=config, detector="gpd")  # type: ignore[arg-type]

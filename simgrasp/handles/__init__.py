@@ -34,8 +34,7 @@ def default_config(
     detector: DetectorName, gripper_max_opening: float | None = None
 ) -> QuadricDetectorConfig | TenPasConfig:
     """The default configuration of ``detector``, optionally for another gripper opening (m)."""
-    if detector not in DETECTORS:
-        raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+    _check_known(detector)
     config_type = QuadricDetectorConfig if detector == "quadric" else TenPasConfig
     if gripper_max_opening is None:
         return config_type()
@@ -71,6 +70,7 @@ def detect(
     the settings' ``fallback``, ``table`` and ``scene``); any other cloud to the quadric
     detector with ``config``.
     """
+    _check_known(detector)
     config = config if config is not None else default_config(detector)
     points, normals = validate_cloud(points, normals)  # before the view test reads them
     if viewpoint is not None and np.shape(viewpoint) != (3,):
@@ -83,11 +83,15 @@ def detect(
             assert eye is not None  # is_single_view is False without a viewpoint
             return _detect_view(points, config, seed, eye, table, scene, single_view)
         return detect_quadric_handles(points, normals, config, seed, viewpoint, table, scene)
-    if detector == "tenpas":
-        if not isinstance(config, TenPasConfig):
-            raise SimgraspError("the tenpas detector needs a TenPasConfig")
-        return detect_tenpas_handles(points, normals, config, seed, viewpoint)
-    raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
+    if not isinstance(config, TenPasConfig):
+        raise SimgraspError("the tenpas detector needs a TenPasConfig")
+    return detect_tenpas_handles(points, normals, config, seed, viewpoint)
+
+
+def _check_known(detector: str) -> None:
+    """Refuse, in one line, a detector name that is not one of :data:`DETECTORS`."""
+    if detector not in DETECTORS:
+        raise SimgraspError(f"unknown detector {detector!r}; choose one of {', '.join(DETECTORS)}")
 
 
 def _camera(viewpoint: ArrayLike | None, single_view: SingleViewConfig | None) -> ArrayLike | None:
