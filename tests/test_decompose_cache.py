@@ -108,7 +108,7 @@ def test_bad_inputs_name_the_problem() -> None:
 
 def test_a_directory_at_an_entry_path_is_a_clear_error(cache_dir: Path) -> None:
     mesh = generate_tool("hammer", 3).mesh
-    path = cache.entry_path(cache.cache_key(mesh, CONFIG.__dict__))
+    path = cache.entry_path(cache.cache_key(mesh, CONFIG.coacd_params()))
     path.mkdir(parents=True)
     with pytest.raises(ValueError, match=rf"{path} is a directory.*remove it"):
         decompose.decompose(mesh, CONFIG, "gen_hammer_s3")
