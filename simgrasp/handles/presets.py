@@ -77,6 +77,7 @@ def _learned() -> SingleViewConfig:
     return SingleViewConfig(
         classifier=True,
         classifier_threshold=0.7,
+        grid_rolls=3,
         min_width_spacings=2.0,
         narrow_width_spacings=1.0,
         body_wall=BodyWallConfig(enabled=True, retry_threshold=0.5),

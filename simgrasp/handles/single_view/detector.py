@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive
+from simgrasp.config.checks import Checked, Fraction, NonNegative, Positive, PositiveInt
 from simgrasp.handles.core.cluster import cluster_handles
 from simgrasp.handles.core.config import QuadricDetectorConfig
 from simgrasp.handles.core.detection import Candidate, Detection
@@ -32,6 +32,7 @@ from simgrasp.handles.single_view.candidate_features import (
     candidate_features,
     read_classifier,
 )
+from simgrasp.handles.single_view.grid_rolls import pooled_over_rolls
 from simgrasp.handles.single_view.standoff import StandoffConfig, standoff_mask
 from simgrasp.handles.single_view.view_kind import ViewKindConfig
 from simgrasp.resources import model_path
@@ -92,6 +93,11 @@ class SingleViewConfig(Checked):
     narrow_axis_offset: Positive = 4.0
     """With ``narrow_width_spacings``: the largest distance (half fitted widths) of a narrow
     fit's axis from its seen surface point."""
+    grid_rolls: PositiveInt = 1
+    """Candidates are pooled from this many voxel grids, the view turned evenly about the line
+    from the viewpoint through its centroid (:mod:`~simgrasp.handles.single_view.grid_rolls`):
+    the verdict on a part only a few voxels resolve then depends less on how the camera was
+    rolled. 1: the view's own grid only."""
     classifier: bool = False
     """Replace the standoff test by the shipped classifier over candidate features
     (:mod:`simgrasp.handles.single_view.candidate_features`,
@@ -157,10 +163,16 @@ def _anchors(
 def single_view_candidates(
     points: ArrayLike, config: SingleViewConfig, seed: int, eye: NDArray[np.float64]
 ) -> tuple[Detection, NDArray[np.float64], float]:
-    """The quadric detector's candidates before any standoff or classifier test, the
-    down-sampled cloud they were found in and its measured point spacing (m)."""
+    """The quadric detector's candidates before any standoff or classifier test (pooled over
+    ``config.grid_rolls`` grids), the view's own down-sampled cloud and its measured point
+    spacing (m)."""
     quadric = replace(config.quadric, min_relative_score=0.0)
-    raw = detect_quadric_handles(points, None, quadric, seed, viewpoint=eye)
+    raw = pooled_over_rolls(
+        lambda view: detect_quadric_handles(view, None, quadric, seed, viewpoint=eye),
+        np.asarray(points, dtype=float),
+        eye,
+        config.grid_rolls,
+    )
     cloud = raw.points if raw.points is not None else np.asarray(points, dtype=float)
     return raw, cloud, point_spacing(cloud)
 
