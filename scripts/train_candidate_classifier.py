@@ -96,7 +96,7 @@ def _rendered(view: SimView, seed: int) -> SimCapture:
 
 
 def view_rows(
-    view: SimView, seed: int, degradation: str = "as captured"
+    view: SimView, seed: int, degradation: str = "as captured", grid_rolls: int = 1
 ) -> tuple[np.ndarray, np.ndarray]:
     """Features and on-handle labels of one rendered view's candidates, the view made worse by
     ``degradation`` first (:func:`~simgrasp.evaluation.capture_degradations.degraded`, drawn
@@ -106,7 +106,7 @@ def view_rows(
     points, eye = degraded(np.asarray(shot.points_cam, np.float64), np.zeros(3), degradation, rng)
     if len(points) < 50:
         return np.zeros((0, len(FEATURES))), np.zeros(0, dtype=bool)
-    config = SingleViewConfig()
+    config = SingleViewConfig(grid_rolls=grid_rolls)
     raw, cloud, spacing = single_view_candidates(points, config, seed, eye)
     if not raw.candidates:
         return np.zeros((0, len(FEATURES))), np.zeros(0, dtype=bool)
@@ -117,19 +117,19 @@ def view_rows(
 
 
 def cached_rows(
-    view: SimView, seed: int, degradation: str, cache: Path | None
+    view: SimView, seed: int, degradation: str, cache: Path | None, grid_rolls: int = 1
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`view_rows`, kept in ``cache`` (a folder, None: not kept) as one ``.npz`` per
     view, seed and degradation, named by them and the features and candidate settings."""
     if cache is None:
-        return view_rows(view, seed, degradation)
-    given = [repr(view), seed, degradation, FEATURES, repr(SingleViewConfig())]
+        return view_rows(view, seed, degradation, grid_rolls)
+    given = [repr(view), seed, degradation, FEATURES, repr(SingleViewConfig(grid_rolls=grid_rolls))]
     key = hashlib.sha256(json.dumps(given).encode()).hexdigest()[:20]
     path = cache / f"{key}.npz"
     if path.exists():
         with np.load(path) as kept:
             return kept["x"], kept["y"]
-    x, y = view_rows(view, seed, degradation)
+    x, y = view_rows(view, seed, degradation, grid_rolls)
     np.savez(cache / f"{key}.part.npz", x=x, y=y)
     (cache / f"{key}.part.npz").replace(path)  # whole or absent if killed
     return x, y
@@ -282,6 +282,9 @@ class Options(Checked):
     """Also train on every family kind's ``gen_<kind>_s0`` .. ``s<N-1>``, seen from an azimuth
     drawn from the seed, the other labeled YCB tools (:data:`YCB_TOOLS`) and, for every
     object, the ideal sensor's views (:data:`IDEAL_VIEWS`)."""
+    grid_rolls: PositiveInt = 1
+    """Candidates of each view pooled over this many turned voxel grids
+    (``SingleViewConfig.grid_rolls``), as the detector that reads the model will pool them."""
     cache: Path | None = None
     """Folder keeping every view's rows (a rerun renders nothing it rendered before)."""
     evaluate: tuple[Path, ...] = setting((), many=True, metavar="FILE")
@@ -407,7 +410,7 @@ def rendered_rows(
         options.cache.mkdir(parents=True, exist_ok=True)
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         copies = 1 + len(options.degradations)  # a view's copies in one chunk: one render
-        cached = [(*job, options.cache) for job in jobs]
+        cached = [(*job, options.cache, options.grid_rolls) for job in jobs]
         results = pool.starmap(cached_rows, cached, chunksize=4 * copies)
     for (sim, seed, kind), (_, on_handle) in zip(jobs, results, strict=True):
         print(
