@@ -86,6 +86,12 @@ IDEAL_VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
     ("lying", 0.45, 70.0, "ideal"),
 )
 """Views through the ideal sensor, added with ``--family-seeds``."""
+TOP_VIEWS: tuple[tuple[Pose, float, float, str], ...] = (
+    ("upright", 0.85, 90.0, "stereo"),
+    ("upright", 0.7, 90.0, "kinect"),
+)
+"""Views from straight above the object's own pose (a flat tool lying flat, as a camera over a
+workbench sees it), added with ``--top-views``."""
 
 
 @functools.lru_cache(maxsize=1)
@@ -285,6 +291,9 @@ class Options(Checked):
     grid_rolls: PositiveInt = 1
     """Candidates of each view pooled over this many turned voxel grids
     (``SingleViewConfig.grid_rolls``), as the detector that reads the model will pool them."""
+    top_views: bool = False
+    """Also train on (and with --evaluate, score) the views from straight above
+    (:data:`TOP_VIEWS`)."""
     cache: Path | None = None
     """Folder keeping every view's rows (a rerun renders nothing it rendered before)."""
     evaluate: tuple[Path, ...] = setting((), many=True, metavar="FILE")
@@ -359,11 +368,11 @@ def scored_view(view: SimView, model: Path) -> tuple[int, int, bool]:
 def evaluate(options: Options) -> None:
     """Print, per model, sensor and family kind, pooled accuracy and top handles on the
     views of the family seeds ``--eval-seeds`` (every view of :data:`VIEWS` and
-    :data:`IDEAL_VIEWS`, from :func:`drawn_azimuth`)."""
+    :data:`IDEAL_VIEWS`, and with ``--top-views`` :data:`TOP_VIEWS`, from
+    :func:`drawn_azimuth`)."""
     names = [f"gen_{kind}_s{seed}" for kind in FAMILY_KINDS for seed in options.eval_seeds]
-    views = [
-        v for v, _, _ in training_views(names, [], 1, (), VIEWS + IDEAL_VIEWS, frozenset(names))
-    ]
+    seen = VIEWS + IDEAL_VIEWS + (TOP_VIEWS if options.top_views else ())
+    views = [v for v, _, _ in training_views(names, [], 1, (), seen, frozenset(names))]
     with multiprocessing.get_context("spawn").Pool(options.workers) as pool:
         scored = [pool.starmap(scored_view, [(v, m) for v in views]) for m in options.evaluate]
     for model, rows in zip(options.evaluate, scored, strict=True):
@@ -390,6 +399,7 @@ def training_set(
     if options.family_seeds:
         objects += [*YCB_TOOLS, *families]
         seen = VIEWS + IDEAL_VIEWS
+    seen += TOP_VIEWS if options.top_views else ()
     jobs = training_views(
         objects,
         list(options.azimuths),
