@@ -6,7 +6,13 @@ parts, no remeshing): these tests run that real mesh.
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -59,3 +65,43 @@ def test_the_time_limit_is_not_a_coacd_parameter_nor_in_the_cache_key() -> None:
 def test_a_bad_time_limit_is_refused_in_one_line(seconds: float) -> None:
     with pytest.raises(ValueError, match=r"^DecompositionConfig.time_limit must be positive"):
         DecompositionConfig(time_limit=seconds)
+
+
+def _processes_naming(text: str) -> list[int]:
+    """PIDs whose command line contains ``text`` (Linux ``/proc``)."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            if text.encode() in cmdline.read_bytes():
+                found.append(int(cmdline.parent.name))
+        except OSError:  # the process ended while we looked
+            continue
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc (Linux)")
+def test_an_interrupted_decomposition_leaves_no_coacd_running(tmp_path: Path) -> None:
+    script = (
+        "from simgrasp.assets.generated import generate_tool\n"
+        "from simgrasp.assets.decompose import run_coacd\n"
+        "from simgrasp.assets.model import default_decomposition\n"
+        "asset = generate_tool('kettle', 106)\n"
+        "print('decomposing', flush=True)\n"
+        "run_coacd(asset.mesh, default_decomposition(asset), asset.name)\n"
+    )
+    parent = subprocess.Popen(
+        [sys.executable, "-c", script],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "TMPDIR": str(tmp_path)},
+    )
+    assert parent.stdout is not None and parent.stdout.readline() == "decomposing\n"
+    deadline = time.monotonic() + 30
+    while not _processes_naming(str(tmp_path)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert _processes_naming(str(tmp_path)), "CoACD's child process never started"
+    parent.send_signal(signal.SIGINT)
+    _, errors = parent.communicate(timeout=30)
+    assert "KeyboardInterrupt" in errors
+    assert _processes_naming(str(tmp_path)) == []

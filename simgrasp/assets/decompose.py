@@ -147,6 +147,10 @@ def _coacd_parts(
             child.kill()
             child.communicate()
             return None
+        except BaseException:  # interrupted: leave no CoACD running behind
+            child.kill()
+            child.communicate()
+            raise
         if child.returncode != 0:
             last = (errors.strip().splitlines() or [f"exit status {child.returncode}"])[-1]
             raise SimgraspError(f"object {object_name!r}: CoACD failed: {last}")
