@@ -21,7 +21,7 @@ import numpy as np
 import trimesh
 from tqdm import tqdm
 
-from simgrasp.assets import cache
+from simgrasp.assets import cache, coacd_child
 from simgrasp.errors import SimgraspError
 
 MIN_HULL_VOLUME = 1e-10  # m^3 (0.1 mm^3): flatter hulls are dropped, MuJoCo rejects them
@@ -129,14 +129,13 @@ def _coacd_parts(
     """CoACD's parts of ``mesh`` as (vertices, faces), from one run in a child process; None
     when it did not finish within ``config.time_limit``."""
     global _coacd_calls
-    child_script = Path(__file__).with_name("coacd_child.py")
     with tempfile.TemporaryDirectory(prefix="simgrasp-coacd-") as folder:
         job = Path(folder) / "job.npz"
         params = json.dumps(config.coacd_params())
         np.savez(job, vertices=mesh.vertices, faces=mesh.faces, params=np.array(params))
         _coacd_calls += 1
         child = subprocess.Popen(
-            [sys.executable, str(child_script), str(job)],
+            [sys.executable, coacd_child.__file__, str(job)],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.PIPE,
             text=True,
@@ -154,7 +153,7 @@ def _coacd_parts(
         if child.returncode != 0:
             last = (errors.strip().splitlines() or [f"exit status {child.returncode}"])[-1]
             raise SimgraspError(f"object {object_name!r}: CoACD failed: {last}")
-        with np.load(job.with_suffix(".parts.npz")) as found:
+        with np.load(coacd_child.parts_path(job)) as found:
             vertices, faces, counts = found["vertices"], found["faces"], found["counts"]
     ends = np.cumsum(counts, axis=0)
     starts = ends - counts
