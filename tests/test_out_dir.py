@@ -9,6 +9,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -104,3 +105,45 @@ def test_a_second_run_on_the_same_out_refuses_at_once_naming_the_first(tmp_path:
     # A SIGKILLed holder leaves no stuck lock: the next run takes it at once.
     with claim_out_dir(out, ["evaluate", "again"]):
         assert str(os.getpid()) in (out / LOCK_FILE).read_text()
+
+
+def test_a_shared_cache_is_waited_for_not_refused(tmp_path: Path, capsys) -> None:
+    """A suite's oracle is a cache that runs on different ``--out`` share: a claim with
+    ``wait`` names the holder on stderr, blocks until it lets go, then takes the lock."""
+    cache = tmp_path / "oracle"
+    held, release = threading.Event(), threading.Event()
+    order: list[str] = []
+
+    def holder() -> None:
+        with claim_out_dir(cache, ["bench", "oracle", "first"]):
+            held.set()
+            release.wait(TIMEOUT_S)
+            order.append("holder done")
+
+    def waiter() -> None:
+        with claim_out_dir(cache, ["bench", "oracle", "second"], wait=True):
+            order.append("waiter in")
+
+    first = threading.Thread(target=holder)
+    first.start()
+    assert held.wait(TIMEOUT_S)
+    second = threading.Thread(target=waiter)
+    second.start()
+    deadline = time.monotonic() + TIMEOUT_S
+    err = ""
+    while "waiting for" not in err:  # printed just before the claim blocks
+        assert time.monotonic() < deadline, "the waiting claim never said it waits"
+        err += capsys.readouterr().err
+        time.sleep(0.05)
+    assert f"pid {os.getpid()}" in err and "first" in err, err
+    assert order == [], "the waiting claim entered while the lock was held"
+    release.set()
+    first.join(TIMEOUT_S)
+    second.join(TIMEOUT_S)
+    assert order == ["holder done", "waiter in"]
+    with (  # without ``wait`` the same cache is refused while held
+        pytest.raises(ValueError, match="in use by another run"),
+        claim_out_dir(cache, ["x"]),
+        claim_out_dir(cache, ["y"]),
+    ):
+        pass

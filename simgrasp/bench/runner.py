@@ -93,7 +93,7 @@ def oracle_records(suite: SuiteDefinition, run: RunConfig) -> dict[str, dict[str
     for scene in suite.scenes():
         worlds.setdefault(scene.world, scene)
     folder = oracle_folder(suite)
-    with claim_out_dir(folder, ["simgrasp", "bench", "oracle", suite.name]):
+    with claim_out_dir(folder, ["simgrasp", "bench", "oracle", suite.name], wait=True):
         claim_identity(
             folder / "suite.json",
             {"suite": whole.name, "suite_sha256": whole.digest()},

@@ -25,6 +25,7 @@ import json
 import os
 import shlex
 import socket
+import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -167,14 +168,19 @@ def _describe_holder(lock_path: Path) -> str:
 
 @contextlib.contextmanager
 def claim_out_dir(
-    out: Path, command: Sequence[str], check: Callable[[str | None], None] | None = None
+    out: Path,
+    command: Sequence[str],
+    check: Callable[[str | None], None] | None = None,
+    wait: bool = False,
 ) -> Iterator[Path]:
     """Check ``out`` (:func:`check_out_dir`) and hold its lock while the block runs; a
     ValueError naming the running holder if another process holds it. ``command`` is this
     run's argument list (written into the lock file for a second run to name). ``check``, if
     given, is called under the lock with the sub-command of the run that held ``out`` last
     (None when none is recorded) before this run's replaces it: it may refuse the directory,
-    which then keeps its record."""
+    which then keeps its record. ``wait`` is for a cache that runs on different ``--out``
+    share (a suite's oracle): a held lock is waited for, with one line on stderr naming its
+    holder, and the block then finds the holder's finished records instead of redoing them."""
     out = Path(out)
     check_out_dir(out)
     lock_path = out / LOCK_FILE
@@ -183,10 +189,16 @@ def claim_out_dir(
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            raise SimgraspError(
-                f"--out {out} is in use by another run ({_describe_holder(lock_path)}); wait "
-                "for it to finish or choose another --out"
-            ) from None
+            if not wait:
+                raise SimgraspError(
+                    f"--out {out} is in use by another run ({_describe_holder(lock_path)}); "
+                    "wait for it to finish or choose another --out"
+                ) from None
+            print(
+                f"waiting for {out}, in use by another run ({_describe_holder(lock_path)})",
+                file=sys.stderr,
+            )
+            fcntl.flock(fd, fcntl.LOCK_EX)
         if check is not None:
             check(_recorded_command(lock_path))
         os.ftruncate(fd, 0)
