@@ -13,7 +13,7 @@ CPU time (not wall) because the machine is shared; BLAS and OpenMP are held to o
 
     python benchmarks/bench_segment.py [--repeats 3] [--clutter-scenes 3] [--distractors 5]
 
-Goal (issue 26): <= 50 ms per frame on one core.
+Goal: <= 50 ms per frame on one core.
 """
 
 from __future__ import annotations

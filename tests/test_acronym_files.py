@@ -1,5 +1,5 @@
 """Grasp files that carry their object (ACRONYM, GraspGen), the Franka hand and the ACRONYM
-protocol (issue 25). Real MuJoCo trials; the ACRONYM file tests need ``SIMGRASP_ACRONYM_DIR``."""
+protocol. Real MuJoCo trials; the ACRONYM file tests need ``SIMGRASP_ACRONYM_DIR``."""
 
 from __future__ import annotations
 

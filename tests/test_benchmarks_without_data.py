@@ -1,5 +1,5 @@
 """Benchmarks on a machine without the optional data: they run what they can and say what they
-skipped, without a traceback (issue 14, item 11)."""
+skipped, without a traceback."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Argument types shared by the sub-commands: range expansion is bounded (issue 14, item 6)."""
+"""Argument types shared by the sub-commands: range expansion is bounded."""
 
 from __future__ import annotations
 

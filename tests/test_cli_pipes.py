@@ -1,5 +1,5 @@
 """The command line as a pipeline stage: a reader that stops early (``| head -1``) ends the
-command quietly, as it does any Unix tool (issue 14, item 10)."""
+command quietly, as it does any Unix tool."""
 
 from __future__ import annotations
 

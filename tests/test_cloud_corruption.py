@@ -1,5 +1,5 @@
-"""Cut and corrupted cloud files are refused, never read with points that are not in them
-(issue 14, item 2), and ``simgrasp detect --json`` prints nothing but its JSON object."""
+"""Cut and corrupted cloud files are refused, never read with points that are not in them,
+and ``simgrasp detect --json`` prints nothing but its JSON object."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""Clouds in millimetres are caught before any detection work, and ``--units mm`` reads them
-(issue 14, item 3)."""
+"""Clouds in millimetres are caught before any detection work, and ``--units mm`` reads them."""
 
 from __future__ import annotations
 

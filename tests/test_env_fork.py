@@ -1,5 +1,5 @@
 """``gymnasium.make_vec(..., vectorization_mode="async")`` with the default (fork) start method
-after the parent has rendered: it used to hang forever (issue 14, item 1), then failed at once
+after the parent has rendered: it used to hang forever, then failed at once
 (a GL context must not cross a fork). Now the forked workers render depth with the GL-free ray
 caster, which agrees with the parent's GL render to well under a millimeter but at silhouette
 pixels, and the reset info says so (``render_backend``). Run in a fresh

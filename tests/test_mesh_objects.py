@@ -1,4 +1,4 @@
-"""Objects from any mesh file: units, bad meshes, the catalog, handle files (issue 25)."""
+"""Objects from any mesh file: units, bad meshes, the catalog, handle files."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""``simgrasp evaluate --out DIR``: checked before any work (issue 14, item 5) and held by one
-run at a time (item 4), with real processes: a running sweep, a second one, a SIGKILL."""
+"""``simgrasp evaluate --out DIR``: checked before any work and held by one run at
+a time, with real processes: a running sweep, a second one, a SIGKILL."""
 
 from __future__ import annotations
 

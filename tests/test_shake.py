@@ -1,4 +1,4 @@
-"""ACRONYM's shake (issue 25): the targets computed before the shake are the ones the hand was
+"""ACRONYM's shake: the targets computed before the shake are the ones the hand was
 commanded step by step, and the object's motion in the jaws is measured in the TCP frame."""
 
 from __future__ import annotations

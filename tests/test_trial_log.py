@@ -1,5 +1,5 @@
-"""The trial log's line checks: whole records are validated (items 7 of issue 14), a complete
-last record without its newline is kept, a torn one is cut with a message (item 8). The
+"""The trial log's line checks: whole records are validated, a complete last record
+without its newline is kept, a torn one is cut with a message. The
 records are real ones, from the committed sweep in docs/results/evaluate."""
 
 from __future__ import annotations
