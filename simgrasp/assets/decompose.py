@@ -142,13 +142,11 @@ def _coacd_parts(
         )
         try:
             _, errors = child.communicate(timeout=config.time_limit)
-        except subprocess.TimeoutExpired:
+        except BaseException as stopped:  # past the limit, or interrupted: leave no CoACD behind
             child.kill()
             child.communicate()
-            return None
-        except BaseException:  # interrupted: leave no CoACD running behind
-            child.kill()
-            child.communicate()
+            if isinstance(stopped, subprocess.TimeoutExpired):
+                return None
             raise
         if child.returncode != 0:
             last = (errors.strip().splitlines() or [f"exit status {child.returncode}"])[-1]
