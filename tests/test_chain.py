@@ -148,6 +148,97 @@ def test_the_best_grasp_holds_the_handle_nearest_the_centroid_with_the_pads_on_i
     assert xs == {0.0, round(best_x, 9)}, "the handle's center stays a fallback grasp point"
 
 
+def _flat_loop_beside_a_lying_body() -> tuple[Handle, np.ndarray]:
+    """A mug lying on its side (body axis along y, 3.7 cm radius, centered at x = -0.03) with
+    its loop flat on the table: two arms along x at y = +-0.03 from the body's wall to x =
+    0.052, joined by a bar along y, a 2.4 cm tube whose axis lies 1.2 cm up. The handle as the
+    clustering makes it from the loop's axis points: its center on the bar, its axis the
+    dominant direction of its candidates (the two arms', along x)."""
+    arm_x = np.linspace(0.012, 0.052, 9)
+    bar_y = np.linspace(-0.025, 0.025, 6)
+    trace = np.vstack(
+        [np.column_stack([arm_x, np.full(9, side), np.full(9, 0.012)]) for side in (-0.03, 0.03)]
+        + [np.column_stack([np.full(6, 0.052), bar_y, np.full(6, 0.012)])]
+    )
+    trace_axes = np.vstack([np.tile([1.0, 0.0, 0.0], (18, 1)), np.tile([0.0, 1.0, 0.0], (6, 1))])
+    center = np.array([0.052, 0.0, 0.012])
+    along = (trace - center) @ np.array([1.0, 0.0, 0.0])
+    handle = Handle(
+        center,
+        np.array([1.0, 0.0, 0.0]),
+        0.024,
+        1.0,
+        24,
+        (float(along.min()), 0.0),
+        trace,
+        trace_axes,
+    )
+    angles = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    y = np.linspace(-0.045, 0.045, 10)
+    body = np.array(
+        [[-0.03 + 0.037 * np.cos(a), yy, 0.037 + 0.037 * np.sin(a)] for a in angles for yy in y]
+    )
+    tube_top = trace + np.array([0.0, 0.0, 0.012])
+    return handle, np.vstack([body, tube_top])
+
+
+def test_a_loop_lying_flat_is_also_grasped_at_its_root_across_the_arm() -> None:
+    """The flat loop's handle axis runs along its arms while its center sits on the bar, so
+    every grasp on the axis line closes along the bar. The loop's trace adds its root: the
+    arm nearest the body's centroid, a pad width out from the wall, the jaws closing across
+    the arm and opened to the handle's width plus the root margin."""
+    handle, cloud = _flat_loop_beside_a_lying_body()
+    cameras = np.array([[0.5, 0.0, 0.5]])
+    config = PlannerConfig()
+
+    def plan(h: Handle) -> list:
+        return grasps_from_handles([h], cloud, cameras, GEOMETRY, 0.0, np.random.default_rng(0))
+
+    def at_root(grasp) -> bool:
+        return bool(grasp.world_T_tcp[0, 3] < 0.045 and abs(grasp.world_T_tcp[1, 3]) > 0.02)
+
+    untraced = dataclasses.replace(handle, trace=np.zeros((0, 3)), trace_axes=np.zeros((0, 3)))
+    assert not any(at_root(g) for g in plan(untraced))
+    roots = [g for g in plan(handle) if at_root(g)]
+    assert roots
+    for grasp in roots:
+        assert abs(grasp.world_T_tcp[:3, 1] @ [1.0, 0.0, 0.0]) < 1e-9, "closes across the arm"
+        side = np.sign(grasp.world_T_tcp[1, 3])
+        root = np.array([0.012 + GEOMETRY.finger_width, 0.03 * side, 0.012])
+        backed_off = grasp.world_T_tcp[:3, 3] - root
+        assert np.linalg.norm(np.cross(backed_off, grasp.approach_world)) < 1e-9, "at the root"
+        assert grasp.width == pytest.approx(handle.width + 2 * config.root_opening_margin)
+        assert not collides(grasp.world_T_tcp, cloud, _opened_to(grasp.width), 0)
+
+
+def _opened_to(width: float) -> GripperGeometry:
+    """The test gripper with its jaws opened to ``width`` (m)."""
+    return dataclasses.replace(GEOMETRY, max_opening=width)
+
+
+def test_a_straight_handles_trace_adds_no_grasp() -> None:
+    """A straight handle's root lies on its axis line, turned nowhere: the grasps are those of
+    the same handle without a trace."""
+    handle = _handle([0.0, 0.0, 0.05], [1.0, 0.0, 0.0])
+    xs = np.linspace(-0.05, 0.05, 11)
+    traced = dataclasses.replace(
+        handle,
+        trace=np.column_stack([xs, np.zeros(11), np.full(11, 0.05)]),
+        trace_axes=np.tile([1.0, 0.0, 0.0], (11, 1)),
+    )
+    heavy_end = np.array([[0.30, 0.0, 0.05], [0.32, 0.0, 0.05]])
+    cameras = np.array([[0.5, 0.0, 0.5]])
+
+    def poses(h: Handle) -> list:
+        rng = np.random.default_rng(0)
+        return [
+            g.world_T_tcp.tolist()
+            for g in grasps_from_handles([h], heavy_end, cameras, GEOMETRY, 0.0, rng)
+        ]
+
+    assert poses(traced) == poses(handle)
+
+
 def test_a_cloud_point_inside_a_finger_rejects_the_grasp() -> None:
     handle = _handle([0.0, 0.0, 0.1], [1.0, 0.0, 0.0])
     rng = np.random.default_rng(0)
@@ -234,6 +325,17 @@ def test_full_chain_holds_an_upright_mug_by_its_handle(gripper: str) -> None:
     result = run_chain(model_for("gen_mug"), config, seed=0)
     assert result.detection_accuracy is not None
     assert result.detection_accuracy >= 0.9 and result.handle_recall
+    assert result.success and result.on_handle, result.to_json()["failure"]
+
+
+@pytest.mark.parametrize("seed", [3, 5])
+def test_full_chain_holds_a_lying_mug_by_the_root_of_its_flat_loop(seed: int) -> None:
+    """The generated mug lying on its side, its loop flat on the table, seen by the Kinect
+    model: the loop's handle (center on the bar, axis along the arms) is held by its root."""
+    result = run_chain(model_for("gen_mug"), ChainConfig.of(sensor__kind="kinect"), seed=seed)
+    qw, qx, qy, qz = result.to_json()["object_pose"][3:]
+    mug_axis_up = 1 - 2 * (qx * qx + qy * qy)  # world z of the object's z (the mug's axis)
+    assert abs(mug_axis_up) < 0.2, "lying on its side"
     assert result.success and result.on_handle, result.to_json()["failure"]
 
 

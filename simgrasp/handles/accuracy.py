@@ -43,10 +43,20 @@ def score_detection(
 
 
 def moved_detection(detection: Detection, a_T_b: NDArray[np.float64]) -> Detection:
-    """The detection's candidate and handle centers mapped by ``a_T_b`` (for label checks)."""
+    """The detection's candidates' centers and its handles (centers, axes, traces) mapped by
+    ``a_T_b`` (for label checks)."""
     rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
     candidates = tuple(
         replace(c, center=rotation @ c.center + translation) for c in detection.candidates
     )
-    handles = tuple(replace(h, center=rotation @ h.center + translation) for h in detection.handles)
+    handles = tuple(
+        replace(
+            h,
+            center=rotation @ h.center + translation,
+            axis=rotation @ h.axis,
+            trace=h.trace @ rotation.T + translation,
+            trace_axes=h.trace_axes @ rotation.T,
+        )
+        for h in detection.handles
+    )
     return replace(detection, candidates=candidates, handles=handles)

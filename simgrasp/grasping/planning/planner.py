@@ -101,6 +101,57 @@ def _grasp_offsets(
     return offsets
 
 
+@dataclass(frozen=True)
+class _GraspPoint:
+    """Where and across what a pass tries grasps on one handle: the TCP ``position`` (world
+    frame, m), the handle's local direction ``axis`` there (unit; the jaws close across it),
+    the ``lever`` (m) penalized in the rank and the ``jaws`` checked and opened."""
+
+    position: NDArray[np.float64]
+    axis: NDArray[np.float64]
+    lever: float
+    jaws: GripperGeometry
+
+
+def _root_point(
+    handle: Handle,
+    centroid: NDArray[np.float64] | None,
+    geometry: GripperGeometry,
+    config: PlannerConfig,
+) -> _GraspPoint | None:
+    """A curved handle's root: the point of its trace nearest the centroid (where a loop meets
+    the body), stepped a pad width along the handle's local direction away from the
+    centroid, the direction the dominant one of the trace's axes within a pad width; jaws
+    opened to the handle's width plus ``config.root_opening_margin`` on each side (fully
+    open, they reach the body beside the root). None when the handle has no trace, or when
+    the root lies within half the handle's width of the line through its center along its
+    axis and the handle turns there less than ``config.root_min_turn`` from that axis (a
+    straight handle: the grasps on the line close there already). A mug lying on its side
+    with its loop flat on the table: the loop's axis points (the whole D) give one handle
+    whose center lies on the loop's outer bar and whose axis runs along its two arms, so
+    every grasp on the line closes along the bar; held by the lower arm at its root, the mug
+    lifts by its handle."""
+    if centroid is None or not len(handle.trace):
+        return None
+    nearest = handle.trace[np.argmin(np.linalg.norm(handle.trace - centroid, axis=1))]
+    local = handle.trace_axes[
+        np.linalg.norm(handle.trace - nearest, axis=1) <= geometry.finger_width
+    ]
+    axis = np.linalg.eigh(local.T @ local)[1][:, -1]
+    axis = axis if (nearest - centroid) @ axis >= 0 else -axis
+    position = nearest + geometry.finger_width * axis
+    offset = position - handle.center
+    on_line = np.linalg.norm(offset - (offset @ handle.axis) * handle.axis) <= handle.width / 2
+    if on_line and abs(float(axis @ handle.axis)) >= np.cos(config.root_min_turn):
+        return None
+    return _GraspPoint(
+        position,
+        axis,
+        abs(float((centroid - position) @ axis)),
+        narrowed(geometry, handle.width, config.root_opening_margin),
+    )
+
+
 def grasps_from_handles(
     handles: Sequence[Handle],
     points_world: NDArray[np.float64],
@@ -115,7 +166,9 @@ def grasps_from_handles(
     """Grasps closing across each handle, best first.
 
     Grasp points are the handle's center and the point of the handle nearest the cloud's
-    centroid (pads kept a pad width inside the detected stretch). Approaches are sampled
+    centroid (pads kept a pad width inside the detected stretch), and on a curved handle its
+    root (:func:`_root_point`), closed across the handle's local direction there with the
+    jaws opened to its width plus ``config.root_opening_margin``. Approaches are sampled
     around the axis: the steepest downward approach first (exactly, so a handle lying flat on
     the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
     seeded jitter, each also tilted down by ``config.approach_pitches`` toward the lower end of
@@ -178,17 +231,23 @@ class _HandlePlan:
         grasps: list[Grasp] = []
         for handle, handle_angles in zip(self.handles, self.angles, strict=True):
             jaws = geometry if margin is None else narrowed(geometry, handle.width, margin)
-            pairs = handle_approaches(handle.axis, handle_angles, pitches, config, level)
-            for offset, lever in _grasp_offsets(handle, self.centroid, geometry):
-                position = handle.center + offset * handle.axis
-                for around, approach in pairs:
+            points = [
+                _GraspPoint(handle.center + offset * handle.axis, handle.axis, lever, jaws)
+                for offset, lever in _grasp_offsets(handle, self.centroid, geometry)
+            ]
+            root = _root_point(handle, self.centroid, geometry, config)
+            points += [] if root is None else [root]
+            for point in points:
+                for around, approach in handle_approaches(
+                    point.axis, handle_angles, pitches, config, level
+                ):
                     grasp = _scored_grasp(
-                        (position, np.cross(around, handle.axis), approach),
+                        (point.position, np.cross(around, point.axis), approach),
                         handle.score / best_score,
-                        lever,
+                        point.lever,
                         (self.obstacles_world, self.obstacles_tree),
                         self.cameras_world,
-                        jaws,
+                        point.jaws,
                         table_z,
                         config,
                         source,

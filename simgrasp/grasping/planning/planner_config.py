@@ -54,6 +54,14 @@ class PlannerConfig(Checked):
     side with its strap flat on the table: the fully open jaws (8.5 cm on the built-in
     gripper) put the inner finger on the mug's body, where a narrower opening puts it inside
     the strap's loop; as a last try, no plan that finds a grasp otherwise changes."""
+    root_opening_margin: NonNegative = 0.01
+    """A curved handle's root grasp (where a mug's loop meets its body) is checked and opened
+    with the jaws at the handle's detected width plus this margin on either side (m): fully
+    open, the inner finger lands on the body beside the root."""
+    root_min_turn: Annotated[float, Range(ge=0, le=np.pi / 2)] = np.pi / 6
+    """A handle's root gets its own grasp where the handle's direction there turns at least
+    this much (rad) from its axis, or where the root lies off the axis line by more than half
+    the handle's width; otherwise the grasps on that line already close there."""
     pitch_min_slope: Annotated[float, Range(ge=0, le=np.pi / 2)] = np.pi / 12
     """Approaches are tilted only around axes sloping at least this much from level (rad):
     along a flatter axis (a tool lying on the table) a tilt turns the approach sideways more

@@ -257,4 +257,6 @@ def _handle_from_shells(
         score=float(np.clip(len(axes) / total * eigenvalues[-1], 0.0, 1.0)),
         support=len(axes),
         span=(float(np.min(along - middle)), float(np.max(along - middle))),
+        trace=axis_points.copy(),
+        trace_axes=axes.copy(),
     )

@@ -3,7 +3,7 @@ them and keep the plausible ones."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -152,7 +152,7 @@ def _span_distance(handle: Handle, point: NDArray[np.float64]) -> float:
 
 
 def _rescored(handle: Handle, score: float) -> Handle:
-    return Handle(handle.center, handle.axis, handle.width, score, handle.support, handle.span)
+    return replace(handle, score=score)
 
 
 def _handle_from_members(
@@ -173,4 +173,6 @@ def _handle_from_members(
         score=float(len(points) / total * coherence),
         support=len(points),
         span=(float(along.min()), float(along.max())),
+        trace=points.copy(),
+        trace_axes=axes.copy(),
     )

@@ -59,6 +59,10 @@ class Handle:
         support: number of candidates in the cluster.
         span: ``(low, high)``, the stretch of the axis its candidates cover, as offsets (m)
             along ``axis`` from ``center`` (``low <= 0 <= high``).
+        trace: (K, 3) its candidates' points on their fitted axes (m): the handle's own
+            course, which on a curved handle (a mug's loop) leaves the line through
+            ``center`` along ``axis``; empty when the detector did not record it.
+        trace_axes: (K, 3) unit directions of those candidates' axes (sign arbitrary).
     """
 
     center: NDArray[np.float64]
@@ -67,6 +71,8 @@ class Handle:
     score: float
     support: int
     span: tuple[float, float]
+    trace: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
+    trace_axes: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
 
     @property
     def extent(self) -> float:
