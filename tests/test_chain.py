@@ -11,6 +11,7 @@ from data_needs import ROBOTIQ
 
 import simgrasp
 from simgrasp.assets.model import model_for
+from simgrasp.errors import SimgraspError
 from simgrasp.grasping.planning.clearance import collides
 from simgrasp.grasping.planning.planner import (
     PlannerConfig,
@@ -214,6 +215,15 @@ def test_a_loop_lying_flat_is_also_grasped_at_its_root_across_the_arm() -> None:
 def _opened_to(width: float) -> GripperGeometry:
     """The test gripper with its jaws opened to ``width`` (m)."""
     return dataclasses.replace(GEOMETRY, max_opening=width)
+
+
+def test_a_handle_whose_trace_and_trace_axes_differ_is_refused() -> None:
+    with pytest.raises(SimgraspError, match=r"trace \(2, 3\) and trace_axes \(1, 3\)"):
+        dataclasses.replace(
+            _handle([0.0, 0.0, 0.05], [1.0, 0.0, 0.0]),
+            trace=np.zeros((2, 3)),
+            trace_axes=np.zeros((1, 3)),
+        )
 
 
 def test_a_straight_handles_trace_adds_no_grasp() -> None:

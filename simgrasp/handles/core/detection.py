@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from simgrasp.errors import SimgraspError
 from simgrasp.quadric import Quadric
 
 TIMING_STEPS = ("voxelize", "normals", "sample", "fit", "test", "cluster")
@@ -59,9 +60,11 @@ class Handle:
         support: number of candidates in the cluster.
         span: ``(low, high)``, the stretch of the axis its candidates cover, as offsets (m)
             along ``axis`` from ``center`` (``low <= 0 <= high``).
-        trace: (K, 3) its candidates' points on their fitted axes (m): the handle's own
-            course, which on a curved handle (a mug's loop) leaves the line through
-            ``center`` along ``axis``; empty when the detector did not record it.
+        trace: (K, 3) the points its candidates give it (m; those ``center`` is taken from:
+            on their fitted axes, or their seen surface points where the detector anchors
+            handles there): the handle's own course, which on a curved handle (a mug's loop)
+            leaves the line through ``center`` along ``axis``; empty when the detector did
+            not record it. The planner grasps a curved handle at its root from it.
         trace_axes: (K, 3) unit directions of those candidates' axes (sign arbitrary).
     """
 
@@ -73,6 +76,13 @@ class Handle:
     span: tuple[float, float]
     trace: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
     trace_axes: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
+
+    def __post_init__(self) -> None:
+        if np.shape(self.trace) != np.shape(self.trace_axes) or np.shape(self.trace)[1:] != (3,):
+            raise SimgraspError(
+                f"Handle: trace {np.shape(self.trace)} and trace_axes "
+                f"{np.shape(self.trace_axes)} must both be (K, 3)"
+            )
 
     @property
     def extent(self) -> float:
