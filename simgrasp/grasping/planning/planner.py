@@ -184,10 +184,12 @@ def grasps_from_handles(
     """
     handles = list(handles)[: config.max_handles]
     obstacles_world = planning_obstacles(points_world, config, scene_obstacles_world)
+    centroid = points_world.mean(axis=0) if len(points_world) else None
     plan = _HandlePlan(
         handles,
         [approach_angles(rng, config) for _ in handles],
-        points_world.mean(axis=0) if len(points_world) else None,
+        [_root_point(handle, centroid, geometry, config) for handle in handles],
+        centroid,
         obstacles_world,
         cKDTree(obstacles_world) if len(obstacles_world) > NEAR_QUERY_POINTS else None,
         np.atleast_2d(np.asarray(cameras_world, dtype=float)),
@@ -204,11 +206,13 @@ def grasps_from_handles(
 @dataclass(frozen=True)
 class _HandlePlan:
     """What every pass of :func:`grasps_from_handles` shares: the handles (best first), their
-    approach angles (rad), the cloud's centroid, the obstacle points (and a KD-tree over them
-    when they are many, else None) and the cameras (world frame, m)."""
+    approach angles (rad), their root grasp points (:func:`_root_point`, None for a straight
+    handle), the cloud's centroid, the obstacle points (and a KD-tree over them when they are
+    many, else None) and the cameras (world frame, m)."""
 
     handles: list[Handle]
     angles: list[NDArray[np.floating]]
+    roots: list[_GraspPoint | None]
     centroid: NDArray[np.float64] | None
     obstacles_world: NDArray[np.float64]
     obstacles_tree: cKDTree | None
@@ -229,13 +233,12 @@ class _HandlePlan:
         to each handle's width plus ``margin`` (m) on each side."""
         best_score = max((h.score for h in self.handles), default=1.0) or 1.0
         grasps: list[Grasp] = []
-        for handle, handle_angles in zip(self.handles, self.angles, strict=True):
+        for handle, handle_angles, root in zip(self.handles, self.angles, self.roots, strict=True):
             jaws = geometry if margin is None else narrowed(geometry, handle.width, margin)
             points = [
                 _GraspPoint(handle.center + offset * handle.axis, handle.axis, lever, jaws)
                 for offset, lever in _grasp_offsets(handle, self.centroid, geometry)
             ]
-            root = _root_point(handle, self.centroid, geometry, config)
             points += [] if root is None else [root]
             for point in points:
                 for around, approach in handle_approaches(
