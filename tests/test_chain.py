@@ -13,10 +13,10 @@ import simgrasp
 from simgrasp.assets.model import model_for
 from simgrasp.errors import SimgraspError
 from simgrasp.grasping.planning.clearance import collides
+from simgrasp.grasping.planning.grasp_points import narrowed
 from simgrasp.grasping.planning.planner import (
     PlannerConfig,
     grasps_from_handles,
-    narrowed,
     table_margin,
 )
 from simgrasp.grasping.trials.chain import run_chain

@@ -12,7 +12,7 @@ the table top, are rejected. All inputs are in the world frame, meters.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -29,6 +29,7 @@ from simgrasp.grasping.planning.clearance import (
     near_gripper,
     planning_obstacles,
 )
+from simgrasp.grasping.planning.grasp_points import GraspPoint, axis_points, narrowed, root_point
 from simgrasp.grasping.planning.planner_config import PlannerConfig
 from simgrasp.grippers.geometry import GripperGeometry
 from simgrasp.handles.core.detection import Handle
@@ -81,77 +82,6 @@ def _rank(approach: NDArray, position: NDArray, cameras: NDArray, config: Planne
     )
 
 
-def _grasp_offsets(
-    handle: Handle, centroid: NDArray[np.float64] | None, geometry: GripperGeometry
-) -> list[tuple[float, float]]:
-    """``(offset, lever)`` pairs: grasp points as offsets (m) along the handle axis from its
-    center, with their distance (m) along the axis from the centroid's projection. The center,
-    and the point of the handle nearest the centroid that keeps the pads on the stretch the
-    candidates cover, with a pad width to spare (the stretch's ends are its least certain
-    part)."""
-    if centroid is None:
-        return [(0.0, 0.0)]
-    target = float((centroid - handle.center) @ handle.axis)
-    margin = geometry.finger_width
-    low, high = handle.span[0] + margin, handle.span[1] - margin
-    nearest = float(np.clip(target, low, high)) if low <= high else 0.5 * sum(handle.span)
-    offsets = [(0.0, abs(target))]
-    if abs(nearest) > 0.005:
-        offsets.append((nearest, abs(target - nearest)))
-    return offsets
-
-
-@dataclass(frozen=True)
-class _GraspPoint:
-    """Where and across what a pass tries grasps on one handle: the TCP ``position`` (world
-    frame, m), the handle's local direction ``axis`` there (unit; the jaws close across it),
-    the ``lever`` (m) penalized in the rank and the ``jaws`` checked and opened."""
-
-    position: NDArray[np.float64]
-    axis: NDArray[np.float64]
-    lever: float
-    jaws: GripperGeometry
-
-
-def _root_point(
-    handle: Handle,
-    centroid: NDArray[np.float64] | None,
-    geometry: GripperGeometry,
-    config: PlannerConfig,
-) -> _GraspPoint | None:
-    """A curved handle's root: the point of its trace nearest the centroid (where a loop meets
-    the body), stepped a pad width along the handle's local direction away from the
-    centroid, the direction the dominant one of the trace's axes within a pad width; jaws
-    opened to the handle's width plus ``config.root_opening_margin`` on each side (fully
-    open, they reach the body beside the root). None when the handle has no trace, or when
-    the root lies within half the handle's width of the line through its center along its
-    axis and the handle turns there less than ``config.root_min_turn`` from that axis (a
-    straight handle: the grasps on the line close there already). A mug lying on its side
-    with its loop flat on the table: the loop's axis points (the whole D) give one handle
-    whose center lies on the loop's outer bar and whose axis runs along its two arms, so
-    every grasp on the line closes along the bar; held by the lower arm at its root, the mug
-    lifts by its handle."""
-    if centroid is None or not len(handle.trace):
-        return None
-    nearest = handle.trace[np.argmin(np.linalg.norm(handle.trace - centroid, axis=1))]
-    local = handle.trace_axes[
-        np.linalg.norm(handle.trace - nearest, axis=1) <= geometry.finger_width
-    ]
-    axis = np.linalg.eigh(local.T @ local)[1][:, -1]
-    axis = axis if (nearest - centroid) @ axis >= 0 else -axis
-    position = nearest + geometry.finger_width * axis
-    offset = position - handle.center
-    on_line = np.linalg.norm(offset - (offset @ handle.axis) * handle.axis) <= handle.width / 2
-    if on_line and abs(float(axis @ handle.axis)) >= np.cos(config.root_min_turn):
-        return None
-    return _GraspPoint(
-        position,
-        axis,
-        abs(float((centroid - position) @ axis)),
-        narrowed(geometry, handle.width, config.root_opening_margin),
-    )
-
-
 def grasps_from_handles(
     handles: Sequence[Handle],
     points_world: NDArray[np.float64],
@@ -167,7 +97,7 @@ def grasps_from_handles(
 
     Grasp points are the handle's center and the point of the handle nearest the cloud's
     centroid (pads kept a pad width inside the detected stretch), and on a curved handle its
-    root (:func:`_root_point`), closed across the handle's local direction there with the
+    root (:func:`root_point`), closed across the handle's local direction there with the
     jaws opened to its width plus ``config.root_opening_margin``. Approaches are sampled
     around the axis: the steepest downward approach first (exactly, so a handle lying flat on
     the table keeps its one feasible top-down grasp), then evenly spaced ones turned by a
@@ -188,7 +118,7 @@ def grasps_from_handles(
     plan = _HandlePlan(
         handles,
         [approach_angles(rng, config) for _ in handles],
-        [_root_point(handle, centroid, geometry, config) for handle in handles],
+        [root_point(handle, centroid, geometry, config) for handle in handles],
         centroid,
         obstacles_world,
         cKDTree(obstacles_world) if len(obstacles_world) > NEAR_QUERY_POINTS else None,
@@ -206,13 +136,13 @@ def grasps_from_handles(
 @dataclass(frozen=True)
 class _HandlePlan:
     """What every pass of :func:`grasps_from_handles` shares: the handles (best first), their
-    approach angles (rad), their root grasp points (:func:`_root_point`, None for a straight
+    approach angles (rad), their root grasp points (:func:`root_point`, None for a straight
     handle), the cloud's centroid, the obstacle points (and a KD-tree over them when they are
     many, else None) and the cameras (world frame, m)."""
 
     handles: list[Handle]
     angles: list[NDArray[np.floating]]
-    roots: list[_GraspPoint | None]
+    roots: list[GraspPoint | None]
     centroid: NDArray[np.float64] | None
     obstacles_world: NDArray[np.float64]
     obstacles_tree: cKDTree | None
@@ -235,10 +165,7 @@ class _HandlePlan:
         grasps: list[Grasp] = []
         for handle, handle_angles, root in zip(self.handles, self.angles, self.roots, strict=True):
             jaws = geometry if margin is None else narrowed(geometry, handle.width, margin)
-            points = [
-                _GraspPoint(handle.center + offset * handle.axis, handle.axis, lever, jaws)
-                for offset, lever in _grasp_offsets(handle, self.centroid, geometry)
-            ]
+            points = axis_points(handle, self.centroid, geometry, jaws)
             points += [] if root is None else [root]
             for point in points:
                 for around, approach in handle_approaches(
@@ -258,12 +185,6 @@ class _HandlePlan:
                     if grasp is not None:
                         grasps.append(grasp)
         return grasps
-
-
-def narrowed(geometry: GripperGeometry, width: float, margin: float) -> GripperGeometry:
-    """``geometry`` with its jaws opened only to ``width + 2 * margin`` (m; never wider than
-    its ``max_opening``): the planner checks, and the trial opens, this opening."""
-    return replace(geometry, max_opening=min(geometry.max_opening, width + 2 * margin))
 
 
 def _scored_grasp(
