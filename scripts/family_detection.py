@@ -64,9 +64,7 @@ def settings_key() -> str:
 
 def _score(detection: Any, object_T_world: np.ndarray, label: Any) -> dict[str, Any]:
     """Candidates, candidates on the label, handles and whether the top one is on it."""
-    from simgrasp.handles.accuracy import moved_detection
-
-    moved = moved_detection(detection, object_T_world)
+    moved = detection.moved(object_T_world)
     centers = moved.candidate_centers
     top = moved.handles[0].center[None] if moved.handles else np.zeros((0, 3))
     return {

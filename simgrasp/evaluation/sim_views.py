@@ -189,7 +189,6 @@ def score_view(  # noqa: ANN201
 
     from simgrasp.evaluation.capture_degradations import degraded
     from simgrasp.evaluation.real_detect import RealDetectRow, detect_named
-    from simgrasp.handles.accuracy import moved_detection
 
     shot = capture(view, seed, ycb_dir)
     rng = rng_for(seed, "degraded", degradation, view.name)
@@ -197,7 +196,7 @@ def score_view(  # noqa: ANN201
     start = time.perf_counter()
     detection = detect_named(points, config_name, seed, eye, single_view)
     elapsed = time.perf_counter() - start
-    moved = moved_detection(detection, shot.object_T_cam)
+    moved = detection.moved(shot.object_T_cam)
     centers = moved.candidate_centers
     top = moved.handles[0].center[None] if moved.handles else np.zeros((0, 3))
     return RealDetectRow(

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 from numpy.typing import NDArray
 
@@ -37,26 +35,6 @@ def score_detection(
     ``object_T_frame`` mapping it into the label's object frame; (None, None) without one."""
     if detection is None:
         return None, None
-    in_object = moved_detection(detection, object_T_frame)
+    in_object = detection.moved(object_T_frame)
     accuracy = detection_accuracy(in_object, label)
     return (None if np.isnan(accuracy) else accuracy), handle_recall(in_object, label)
-
-
-def moved_detection(detection: Detection, a_T_b: NDArray[np.float64]) -> Detection:
-    """The detection's candidates' centers and its handles (centers, axes, traces) mapped by
-    ``a_T_b`` (for label checks)."""
-    rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
-    candidates = tuple(
-        replace(c, center=rotation @ c.center + translation) for c in detection.candidates
-    )
-    handles = tuple(
-        replace(
-            h,
-            center=rotation @ h.center + translation,
-            axis=rotation @ h.axis,
-            trace=h.trace @ rotation.T + translation,
-            trace_axes=h.trace_axes @ rotation.T,
-        )
-        for h in detection.handles
-    )
-    return replace(detection, candidates=candidates, handles=handles)

@@ -5,7 +5,7 @@ All positions and directions are in the input cloud's own frame, in its units (m
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -47,6 +47,18 @@ class Candidate:
             "width": self.width,
         }
 
+    def moved(self, a_T_b: NDArray[np.float64]) -> Candidate:
+        """This candidate (frame b) in frame a: its points, axis and quadric moved by the rigid
+        4x4 ``a_T_b``."""
+        rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
+        return replace(
+            self,
+            center=rotation @ self.center + translation,
+            handle_point=rotation @ self.handle_point + translation,
+            axis=rotation @ self.axis,
+            quadric=self.quadric.transformed(a_T_b),
+        )
+
 
 @dataclass(frozen=True)
 class Handle:
@@ -84,6 +96,18 @@ class Handle:
                 f"{np.shape(self.trace_axes)} must both be (K, 3)"
             )
 
+    def moved(self, a_T_b: NDArray[np.float64]) -> Handle:
+        """This handle (frame b) in frame a: its center, axis and trace moved by the rigid 4x4
+        ``a_T_b``."""
+        rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
+        return replace(
+            self,
+            center=rotation @ self.center + translation,
+            axis=rotation @ self.axis,
+            trace=self.trace @ rotation.T + translation,
+            trace_axes=self.trace_axes @ rotation.T,
+        )
+
     @property
     def extent(self) -> float:
         """Half length (m) of the longest stretch from ``center`` covered by candidates."""
@@ -115,6 +139,20 @@ class Detection:
     timings_s: dict[str, float] = field(default_factory=dict)
     points: NDArray[np.float64] | None = None
     """The (down-sampled) cloud the detector worked on, for plots."""
+
+    def moved(self, a_T_b: NDArray[np.float64]) -> Detection:
+        """This detection (frame b) in frame a: its candidates, handles, neighborhood centers and
+        worked cloud moved by the rigid 4x4 ``a_T_b``; timings and detector name kept."""
+        rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
+        centers = self.neighborhood_centers.reshape(-1, 3) @ rotation.T + translation
+        points = None if self.points is None else self.points @ rotation.T + translation
+        return replace(
+            self,
+            candidates=tuple(c.moved(a_T_b) for c in self.candidates),
+            handles=tuple(h.moved(a_T_b) for h in self.handles),
+            neighborhood_centers=centers,
+            points=points,
+        )
 
     @property
     def neighborhoods(self) -> int:
