@@ -81,7 +81,13 @@ def _processes_naming(text: str) -> list[int]:
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc (Linux)")
 def test_an_interrupted_decomposition_leaves_no_coacd_running(tmp_path: Path) -> None:
+    """Ctrl-C (SIGINT) during a decomposition: the run stops with KeyboardInterrupt and leaves
+    no CoACD child behind. The child process installs Python's own SIGINT handler first: a
+    test run started where SIGINT is ignored (a background job of a non-interactive shell) would
+    otherwise pass that on, and the interrupt would never arrive."""
     script = (
+        "import signal\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "from simgrasp.assets.generated import generate_tool\n"
         "from simgrasp.assets.decompose import run_coacd\n"
         "from simgrasp.assets.model import default_decomposition\n"
