@@ -8,7 +8,7 @@ the coefficients are expressed in.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -25,6 +25,27 @@ from simgrasp.transforms import invert_transform
 
 RIGID_TOLERANCE = 1e-6
 """Tolerance on RᵀR = I, det R = 1 and the last row [0, 0, 0, 1] of a rigid transform."""
+
+
+@lru_cache(maxsize=16)
+def _rigid_inverse(transform: bytes) -> NDArray[np.float64]:
+    """The inverse of the finite 4x4 transform given as its float64 bytes (row-major), read
+    only; a one-line error when it is not rigid. Cached, so that the checks run once per
+    transform when one moves many quadrics (every candidate of a detection)."""
+    T = np.frombuffer(transform, dtype=np.float64).reshape(4, 4)
+    R = T[:3, :3]
+    rigid = (
+        np.allclose(R.T @ R, np.eye(3), atol=RIGID_TOLERANCE)
+        and abs(np.linalg.det(R) - 1) <= RIGID_TOLERANCE
+        and np.allclose(T[3], [0, 0, 0, 1], atol=RIGID_TOLERANCE)
+    )
+    if not rigid:
+        raise SimgraspError(
+            "transform must be rigid (orthonormal rotation with det +1, last row 0 0 0 1)"
+        )
+    inverse = invert_transform(T)
+    inverse.setflags(write=False)
+    return inverse
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,16 +194,7 @@ class Quadric:
         if T.shape != (4, 4) or not np.all(np.isfinite(T)):
             raise SimgraspError(f"transform must be a finite 4x4 matrix, got shape {T.shape}")
         R = T[:3, :3]
-        rigid = (
-            np.allclose(R.T @ R, np.eye(3), atol=RIGID_TOLERANCE)
-            and abs(np.linalg.det(R) - 1) <= RIGID_TOLERANCE
-            and np.allclose(T[3], [0, 0, 0, 1], atol=RIGID_TOLERANCE)
-        )
-        if not rigid:
-            raise SimgraspError(
-                "transform must be rigid (orthonormal rotation with det +1, last row 0 0 0 1)"
-            )
-        inverse = invert_transform(T)
+        inverse = _rigid_inverse(np.ascontiguousarray(T).tobytes())
         reference = None
         if self.reference_point is not None:
             reference = R @ self.reference_point + T[:3, 3]
