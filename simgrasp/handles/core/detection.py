@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simgrasp.errors import SimgraspError
+from simgrasp.perception.camera import transform_points
 from simgrasp.quadric import Quadric
 
 TIMING_STEPS = ("voxelize", "normals", "sample", "fit", "test", "cluster")
@@ -104,7 +105,7 @@ class Handle:
             self,
             center=rotation @ self.center + translation,
             axis=rotation @ self.axis,
-            trace=self.trace @ rotation.T + translation,
+            trace=transform_points(a_T_b, self.trace),
             trace_axes=self.trace_axes @ rotation.T,
         )
 
@@ -143,14 +144,12 @@ class Detection:
     def moved(self, a_T_b: NDArray[np.float64]) -> Detection:
         """This detection (frame b) in frame a: its candidates, handles, neighborhood centers and
         worked cloud moved by the rigid 4x4 ``a_T_b``; timings and detector name kept."""
-        rotation, translation = a_T_b[:3, :3], a_T_b[:3, 3]
-        centers = self.neighborhood_centers.reshape(-1, 3) @ rotation.T + translation
-        points = None if self.points is None else self.points @ rotation.T + translation
+        points = None if self.points is None else transform_points(a_T_b, self.points)
         return replace(
             self,
             candidates=tuple(c.moved(a_T_b) for c in self.candidates),
             handles=tuple(h.moved(a_T_b) for h in self.handles),
-            neighborhood_centers=centers,
+            neighborhood_centers=transform_points(a_T_b, self.neighborhood_centers.reshape(-1, 3)),
             points=points,
         )
 
